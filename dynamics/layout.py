@@ -1,0 +1,114 @@
+"""The state vector: the one place that says where everything lives.
+
+``y = [ q | v | w ]`` with
+
+``q`` — coordinates, one block per moving body:
+
+- free base (body 1 with ``motion = "free"``): ``r`` (3) [m]
+- rigid body: ``r`` (3) [m], position of the centre of mass in the inertial
+  frame; ``p`` (4) [–], Euler parameters, scalar first
+- (flexible body, issue 4: ``r`` (3), ``p`` (4), modal coordinates ``a`` (m))
+
+``v`` — velocities, the same blocks in the same order:
+
+- free base: ``ṙ`` (3) [m/s]
+- rigid body: ``ṙ`` (3) [m/s], inertial frame; ``ω̄`` (3) [rad/s], angular
+  velocity in the body frame (``ṗ = ½ G(p)ᵀ ω̄``)
+- (flexible body: ``ṙ``, ``ω̄``, ``ȧ`` (m))
+
+``w`` — energy quadratures (3) [J], integrated along with the motion:
+``W_mount`` (work of all mount forces on the bodies, springs and dampers),
+``W_ext`` (work of the base's external loads and support force),
+``W_drive`` (work of the force that makes a driven base follow its drive).
+
+Block order: the base (if it has a state), then the rigid bodies in scene
+order (contiguous, so that ``q[...].reshape(n, 7)`` views them all at once),
+then flexible bodies. A fixed or driven base has no state.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Layout", "N_WORK"]
+
+N_WORK = 3
+
+
+@dataclass(frozen=True, slots=True)
+class Layout:
+    """Offsets of every body's blocks in y.
+
+    Parameters
+    ----------
+    n_bodies : int
+        All bodies, the base included.
+    base_free : bool
+        Whether the base has a translation state.
+    rigid : tuple of int
+        Scene indices of the rigid bodies with a state (1..n_bodies-1).
+    """
+
+    n_bodies: int
+    base_free: bool
+    rigid: tuple
+
+    @property
+    def nq(self) -> int:
+        return 3 * self.base_free + 7 * len(self.rigid)
+
+    @property
+    def nv(self) -> int:
+        return 3 * self.base_free + 6 * len(self.rigid)
+
+    @property
+    def ny(self) -> int:
+        return self.nq + self.nv + N_WORK
+
+    @property
+    def q_rigid(self) -> slice:
+        a = 3 * self.base_free
+        return slice(a, a + 7 * len(self.rigid))
+
+    @property
+    def v_rigid(self) -> slice:
+        a = self.nq + 3 * self.base_free
+        return slice(a, a + 6 * len(self.rigid))
+
+    @property
+    def q_base(self) -> slice:
+        return slice(0, 3 * self.base_free)
+
+    @property
+    def v_base(self) -> slice:
+        return slice(self.nq, self.nq + 3 * self.base_free)
+
+    @property
+    def work(self) -> slice:
+        return slice(self.nq + self.nv, self.ny)
+
+    def p_indices(self) -> np.ndarray:
+        """Indices in y of all Euler parameters, shape (n_rigid, 4)."""
+        a = 3 * self.base_free
+        return a + 7 * np.arange(len(self.rigid))[:, None] + np.arange(3, 7)[None, :]
+
+    def split(self, y: np.ndarray):
+        """Views of a state (or of a stack of states, y : (..., ny)).
+
+        Returns dict with ``r_base`` (..., 3) or None, ``rd_base``,
+        ``r`` (..., n, 3), ``p`` (..., n, 4), ``rd`` (..., n, 3),
+        ``w`` (..., n, 3) [ω̄], ``work`` (..., 3).
+        """
+        y = np.asarray(y)
+        lead = y.shape[:-1]
+        n = len(self.rigid)
+        qr = y[..., self.q_rigid].reshape(lead + (n, 7))
+        vr = y[..., self.v_rigid].reshape(lead + (n, 6))
+        return {
+            "r_base": y[..., self.q_base] if self.base_free else None,
+            "rd_base": y[..., self.v_base] if self.base_free else None,
+            "r": qr[..., :3], "p": qr[..., 3:], "rd": vr[..., :3], "w": vr[..., 3:],
+            "work": y[..., self.work],
+        }

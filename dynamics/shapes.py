@@ -1,0 +1,301 @@
+"""Shapes of base drives and loads as functions of time (paper Fig. 4).
+
+Each shape is a frozen dataclass of its parameters. ``compile()`` returns a
+:class:`TimeFunction` that gives the value ``f(t)`` and its exact first and
+second integrals from rest (for a drive: acceleration, velocity,
+displacement), plus the breakpoints where the function or a derivative
+jumps, which the integrators step onto.
+
+``max_step`` [s] is the longest step an adaptive integrator may take while
+the shape is active (between its first and last breakpoint), so that it
+cannot step over the input while the system is still at rest: a quarter
+period for a sinusoid, 20 sample spacings for curve data; pulses need none
+(each piece lies between breakpoints).
+
+Before ``start`` every shape is zero. After its end a pulse is zero, a
+sinusoid with a duration is zero, and curve data hold their last value.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import SceneError
+from .piecewise import PiecewisePolynomial, spline_with_tails
+
+__all__ = ["Sinusoid", "Triangle", "Trapezoid", "Curve", "TimeFunction", "MIN_CURVE_POINTS"]
+
+MIN_CURVE_POINTS = 4
+CURVE_SAMPLES_PER_STEP = 20     # adaptive steps span at most this many sample spacings
+
+
+def _finite(name: str, value: float) -> float:
+    value = float(value)
+    if not math.isfinite(value):
+        raise SceneError(f"{name} = {value!r} must be finite")
+    return value
+
+
+def _positive(name: str, value: float) -> float:
+    value = _finite(name, value)
+    if not value > 0.0:
+        raise SceneError(f"{name} = {value!r} must be > 0")
+    return value
+
+
+def _non_negative(name: str, value: float) -> float:
+    value = _finite(name, value)
+    if value < 0.0:
+        raise SceneError(f"{name} = {value!r} must be >= 0")
+    return value
+
+
+class TimeFunction:
+    """Compiled shape: ``value``, ``first`` and ``second`` integrals, breakpoints.
+
+    ``value(t)``, ``first(t)``, ``second(t)`` take a scalar time [s] and are
+    cheap (pure Python); ``values(t)`` etc. take arrays.
+    """
+
+    __slots__ = ("value", "first", "second", "breakpoints", "values", "firsts", "seconds",
+                 "support", "max_step")
+
+    def __init__(self, value, first, second, breakpoints, values, firsts, seconds,
+                 support=(0.0, math.inf), max_step=math.inf):
+        self.support = (float(support[0]), float(support[1]))
+        self.max_step = float(max_step)
+        self.value = value
+        self.first = first
+        self.second = second
+        self.breakpoints = tuple(float(b) for b in breakpoints)
+        self.values = values
+        self.firsts = firsts
+        self.seconds = seconds
+
+    @classmethod
+    def from_piecewise(cls, f: PiecewisePolynomial, breakpoints, max_step=math.inf) -> "TimeFunction":
+        f1 = f.antiderivative()
+        f2 = f1.antiderivative()
+        return cls(f, f1, f2, breakpoints, f.evaluate, f1.evaluate, f2.evaluate,
+                   support=(breakpoints[0], breakpoints[-1]), max_step=max_step)
+
+
+@dataclass(frozen=True, slots=True)
+class Sinusoid:
+    """a(t) = amplitude · sin(2π·frequency·(t − start) + phase) on [start, start + duration].
+
+    amplitude : float [unit of the quantity]; frequency : float > 0 [Hz];
+    phase : float [rad]; start : float >= 0 [s]; duration : float > 0 [s] or inf.
+    """
+
+    amplitude: float
+    frequency: float
+    phase: float = 0.0
+    start: float = 0.0
+    duration: float = math.inf
+
+    def __post_init__(self):
+        _finite("amplitude", self.amplitude)
+        _positive("frequency", self.frequency)
+        _finite("phase", self.phase)
+        _non_negative("start", self.start)
+        d = float(self.duration)
+        if not (d > 0.0):
+            raise SceneError(f"duration = {d!r} must be > 0")
+
+    @property
+    def end(self) -> float:
+        return self.start + self.duration
+
+    def compile(self) -> TimeFunction:
+        A, w, ph, s, T = (float(self.amplitude), 2 * math.pi * float(self.frequency),
+                          float(self.phase), float(self.start), float(self.duration))
+        end = s + T
+        cph, sph = math.cos(ph), math.sin(ph)
+
+        def v_in(u):          # first integral on the window, u = t - s
+            return A / w * (cph - math.cos(w * u + ph))
+
+        def d_in(u):
+            return A / w * cph * u - A / (w * w) * (math.sin(w * u + ph) - sph)
+
+        v_end = v_in(T) if math.isfinite(T) else 0.0
+        d_end = d_in(T) if math.isfinite(T) else 0.0
+
+        def value(t):
+            if t < s or t > end:
+                return 0.0
+            return A * math.sin(w * (t - s) + ph)
+
+        def first(t):
+            if t < s:
+                return 0.0
+            if t > end:
+                return v_end
+            return v_in(t - s)
+
+        def second(t):
+            if t < s:
+                return 0.0
+            if t > end:
+                return d_end + v_end * (t - end)
+            return d_in(t - s)
+
+        def vec(f):
+            return lambda t: np.vectorize(f, otypes=[float])(np.asarray(t, dtype=float))
+
+        bps = [s] + ([end] if math.isfinite(end) else [])
+        return TimeFunction(value, first, second, bps, vec(value), vec(first), vec(second),
+                            support=(s, end), max_step=0.25 / float(self.frequency))
+
+    def sample_times(self, dt: float) -> np.ndarray:
+        if not math.isfinite(self.duration):
+            raise SceneError("sample needs a sinusoid with a finite duration")
+        return _grid(self.start, self.end, dt)
+
+
+def _grid(a: float, b: float, dt: float) -> np.ndarray:
+    dt = _positive("sample", dt)
+    n = int(math.floor((b - a) / dt + 1e-9))
+    t = a + dt * np.arange(n + 1)
+    if b - t[-1] > 1e-9 * dt:
+        t = np.append(t, b)
+    else:
+        t[-1] = b
+    return t
+
+
+def _pulse(peak: float, start: float, rise: float, flat: float, fall: float) -> TimeFunction:
+    s1, s2, s3 = start + rise, start + rise + flat, start + rise + flat + fall
+    breaks = [start, s1] + ([s2] if flat > 0 else []) + [s3]
+    rows = [[0.0, 0.0], [0.0, peak / rise]]
+    if flat > 0:
+        rows.append([peak, 0.0])
+    rows += [[peak, -peak / fall], [0.0, 0.0]]
+    return TimeFunction.from_piecewise(PiecewisePolynomial(breaks, rows), breaks)
+
+
+@dataclass(frozen=True, slots=True)
+class Triangle:
+    """Triangular pulse: 0 at start, ``peak`` after ``rise``, 0 again after ``fall`` [s]."""
+
+    peak: float
+    rise: float
+    fall: float
+    start: float = 0.0
+
+    def __post_init__(self):
+        _finite("peak", self.peak)
+        _positive("rise", self.rise)
+        _positive("fall", self.fall)
+        _non_negative("start", self.start)
+
+    @property
+    def end(self) -> float:
+        return self.start + self.rise + self.fall
+
+    def compile(self) -> TimeFunction:
+        return _pulse(float(self.peak), float(self.start), float(self.rise), 0.0, float(self.fall))
+
+    def sample_times(self, dt: float) -> np.ndarray:
+        return _grid(self.start, self.end, dt)
+
+
+@dataclass(frozen=True, slots=True)
+class Trapezoid:
+    """Trapezoidal pulse: ramp up over ``rise``, hold ``peak`` for ``flat``, ramp down over ``fall``."""
+
+    peak: float
+    rise: float
+    flat: float
+    fall: float
+    start: float = 0.0
+
+    def __post_init__(self):
+        _finite("peak", self.peak)
+        _positive("rise", self.rise)
+        _non_negative("flat", self.flat)
+        _positive("fall", self.fall)
+        _non_negative("start", self.start)
+
+    @property
+    def end(self) -> float:
+        return self.start + self.rise + self.flat + self.fall
+
+    def compile(self) -> TimeFunction:
+        return _pulse(float(self.peak), float(self.start), float(self.rise),
+                      float(self.flat), float(self.fall))
+
+    def sample_times(self, dt: float) -> np.ndarray:
+        return _grid(self.start, self.end, dt)
+
+
+@dataclass(frozen=True, slots=True)
+class Curve:
+    """Curve data: samples (time [s], value), not-a-knot cubic spline.
+
+    Zero before the first sample, the last value held after the last one.
+    At least 4 samples, times strictly increasing, all finite.
+    """
+
+    time: np.ndarray
+    value: np.ndarray
+
+    def __post_init__(self):
+        t = _curve_array("time", self.time)
+        v = _curve_array("value", self.value)
+        if t.size != v.size:
+            raise SceneError(f"time has {t.size} samples but value has {v.size}")
+        _check_increasing("time", t)
+        if t[0] < 0.0:
+            raise SceneError(f"time[0] = {float(t[0])!r} must be >= 0")
+        object.__setattr__(self, "time", t)
+        object.__setattr__(self, "value", v)
+
+    @property
+    def start(self) -> float:
+        return float(self.time[0])
+
+    @property
+    def end(self) -> float:
+        return float(self.time[-1])
+
+    def compile(self) -> TimeFunction:
+        f = spline_with_tails(self.time, self.value, left="zero", right="hold")
+        return TimeFunction.from_piecewise(f, [self.time[0], self.time[-1]],
+                                           max_step=CURVE_SAMPLES_PER_STEP * float(np.min(np.diff(self.time))))
+
+    def sample_times(self, dt: float) -> np.ndarray:
+        return _grid(self.start, self.end, dt)
+
+
+def _curve_array(name: str, data) -> np.ndarray:
+    try:
+        a = np.array(data, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise SceneError(f"{name} must be a list of numbers") from None
+    if a.size < MIN_CURVE_POINTS:
+        raise SceneError(f"{name} has {a.size} points, needs at least {MIN_CURVE_POINTS}")
+    bad = np.flatnonzero(~np.isfinite(a))
+    if bad.size:
+        raise SceneError(f"{name}[{bad[0]}] = {float(a[bad[0]])!r} must be finite")
+    a.setflags(write=False)
+    return a
+
+
+def _check_increasing(name: str, a: np.ndarray) -> None:
+    bad = np.flatnonzero(np.diff(a) <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise SceneError(f"{name} must be strictly increasing: {name}[{i}] = {float(a[i])!r} "
+                         f"after {name}[{i - 1}] = {float(a[i - 1])!r}")
+
+
+def sampled(shape, dt: float) -> Curve:
+    """Shape sampled every dt [s] over its support, as curve data."""
+    t = shape.sample_times(dt)
+    f = shape.compile()
+    return Curve(t, np.array([f.value(float(x)) for x in t]))

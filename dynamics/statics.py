@@ -1,0 +1,201 @@
+"""Static equilibrium by Newton–Raphson (paper section 3.2).
+
+The unknowns are the free coordinates of every rigid body: a translation
+δr (3) [m] and a small rotation δθ (3) [rad] about the body axes, applied as
+``p ← p ⊗ p(δθ)``. The base is held at its scene position. The residual is
+the generalized force on each body at rest, ``[m r̈, J ω̄̇]`` from the one
+right-hand side (N, N·m). The Jacobian is by central differences (eq. 21),
+one column per free coordinate.
+
+Convergence: the Newton step is below ``tol`` (m, rad) and every residual
+component is below ``tol`` times the body's force scale (its weight, or
+1 N·(1 m) without gravity). Once converged, up to ``polish`` more steps are
+taken while they still shrink, which costs little and takes the answer to
+round-off.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .rotation import quat_mul, rotvec_to_p
+from .system import System
+
+__all__ = ["Equilibrium", "solve_statics", "COORDINATES"]
+
+COORDINATES = ("x", "y", "z", "roll", "pitch", "yaw")
+
+
+@dataclass(frozen=True, slots=True)
+class Equilibrium:
+    """Result of :func:`solve_statics`.
+
+    success : bool; message : str; y : (ny,) state at rest (the last iterate
+    if it failed); iterations : int; residual : float — max |generalized
+    force| scaled by the body's force scale [–]; step : float — last Newton
+    step [m or rad]; residual_force : (n_rigid, 6) generalized forces [N, N m];
+    jacobian_evaluations : int; rhs_evaluations : int; wall_time : float [s];
+    tol : float.
+    """
+
+    success: bool
+    message: str
+    y: np.ndarray
+    iterations: int
+    residual: float
+    step: float
+    residual_force: np.ndarray
+    jacobian_evaluations: int
+    rhs_evaluations: int
+    wall_time: float
+    tol: float
+    history: tuple = field(default=())
+
+
+def _residual(system: System, y: np.ndarray) -> np.ndarray:
+    d = system.rhs(0.0, y)
+    parts = system.layout.split(d)
+    rdd = parts["rd"]                     # (n, 3): the slot of ṙ holds r̈
+    wd = parts["w"]
+    m = system.m_r
+    Jw = np.einsum("nij,nj->ni", system.J, wd)
+    return np.concatenate([m * rdd, Jw], axis=1)   # (n, 6)
+
+
+def _apply(system: System, y: np.ndarray, dx: np.ndarray) -> np.ndarray:
+    """New state: translations added, rotations composed (dx : (n, 6))."""
+    y = y.copy()
+    parts = system.layout.split(y)
+    parts["r"][...] += dx[:, :3]
+    for b in range(system.n_rigid):
+        p = quat_mul(parts["p"][b], rotvec_to_p(dx[b, 3:]))
+        parts["p"][b] = p / np.linalg.norm(p)
+    return y
+
+
+def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 1e-6,
+                  max_iter: int = 50, polish: int = 3, fd_step: float = 1e-6,
+                  max_move: float | None = None) -> Equilibrium:
+    """Static equilibrium of the free rigid bodies, the base held.
+
+    Parameters
+    ----------
+    system : System
+    y0 : (ny,) array, optional
+        Starting state (velocities are ignored); default: the scene's
+        initial positions.
+    tol : float
+        Tolerance on the Newton step [m, rad] and on the scaled residual.
+    max_iter : int
+        Newton iterations allowed.
+    polish : int
+        Extra iterations after convergence while the step still shrinks.
+    fd_step : float
+        Central-difference step [m, rad].
+    max_move : float, optional
+        A body moving further than this from its start [m] means divergence;
+        default 100 × (1 m + the scene's largest coordinate).
+
+    Returns
+    -------
+    Equilibrium
+        ``success = False`` with a message naming the body and direction when
+        the Jacobian is singular (a body free in some direction) or the
+        iteration diverges; never NaN in ``y``.
+    """
+    t_start = time.perf_counter()
+    n = system.n_rigid
+    nfev0 = system.nfev
+    y = (system.initial_state() if y0 is None else np.array(y0, dtype=float)).copy()
+    lay = system.layout
+    y[lay.nq:] = 0.0
+    names = [b.name for b in system.scene.bodies]
+    rigid_names = [names[i] for i in lay.rigid]
+    g = float(np.linalg.norm(system.g))
+    scale = np.repeat(system.m_r[:, 0] * g if g > 0 else np.ones(n), 6).reshape(n, 6)
+    scale = np.where(scale > 0, scale, 1.0)
+    start_r = lay.split(y)["r"].copy()
+    if max_move is None:
+        max_move = 100.0 * (1.0 + float(np.max(np.abs(system.initial_r))))
+
+    def result(success, message, it, res, step, rf, njev, history):
+        return Equilibrium(success, message, y, it, res, step, rf, njev,
+                           system.nfev - nfev0, time.perf_counter() - t_start, tol,
+                           tuple(history))
+
+    if n == 0:
+        return result(True, "no free bodies", 0, 0.0, 0.0, np.zeros((0, 6)), 0, [])
+    R = _residual(system, y)
+    res = float(np.max(np.abs(R) / scale))
+    step = math.inf
+    njev = 0
+    history = []
+    converged_at = None
+    prev_step = math.inf
+    for it in range(1, max_iter + 1):
+        # central-difference Jacobian, column c = (body, coordinate)
+        Jac = np.empty((6 * n, 6 * n))
+        for c in range(6 * n):
+            e = np.zeros((n, 6))
+            e[c // 6, c % 6] = fd_step
+            Jac[:, c] = ((_residual(system, _apply(system, y, e))
+                          - _residual(system, _apply(system, y, -e))) / (2 * fd_step)).ravel()
+        njev += 1
+        singular = _singular_direction(Jac)
+        if singular is not None:
+            b, k = divmod(singular, 6)
+            return result(False, f"no static equilibrium: body {rigid_names[b]!r} is free in "
+                          f"{COORDINATES[k]} (the stiffness matrix is singular: no mount "
+                          f"holds that direction)", it - 1, res, step, R, njev, history)
+        dx = -np.linalg.solve(Jac, R.ravel()).reshape(n, 6)
+        step = float(np.max(np.abs(dx)))
+        if converged_at is not None and not step < prev_step:
+            break       # polishing no longer helps; keep the previous iterate
+        y_new = _apply(system, y, dx)
+        R_new = _residual(system, y_new)
+        moved = np.abs(lay.split(y_new)["r"] - start_r)
+        if not np.all(np.isfinite(R_new)) or float(np.max(moved)) > max_move:
+            b, k = np.unravel_index(int(np.argmax(np.where(np.isfinite(moved), moved, np.inf))),
+                                    moved.shape)
+            return result(False, f"no static equilibrium: Newton–Raphson diverged, body "
+                          f"{rigid_names[b]!r} moved {float(moved[b, k]):.3g} m along "
+                          f"{COORDINATES[k]} (a softening mount law, or too little stiffness "
+                          f"to carry the load)", it, res, step, R, njev, history)
+        y, R = y_new, R_new
+        res = float(np.max(np.abs(R) / scale))
+        history.append((step, res))
+        prev_step = step
+        if converged_at is None and step < tol and res < tol:
+            converged_at = it
+        if converged_at is not None and (it - converged_at >= polish or step == 0.0):
+            break
+    else:
+        if converged_at is None:
+            worst = int(np.argmax(np.abs(R) / scale))
+            b, k = divmod(worst, 6)
+            return result(False, f"no static equilibrium after {max_iter} Newton–Raphson "
+                          f"iterations: largest residual on body {rigid_names[b]!r} in "
+                          f"{COORDINATES[k]} ({float(np.abs(R).ravel()[worst]):.3g} "
+                          f"{'N' if k < 3 else 'N m'}); step {step:.3g}", max_iter, res, step,
+                          R, njev, history)
+    return result(True, f"converged in {len(history)} iterations", len(history), res, step, R,
+                  njev, history)
+
+
+def _singular_direction(Jac: np.ndarray) -> int | None:
+    """Index of the free coordinate most involved in a null direction, or None."""
+    d = np.sqrt(np.abs(np.diag(Jac)))
+    colnorm = np.linalg.norm(Jac, axis=0)
+    for c in range(Jac.shape[1]):
+        if colnorm[c] == 0.0 or not np.isfinite(colnorm[c]):
+            return c
+    s_col = 1.0 / np.where(d > 0, d, colnorm)
+    Js = Jac * s_col[None, :] * s_col[:, None]
+    u, sv, vt = np.linalg.svd(Js)
+    if sv[-1] <= 1e-11 * sv[0]:
+        return int(np.argmax(np.abs(vt[-1])))
+    return None

@@ -1,0 +1,54 @@
+"""Mode shapes for ParaView: one VTU file, one point-data field per mode.
+
+Each field is the mode's nodal translation (a 3-vector per node, mass
+normalised, kg^-1/2), so ParaView's "Warp By Vector" shows the shape; a
+field ``rotation_NN`` per mode carries the nodal rotations.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import meshio
+import numpy as np
+
+
+def mode_field_name(index: int, frequency: float) -> str:
+    """Field name of mode ``index`` (0-based), e.g. ``mode01_23.17Hz``."""
+    return f"mode{index + 1:02d}_{frequency:.2f}Hz"
+
+
+def write_modes_vtu(path: str | Path, nodes: np.ndarray, cells: np.ndarray,
+                    translation: np.ndarray, rotation: np.ndarray,
+                    frequency: np.ndarray) -> Path:
+    """Write the mode shapes as a VTU file.
+
+    Parameters
+    ----------
+    path : path-like
+        Output file (``.vtu``); its folder is created.
+    nodes : ndarray (N, 3)
+        Node coordinates [m].
+    cells : ndarray (ne, 4)
+        Quadrilaterals (node indices, counter-clockwise).
+    translation, rotation : ndarray (n, N, 3)
+        Nodal translations and rotations per mode.
+    frequency : ndarray (n,)
+        Frequencies [Hz].
+
+    Returns
+    -------
+    Path
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    data = {}
+    for k, f in enumerate(frequency):
+        data[mode_field_name(k, float(f))] = np.ascontiguousarray(translation[k])
+        data[f"rotation{k + 1:02d}"] = np.ascontiguousarray(rotation[k])
+    mesh = meshio.Mesh(points=np.asarray(nodes, dtype=float),
+                       cells=[("quad", np.asarray(cells, dtype=np.int64))], point_data=data)
+    tmp = path.with_name(f".{path.name}.tmp")
+    meshio.write(tmp, mesh, file_format="vtu")
+    tmp.replace(path)
+    return path

@@ -1,0 +1,113 @@
+"""The plate's inputs: geometry, material, mesh — and their hash.
+
+A :class:`PlateSpec` is everything the modes stage computes from; two specs
+with the same :meth:`PlateSpec.digest` give the same modes file.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import asdict, dataclass
+
+
+class PlateSpecError(ValueError):
+    """A plate input out of its range; ``entry`` names the key."""
+
+    def __init__(self, entry: str, message: str):
+        super().__init__(message)
+        self.entry = entry
+
+
+def _positive(entry: str, value: float) -> None:
+    if isinstance(value, bool) or not (isinstance(value, (int, float))
+                                       and math.isfinite(value) and value > 0):
+        raise PlateSpecError(entry, f"{entry} = {value!r} must be a finite number > 0")
+
+
+@dataclass(frozen=True, slots=True)
+class PlateSpec:
+    """Rectangular Kirchhoff plate, free on all edges, centred on the origin.
+
+    Parameters
+    ----------
+    length_x : float
+        Side a along x [m].
+    length_y : float
+        Side b along y [m].
+    thickness : float
+        Thickness t [m]; the mid-surface is the plane z = 0.
+    young : float
+        Young's modulus E [Pa].
+    poisson : float
+        Poisson's ratio ν, -1 < ν < 0.5 [-].
+    density : float
+        Density ρ [kg/m³].
+    nx, ny : int
+        Elements along x and y (the mesh has (nx+1)(ny+1) nodes).
+    rotary_inertia : bool
+        Include the rotary inertia ρt³/12 ∫∇w·∇v in the mass matrix. With
+        it, the discrete rigid rotations about x and y carry exactly the
+        solid plate's moments of inertia, so the elastic modes are
+        orthogonal to the solid's rigid motions.
+
+    Examples
+    --------
+    >>> PlateSpec().mass
+    2995.2
+    """
+
+    length_x: float = 0.8
+    length_y: float = 4.8
+    thickness: float = 0.1
+    young: float = 2.1e11
+    poisson: float = 0.3
+    density: float = 7800.0
+    nx: int = 10
+    ny: int = 10
+    rotary_inertia: bool = True
+
+    def __post_init__(self) -> None:
+        for entry in ("length_x", "length_y", "thickness", "young", "density"):
+            _positive(entry, getattr(self, entry))
+            object.__setattr__(self, entry, float(getattr(self, entry)))
+        nu = self.poisson
+        if isinstance(nu, bool) or not (isinstance(nu, (int, float))
+                                        and math.isfinite(nu) and -1.0 < nu < 0.5):
+            raise PlateSpecError("poisson", f"poisson = {nu!r} must satisfy -1 < poisson < 0.5")
+        object.__setattr__(self, "poisson", float(nu))
+        for entry in ("nx", "ny"):
+            n = getattr(self, entry)
+            if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+                raise PlateSpecError(entry, f"{entry} = {n!r} must be an integer >= 1")
+        if not isinstance(self.rotary_inertia, bool):
+            raise PlateSpecError("rotary_inertia",
+                                 f"rotary_inertia = {self.rotary_inertia!r} must be true or false")
+
+    @property
+    def mass(self) -> float:
+        """Mass of the solid plate, ρabt [kg]."""
+        return self.density * self.length_x * self.length_y * self.thickness
+
+    @property
+    def inertia(self) -> tuple[float, float, float]:
+        """Principal moments of inertia of the solid plate about its centre,
+        (Jxx, Jyy, Jzz) [kg·m²]."""
+        m, a, b, t = self.mass, self.length_x, self.length_y, self.thickness
+        return (m * (b * b + t * t) / 12.0, m * (a * a + t * t) / 12.0,
+                m * (a * a + b * b) / 12.0)
+
+    @property
+    def rigidity(self) -> float:
+        """Bending rigidity D = E t³ / (12 (1 - ν²)) [N·m]."""
+        return self.young * self.thickness ** 3 / (12.0 * (1.0 - self.poisson ** 2))
+
+    def as_dict(self) -> dict:
+        """The inputs as a plain dictionary (JSON-serialisable)."""
+        return asdict(self)
+
+    def digest(self) -> str:
+        """SHA-256 of the canonical JSON of the inputs (hex)."""
+        text = json.dumps(self.as_dict(), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()

@@ -1,0 +1,132 @@
+"""``flexbed modes [SCENE] [-o FILE] [--modes N | --fmax HZ] [--vtu DIR] [--force]``.
+
+Computes the common bed's free–free modes and modal invariants and writes
+the modes file, or reuses it when it was made from the same plate inputs
+(hash match) and holds the modes asked for.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from fem.bed import compute_bed_modes
+from fem.export import write_modes_vtu
+from fem.modes import ModesError
+
+from .errors import InputError
+from .modes_file import ModesData, read_modes_file, write_modes_file
+from .scene_file import SceneFile, load_scene
+
+
+def add_args(parser: argparse.ArgumentParser) -> None:
+    parser.description = ("Free-free modes and modal invariants of the common bed "
+                          "(scikit-fem Kirchhoff plate), written to the modes file.")
+    parser.add_argument("scene", nargs="?", default=None,
+                        help="scene file (TOML); default: the built-in reference scene")
+    parser.add_argument("-o", "--output", default=None,
+                        help="modes file to write (default: the scene's modes_file, "
+                             "else <scene name>-modes.h5 in the current folder)")
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--modes", type=int, default=None, metavar="N",
+                       help="number of elastic modes to keep (default: the scene's)")
+    group.add_argument("--fmax", type=float, default=None, metavar="HZ",
+                       help="keep every elastic mode below this frequency [Hz]")
+    parser.add_argument("--vtu", default=None, metavar="DIR",
+                        help="also write the mode shapes as DIR/<name>-modes.vtu for ParaView")
+    parser.add_argument("--force", action="store_true",
+                        help="recompute even when the file matches the inputs")
+
+
+def default_modes_path(sf: SceneFile) -> Path:
+    """Where a scene's modes file goes when no ``-o`` is given."""
+    if sf.bed.modes_file:
+        return sf.source.parent / sf.bed.modes_file
+    return Path.cwd() / f"{sf.scene.name}-modes.h5"
+
+
+def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,
+                 fmax: float | None = None, force: bool = False,
+                 log=print) -> tuple[ModesData, bool]:
+    """Return the modes file for the scene's bed, computing it if needed.
+
+    Parameters
+    ----------
+    sf : SceneFile
+    path : Path
+        Modes file.
+    n_modes, fmax : optional
+        Request (default: the scene's ``[bed]`` modes / fmax).
+    force : bool
+        Recompute whatever the file holds.
+    log : callable
+        Receives one-line progress messages.
+
+    Returns
+    -------
+    data : ModesData
+    reused : bool
+        True when the existing file was used.
+    """
+    if n_modes is None and fmax is None:
+        n_modes, fmax = sf.bed.modes, sf.bed.fmax
+    spec = sf.bed.plate
+    if path.exists() and not force:
+        try:
+            data = read_modes_file(path)
+        except InputError as exc:
+            log(f"modes: {exc}; recomputing")
+        else:
+            if data.input_hash != spec.digest():
+                log(f"modes: {path} was made from other plate inputs; recomputing")
+            elif not data.covers(n_modes, fmax):
+                log(f"modes: {path} holds {data.n_modes} modes, fewer than asked; recomputing")
+            else:
+                return data, True
+    try:
+        bed = compute_bed_modes(spec, n_modes=n_modes, fmax=fmax)
+    except ModesError as exc:
+        raise InputError(f"{sf.source.name}: bed: {exc}") from None
+    write_modes_file(path, bed)
+    return read_modes_file(path), False
+
+
+def modes_table(data: ModesData) -> str:
+    """The frequency table printed by the command."""
+    lines = [f"{'mode':>4}  {'f [Hz]':>10}  {'shape':<16}  sym",
+             f"{'-' * 4}  {'-' * 10}  {'-' * 16}  ---"]
+    for k, (f, label, sym) in enumerate(zip(data.frequency, data.labels, data.symmetry)):
+        lines.append(f"{k + 1:>4}  {f:>10.4f}  {label:<16}  {sym}")
+    return "\n".join(lines)
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.modes is not None and args.modes < 1:
+        raise InputError(f"--modes {args.modes}: at least one elastic mode is needed")
+    if args.fmax is not None and not args.fmax > 0:
+        raise InputError(f"--fmax {args.fmax}: must be > 0 Hz")
+    sf = load_scene(args.scene)
+    path = Path(args.output) if args.output else default_modes_path(sf)
+    t0 = time.perf_counter()
+    data, reused = ensure_modes(sf, path, n_modes=args.modes, fmax=args.fmax, force=args.force,
+                                log=lambda m: print(m, file=sys.stderr))
+    elapsed = time.perf_counter() - t0
+    p = data.plate
+    print(f"bed: {p.length_x:g} x {p.length_y:g} x {p.thickness:g} m, E = {p.young:g} Pa, "
+          f"nu = {p.poisson:g}, rho = {p.density:g} kg/m^3, {p.nx} x {p.ny} elements "
+          f"({data.nodes.shape[0]} nodes)")
+    inv = data.invariants
+    print(f"mass {inv.mass:.6g} kg; inertia Jxx, Jyy, Jzz = {inv.inertia[0, 0]:.6g}, "
+          f"{inv.inertia[1, 1]:.6g}, {inv.inertia[2, 2]:.6g} kg m^2 (solid plate)")
+    print(modes_table(data))
+    asked = f"{args.modes} asked" if args.modes else (f"all below {args.fmax:g} Hz asked"
+                                                      if args.fmax else "")
+    held = f"{data.n_modes} elastic modes" + (f", {asked}" if asked else "")
+    print(f"{'reused' if reused else 'wrote'} {path} ({held}; {elapsed:.2f} s)")
+    if args.vtu:
+        vtu = write_modes_vtu(Path(args.vtu) / f"{sf.scene.name}-modes.vtu", data.nodes,
+                              data.cells, data.translation, data.rotation, data.frequency)
+        print(f"wrote {vtu}")
+    return 0
