@@ -38,6 +38,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                         help="also write the mode shapes as DIR/<name>-modes.vtu for ParaView")
     parser.add_argument("--force", action="store_true",
                         help="recompute even when the file matches the inputs")
+    parser.add_argument("--show", default=None, metavar="FILE",
+                        help="only read and check an existing modes file and print its table")
 
 
 def default_modes_path(sf: SceneFile) -> Path:
@@ -102,17 +104,8 @@ def modes_table(data: ModesData) -> str:
     return "\n".join(lines)
 
 
-def run(args: argparse.Namespace) -> int:
-    if args.modes is not None and args.modes < 1:
-        raise InputError(f"--modes {args.modes}: at least one elastic mode is needed")
-    if args.fmax is not None and not args.fmax > 0:
-        raise InputError(f"--fmax {args.fmax}: must be > 0 Hz")
-    sf = load_scene(args.scene)
-    path = Path(args.output) if args.output else default_modes_path(sf)
-    t0 = time.perf_counter()
-    data, reused = ensure_modes(sf, path, n_modes=args.modes, fmax=args.fmax, force=args.force,
-                                log=lambda m: print(m, file=sys.stderr))
-    elapsed = time.perf_counter() - t0
+def print_summary(data: ModesData) -> None:
+    """Print the plate, its solid mass properties and the frequency table."""
     p = data.plate
     print(f"bed: {p.length_x:g} x {p.length_y:g} x {p.thickness:g} m, E = {p.young:g} Pa, "
           f"nu = {p.poisson:g}, rho = {p.density:g} kg/m^3, {p.nx} x {p.ny} elements "
@@ -121,8 +114,28 @@ def run(args: argparse.Namespace) -> int:
     print(f"mass {inv.mass:.6g} kg; inertia Jxx, Jyy, Jzz = {inv.inertia[0, 0]:.6g}, "
           f"{inv.inertia[1, 1]:.6g}, {inv.inertia[2, 2]:.6g} kg m^2 (solid plate)")
     print(modes_table(data))
-    asked = f"{args.modes} asked" if args.modes else (f"all below {args.fmax:g} Hz asked"
-                                                      if args.fmax else "")
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.modes is not None and args.modes < 1:
+        raise InputError(f"--modes {args.modes}: at least one elastic mode is needed")
+    if args.fmax is not None and not args.fmax > 0:
+        raise InputError(f"--fmax {args.fmax}: must be > 0 Hz")
+    if args.show:
+        data = read_modes_file(args.show)
+        print_summary(data)
+        print(f"{data.path}: {data.n_modes} elastic modes; made by {data.creator} "
+              f"on {data.created}; input hash {data.input_hash[:12]}")
+        return 0
+    sf = load_scene(args.scene)
+    path = Path(args.output) if args.output else default_modes_path(sf)
+    t0 = time.perf_counter()
+    data, reused = ensure_modes(sf, path, n_modes=args.modes, fmax=args.fmax, force=args.force,
+                                log=lambda m: print(m, file=sys.stderr))
+    elapsed = time.perf_counter() - t0
+    print_summary(data)
+    asked = (f"{args.modes} asked" if args.modes else
+             f"all below {args.fmax:g} Hz asked" if args.fmax else "")
     held = f"{data.n_modes} elastic modes" + (f", {asked}" if asked else "")
     print(f"{'reused' if reused else 'wrote'} {path} ({held}; {elapsed:.2f} s)")
     if args.vtu:
