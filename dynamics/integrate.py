@@ -14,7 +14,8 @@ Methods
 
 Every method restarts at each breakpoint (pulse corners, ends of curve
 data; the stepper is built anew with that breakpoint as its bound, so no
-step crosses it). While an input of the base is
+step crosses it), and the inputs are evaluated with their one-sided limits
+from inside the segment (``System.set_segment``). While an input of the base is
 active, adaptive steps are bounded by its ``max_step`` (dynamics.shapes) and
 the first step after a restart is 1/20 of that, so that a solver starting
 at rest cannot step over the load it has not yet felt. Euler parameters are projected back onto |p| = 1 at every
@@ -183,16 +184,17 @@ class _Projector:
     """Puts every body's Euler parameters back on |p| = 1."""
 
     def __init__(self, system: System):
-        self.idx = system.layout.p_indices()
+        self.sl = system.layout.q_rigid
+        self.n = system.n_rigid
 
     def __call__(self, y: np.ndarray, f: np.ndarray | None = None) -> None:
-        if self.idx.size == 0:
+        if self.n == 0:
             return
-        p = y[self.idx]
-        nrm = np.sqrt(np.sum(p * p, axis=1, keepdims=True))
-        y[self.idx] = p / nrm
-        if f is not None:
-            f[self.idx] = f[self.idx] / nrm      # ṗ = ½ Gᵀ ω̄ is linear in p
+        p = y[self.sl].reshape(self.n, 7)[:, 3:]
+        nrm = np.sqrt(np.einsum("ij,ij->i", p, p))[:, None]
+        p /= nrm
+        if f is not None:                                 # ṗ = ½ Gᵀ ω̄ is linear in p
+            f[self.sl].reshape(self.n, 7)[:, 3:] /= nrm
 
 
 class _TrialTimes:
@@ -266,6 +268,7 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
         for tb in bounds:
             stats.segments += 1
             project(y)
+            system.set_segment(t, tb)
             if method == "rk4":
                 stepper = _RK4(fun, t, y, tb, settings.dt)
                 trial = None
@@ -331,6 +334,7 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
         complete, message = False, f"interrupted (Ctrl-C) at t = {t:.6g} s"
     except FloatingPointError as exc:
         complete, message = False, f"{method}: floating-point error at t = {t:.6g} s: {exc}"
+    system.set_segment(None)
     if method != "rk4" and not complete and "stepper" in locals():
         stats.jacobian_evaluations += int(getattr(stepper, "njev", 0) or 0)
         stats.lu_decompositions += int(getattr(stepper, "nlu", 0) or 0)

@@ -57,9 +57,14 @@ class PiecewisePolynomial:
     def degree(self) -> int:
         return self.coeffs.shape[1] - 1
 
-    def __call__(self, x: float) -> float:
-        """Value at a scalar x (pure Python: cheap on the hot path)."""
-        k = bisect_right(self._b, x)
+    def __call__(self, x: float, at: float | None = None) -> float:
+        """Value at a scalar x (pure Python: cheap on the hot path).
+
+        ``at``: pick the piece that holds ``at`` instead of the one holding x
+        (the one-sided limit at a break, for an integrator stepping between
+        breaks).
+        """
+        k = bisect_right(self._b, x if at is None else at)
         u = x - self._o[k]
         acc = 0.0
         for c in self._c[k]:

@@ -56,8 +56,11 @@ def _non_negative(name: str, value: float) -> float:
 class TimeFunction:
     """Compiled shape: ``value``, ``first`` and ``second`` integrals, breakpoints.
 
-    ``value(t)``, ``first(t)``, ``second(t)`` take a scalar time [s] and are
-    cheap (pure Python); ``values(t)`` etc. take arrays.
+    ``value(t, at=None)``, ``first(t, at=None)``, ``second(t, at=None)``
+    take a scalar time [s] and are cheap (pure Python); ``at``, a time strictly
+    inside the integrator's current segment, picks the piece, so that at a
+    breakpoint the one-sided limit from inside the segment is used.
+    ``values(t)`` etc. take arrays.
     """
 
     __slots__ = ("value", "first", "second", "breakpoints", "values", "firsts", "seconds",
@@ -125,22 +128,25 @@ class Sinusoid:
         v_end = v_in(T) if math.isfinite(T) else 0.0
         d_end = d_in(T) if math.isfinite(T) else 0.0
 
-        def value(t):
-            if t < s or t > end:
+        def value(t, at=None):
+            c = t if at is None else at
+            if c < s or c > end:
                 return 0.0
             return A * math.sin(w * (t - s) + ph)
 
-        def first(t):
-            if t < s:
+        def first(t, at=None):
+            c = t if at is None else at
+            if c < s:
                 return 0.0
-            if t > end:
+            if c > end:
                 return v_end
             return v_in(t - s)
 
-        def second(t):
-            if t < s:
+        def second(t, at=None):
+            c = t if at is None else at
+            if c < s:
                 return 0.0
-            if t > end:
+            if c > end:
                 return d_end + v_end * (t - end)
             return d_in(t - s)
 

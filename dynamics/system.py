@@ -77,6 +77,7 @@ def _pdot_matrix() -> np.ndarray:
 
 
 _CA = _quadratic_A()
+_TRACE = np.eye(4).reshape(16, 1)          # (p ⊗ p).ravel() @ _TRACE = |p|²
 _EPS = _cross_matrix()
 _CP = _pdot_matrix()
 
@@ -184,6 +185,7 @@ class System:
         self._build_maps(A0)
         self._f = np.zeros(3 * M)
         self._acc_base = np.zeros(3)
+        self._at = None
         self.nfev = 0
         self._last = None
 
@@ -268,17 +270,27 @@ class System:
         self._load_pairs = [(k, f.value) for k in range(3) for f in self._loads[k]]
 
     # ------------------------------------------------------------------ base
+    def set_segment(self, t_a: float | None, t_b: float | None = None) -> None:
+        """Tell the inputs which segment between breakpoints is being integrated.
+
+        At t = t_a or t_b the base's drives and loads then give their limits
+        from inside [t_a, t_b]; ``set_segment(None)`` returns to the
+        right-continuous convention (statics, outputs).
+        """
+        self._at = None if t_a is None else 0.5 * (t_a + t_b)
+
     def base_motion_at(self, t: float):
         """Base position [m], velocity [m/s] and acceleration [m/s²] at time t
         (prescribed motions only; a free base's come from the state)."""
+        at = self._at
         r = self.r0_base.copy()
         v = np.zeros(3)
         a = np.zeros(3)
         for k in range(3):
             for f in self._drives[k]:
-                r[k] += f.second(t)
-                v[k] += f.first(t)
-                a[k] += f.value(t)
+                r[k] += f.second(t, at)
+                v[k] += f.first(t, at)
+                a[k] += f.value(t, at)
         return r, v, a
 
     def max_step(self, t_a: float, t_b: float) -> float:
@@ -295,7 +307,7 @@ class System:
         F = self.support.copy()
         for k in range(3):
             for f in self._loads[k]:
-                F[k] += f.value(t)
+                F[k] += f.value(t, self._at)
         return F
 
     # ------------------------------------------------------------- the physics
@@ -318,10 +330,11 @@ class System:
         p = qr[:, 3:]
         wr = vr[:, 3:]
         pp = (p[:, :, None] * p[:, None, :]).reshape(n, 16)
-        inv2 = 1.0 / pp[:, ::5].sum(axis=1, keepdims=True)                  # 1/|p|²
+        inv2 = 1.0 / (pp @ _TRACE)                                          # 1/|p|², (n, 1)
         pdot = (wr[:, :, None] * p[:, None, :]).reshape(n, 12) @ _CP       # ½ G(p)ᵀ ω̄
         np.multiply(pp, inv2, out=self._Xpp)
-        np.multiply((p[:, :, None] * pdot[:, None, :]).reshape(n, 16), 2.0 * inv2, out=self._Xppd)
+        pds = pdot * (2.0 * inv2)
+        np.multiply(p[:, :, None], pds[:, None, :], out=self._Xppd.reshape(n, 4, 4))
         self._XR[1:] = qr[:, :3]
         self._XRD[1:] = vr[:, :3]
         # 2.-3. all mounts and ends at once
@@ -357,8 +370,9 @@ class System:
         if motion == "free":
             Fx = self._Fx
             Fx[:] = self.support
+            at = self._at
             for k, fun in self._load_pairs:
-                Fx[k] += fun(t)
+                Fx[k] += fun(t, at)
             ab = (Fb[0] + Fx) * self._inv_m_base + self.g
             dydt[self._sq_base] = self._XRD[0]
             dydt[self._sv_base] = ab

@@ -20,6 +20,7 @@ COMMANDS = {
     "static": "static equilibrium (paper Table 2) -> equilibrium file",
     "simulate": "time integration of the mount system -> results file",
     "run": "the whole pipeline on one scene, into one folder",
+    "bench": "benchmarks: speed against error, printed as tables",
 }
 
 

@@ -114,6 +114,10 @@ def print_summary(data: ModesData) -> None:
     print(f"mass {inv.mass:.6g} kg; inertia Jxx, Jyy, Jzz = {inv.inertia[0, 0]:.6g}, "
           f"{inv.inertia[1, 1]:.6g}, {inv.inertia[2, 2]:.6g} kg m^2 (solid plate)")
     print(modes_table(data))
+    if data.n_modes and abs(data.next_frequency - data.frequency[-1]) <= 1e-6 * data.next_frequency:
+        print(f"warning: mode {data.n_modes} and the first mode left out share the frequency "
+              f"{data.next_frequency:.4f} Hz; keep one more mode so the pair stays whole",
+              file=sys.stderr)
 
 
 def run(args: argparse.Namespace) -> int:

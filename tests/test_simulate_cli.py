@@ -1,36 +1,17 @@
 """`flexbed simulate`: the results file, every integrator, restarts from a file,
 interrupted runs, and bad input (one line, exit code 2, no output file)."""
 
-import argparse
-import importlib
-import sys
-
 import numpy as np
 import pytest
 
-from pipeline.errors import FlexbedError
+from pipeline.cli import main
 from pipeline.results_file import read_results
 from pipeline.scene_file import load_scene
 
 
 def flexbed(argv):
-    """`flexbed ARGV` in-process: pipeline.cli.main once it exists, else the same contract."""
-    try:
-        cli = importlib.import_module("pipeline.cli")
-    except ModuleNotFoundError:
-        cli = None
-    if cli is not None:
-        return cli.main(argv)
-    parser = argparse.ArgumentParser(prog="flexbed")
-    sub = parser.add_subparsers(dest="command", required=True)
-    for name in ("static", "simulate"):
-        importlib.import_module(f"pipeline.cmd_{name}").add_args(sub.add_parser(name))
-    args = parser.parse_args(argv)
-    try:
-        return importlib.import_module(f"pipeline.cmd_{args.command}").run(args)
-    except FlexbedError as exc:
-        print(f"flexbed: {exc}", file=sys.stderr)
-        return exc.exit_code
+    """`flexbed ARGV` in-process; returns the exit code."""
+    return main(argv)
 
 
 REF = load_scene().text
@@ -177,7 +158,7 @@ def test_bad_input_is_one_line_exit_2_and_no_file(tmp_path, capsys, case, comman
     assert flexbed([command, str(scene), "-o", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1, err
-    assert err[0].startswith("flexbed: bad.toml: "), err[0]
+    assert err[0].startswith(f"flexbed {command}: bad.toml: "), err[0]
     assert expected in err[0], err[0]
     assert "Traceback" not in err[0] and "ERROR" not in err[0]
     assert not out.exists()

@@ -1,10 +1,6 @@
 """Static equilibrium: the paper's Table 2, scenes without an equilibrium, and the
 `flexbed static` command."""
 
-import argparse
-import importlib
-import sys
-
 import numpy as np
 import pytest
 
@@ -13,30 +9,13 @@ from dynamics.rotation import angles_from_p
 from dynamics.scene import Base, Body, Mount, Scene
 from dynamics.statics import solve_statics
 from dynamics.system import System
-from pipeline.errors import FlexbedError
+from pipeline.cli import main
 from pipeline.scene_file import load_scene
 
 
 def flexbed(argv):
-    """`flexbed ARGV` in-process: pipeline.cli.main once it exists, else the same contract."""
-    try:
-        cli = importlib.import_module("pipeline.cli")
-    except ModuleNotFoundError:
-        cli = None
-    if cli is not None:
-        return cli.main(argv)
-    parser = argparse.ArgumentParser(prog="flexbed")
-    sub = parser.add_subparsers(dest="command", required=True)
-    for name in ("static", "simulate"):
-        mod = importlib.import_module(f"pipeline.cmd_{name}")
-        mod.add_args(sub.add_parser(name))
-    args = parser.parse_args(argv)
-    mod = importlib.import_module(f"pipeline.cmd_{args.command}")
-    try:
-        return mod.run(args)
-    except FlexbedError as exc:
-        print(f"flexbed: {exc}", file=sys.stderr)
-        return exc.exit_code
+    """`flexbed ARGV` in-process; returns the exit code."""
+    return main(argv)
 
 
 def test_table2_of_the_reference_scene():
@@ -132,6 +111,6 @@ def test_static_command_without_equilibrium_exits_1(tmp_path, capsys):
     out = tmp_path / "eq.h5"
     assert flexbed(["static", str(scene), "-o", str(out)]) == 1
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("flexbed: free.toml: no static equilibrium")
+    assert len(err) == 1 and err[0].startswith("flexbed static: free.toml: no static equilibrium")
     assert "'equipment A'" in err[0] and " free in x" in err[0]
     assert not out.exists()

@@ -1,0 +1,111 @@
+"""Benchmark of the bed-modes stage: time, peak memory and accuracy against
+mesh density, in-process and as a whole command.
+
+In-process: :func:`fem.bed.compute_bed_modes` plus writing the modes file,
+after imports, median of repeats; peak memory from ``tracemalloc`` (NumPy
+reports its buffers to it) in a separate run. Whole command: ``flexbed
+modes --force`` in a fresh Python process, wall time and the child's peak
+resident set size (``os.wait4``). Accuracy: the first four frequencies
+against the finest mesh of the ladder.
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import tracemalloc
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from fem.bed import compute_bed_modes
+
+from .modes_file import write_modes_file
+from .scene_file import builtin_scene_path, load_scene
+
+MESHES = ((10, 10), (40, 40), (100, 100))
+N_MODES = 4
+
+
+def _scene_with_mesh(folder: Path, nx: int, ny: int) -> Path:
+    text = builtin_scene_path().read_text()
+    text = text.replace("nx = 10", f"nx = {nx}", 1).replace("ny = 10", f"ny = {ny}", 1)
+    path = folder / f"bench-{nx}x{ny}.toml"
+    path.write_text(text)
+    return path
+
+
+def _in_process(spec, folder: Path, repeats: int) -> tuple[float, dict, object]:
+    times, parts, bed = [], [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        bed = compute_bed_modes(spec, n_modes=N_MODES)
+        t1 = time.perf_counter()
+        write_modes_file(folder / "bench.h5", bed)
+        t2 = time.perf_counter()
+        times.append(t2 - t0)
+        parts.append(dict(bed.timings, write=t2 - t1))
+    best = int(np.argsort(times)[len(times) // 2])
+    return statistics.median(times), parts[best], bed
+
+
+def _peak_memory(spec, folder: Path) -> float:
+    tracemalloc.start()
+    try:
+        bed = compute_bed_modes(spec, n_modes=N_MODES)
+        write_modes_file(folder / "bench.h5", bed)
+        return tracemalloc.get_traced_memory()[1] / 2 ** 20
+    finally:
+        tracemalloc.stop()
+
+
+def _whole_command(scene: Path, folder: Path) -> tuple[float, float]:
+    cmd = [sys.executable, "-c", "import sys; from pipeline.cli import main; "
+           "sys.exit(main(sys.argv[1:]))", "modes", str(scene), "-o",
+           str(folder / "cmd.h5"), "--modes", str(N_MODES), "--force"]
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(proc.pid, 0)
+    elapsed = time.perf_counter() - t0
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode != 0:
+        raise RuntimeError(f"flexbed modes failed: {proc.stderr.read().decode()}")
+    return elapsed, usage.ru_maxrss / 1024.0
+
+
+def benchmark_modes(meshes=MESHES, repeats: int = 3, log=print) -> str:
+    """Run the benchmark; return the Markdown table (and log progress)."""
+    base = load_scene(None).bed.plate
+    rows, results = [], {}
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        compute_bed_modes(base, n_modes=N_MODES)         # warm-up (imports, ARPACK)
+        for nx, ny in meshes:
+            spec = replace(base, nx=nx, ny=ny)
+            reps = repeats if nx * ny <= 2500 else 1
+            log(f"bench modes: {nx} x {ny} ...")
+            total, parts, bed = _in_process(spec, folder, reps)
+            peak = _peak_memory(spec, folder)
+            wall, rss = _whole_command(_scene_with_mesh(folder, nx, ny), folder)
+            results[(nx, ny)] = bed.modes.frequency
+            rows.append((nx, ny, (nx + 1) * (ny + 1) * 4, total, parts, peak, wall, rss))
+    finest = results[max(results, key=lambda k: k[0] * k[1])]
+    lines = [
+        "| mesh | DOFs | in-process [s] | assemble | eigen | invariants | write "
+        "| peak memory (tracemalloc) [MiB] | whole command [s] | peak RSS [MiB] "
+        "| f1 [Hz] | max error f1-f4 vs finest |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for nx, ny, ndof, total, parts, peak, wall, rss in rows:
+        err = np.abs(results[(nx, ny)] / finest - 1).max()
+        lines.append(
+            f"| {nx} x {ny} | {ndof} | {total:.3f} | {parts['assemble']:.3f} | "
+            f"{parts['eigen']:.3f} | {parts['invariants']:.3f} | {parts['write']:.3f} | "
+            f"{peak:.0f} | {wall:.2f} | {rss:.0f} | {results[(nx, ny)][0]:.6f} | "
+            f"{err:.1e} |")
+    return "\n".join(lines)
