@@ -13,7 +13,7 @@ tail (``x < b_0``, local variable ``x - b_0``), the ``n`` interior pieces
 
 from __future__ import annotations
 
-from bisect import bisect_right
+from bisect import bisect_left, bisect_right
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -57,14 +57,17 @@ class PiecewisePolynomial:
     def degree(self) -> int:
         return self.coeffs.shape[1] - 1
 
-    def __call__(self, x: float, at: float | None = None) -> float:
+    def __call__(self, x: float, seg_end: float | None = None) -> float:
         """Value at a scalar x (pure Python: cheap on the hot path).
 
-        ``at``: pick the piece that holds ``at`` instead of the one holding x
-        (the one-sided limit at a break, for an integrator stepping between
-        breaks).
+        Right-continuous at the breaks, except at or beyond ``seg_end`` (the
+        end of the segment an integrator is stepping through), where the
+        piece to the left is used: the limit from inside the segment.
         """
-        k = bisect_right(self._b, x if at is None else at)
+        if seg_end is not None and x >= seg_end:
+            k = bisect_left(self._b, x)
+        else:
+            k = bisect_right(self._b, x)
         u = x - self._o[k]
         acc = 0.0
         for c in self._c[k]:

@@ -56,10 +56,11 @@ def _non_negative(name: str, value: float) -> float:
 class TimeFunction:
     """Compiled shape: ``value``, ``first`` and ``second`` integrals, breakpoints.
 
-    ``value(t, at=None)``, ``first(t, at=None)``, ``second(t, at=None)``
-    take a scalar time [s] and are cheap (pure Python); ``at``, a time strictly
-    inside the integrator's current segment, picks the piece, so that at a
-    breakpoint the one-sided limit from inside the segment is used.
+    ``value(t, seg_end=None)``, ``first(t, seg_end=None)``,
+    ``second(t, seg_end=None)`` take a scalar time [s] and are cheap (pure
+    Python). They are right-continuous at breakpoints, except at ``seg_end``
+    (the end of the segment an integrator is stepping through), where they
+    give the limit from the left: from inside the segment.
     ``values(t)`` etc. take arrays.
     """
 
@@ -128,25 +129,28 @@ class Sinusoid:
         v_end = v_in(T) if math.isfinite(T) else 0.0
         d_end = d_in(T) if math.isfinite(T) else 0.0
 
-        def value(t, at=None):
-            c = t if at is None else at
-            if c < s or c > end:
+        def inside(t, seg_end):
+            # right-continuous window [s, end), left limit at a segment's end
+            if seg_end is not None and t >= seg_end:
+                return s < t <= end
+            return s <= t < end
+
+        def value(t, seg_end=None):
+            if not inside(t, seg_end):
                 return 0.0
             return A * math.sin(w * (t - s) + ph)
 
-        def first(t, at=None):
-            c = t if at is None else at
-            if c < s:
+        def first(t, seg_end=None):
+            if t <= s:
                 return 0.0
-            if c > end:
+            if t >= end:
                 return v_end
             return v_in(t - s)
 
-        def second(t, at=None):
-            c = t if at is None else at
-            if c < s:
+        def second(t, seg_end=None):
+            if t <= s:
                 return 0.0
-            if c > end:
+            if t >= end:
                 return d_end + v_end * (t - end)
             return d_in(t - s)
 

@@ -185,7 +185,7 @@ class System:
         self._build_maps(A0)
         self._f = np.zeros(3 * M)
         self._acc_base = np.zeros(3)
-        self._at = None
+        self._seg_end = None
         self.nfev = 0
         self._last = None
 
@@ -274,15 +274,16 @@ class System:
         """Tell the inputs which segment between breakpoints is being integrated.
 
         At t = t_a or t_b the base's drives and loads then give their limits
-        from inside [t_a, t_b]; ``set_segment(None)`` returns to the
-        right-continuous convention (statics, outputs).
+        from inside [t_a, t_b] (right-continuous at t_a, left limits at t_b);
+        ``set_segment(None)`` returns to the right-continuous convention
+        everywhere (statics, outputs).
         """
-        self._at = None if t_a is None else 0.5 * (t_a + t_b)
+        self._seg_end = None if t_a is None else float(t_b)
 
     def base_motion_at(self, t: float):
         """Base position [m], velocity [m/s] and acceleration [m/s²] at time t
         (prescribed motions only; a free base's come from the state)."""
-        at = self._at
+        at = self._seg_end       # left limits at the end of the current segment
         r = self.r0_base.copy()
         v = np.zeros(3)
         a = np.zeros(3)
@@ -307,7 +308,7 @@ class System:
         F = self.support.copy()
         for k in range(3):
             for f in self._loads[k]:
-                F[k] += f.value(t, self._at)
+                F[k] += f.value(t, self._seg_end)
         return F
 
     # ------------------------------------------------------------- the physics
@@ -370,7 +371,7 @@ class System:
         if motion == "free":
             Fx = self._Fx
             Fx[:] = self.support
-            at = self._at
+            at = self._seg_end
             for k, fun in self._load_pairs:
                 Fx[k] += fun(t, at)
             ab = (Fb[0] + Fx) * self._inv_m_base + self.g

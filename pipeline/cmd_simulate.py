@@ -8,7 +8,9 @@ import time
 from pathlib import Path
 
 from dynamics.integrate import METHODS, integrate
-from dynamics.statics import solve_statics
+import numpy as np
+
+from dynamics.statics import Equilibrium, solve_statics
 
 from .cmd_static import compile_scene
 from .errors import InputError, NumericalError
@@ -90,8 +92,6 @@ def run(args: argparse.Namespace) -> int:
     if start == "equilibrium":
         if args.equilibrium:
             y0 = read_equilibrium(args.equilibrium, sf, system)
-            from dynamics.statics import Equilibrium
-            import numpy as np
             eq = Equilibrium(True, f"read from {args.equilibrium}", y0, 0, float("nan"),
                              float("nan"), np.zeros((system.n_rigid, 6)), 0, 0, 0.0,
                              solver.static_tol)
