@@ -16,6 +16,7 @@ from .errors import EXIT_INPUT, FlexbedError
 from .store import package_version
 
 COMMANDS = {
+    "scene": "print the built-in reference scene as TOML",
     "modes": "free-free modes and invariants of the bed -> modes file",
     "static": "static equilibrium (paper Table 2) -> equilibrium file",
     "simulate": "time integration of the mount system -> results file",
@@ -33,7 +34,8 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="flexbed", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="flexbed", description="Mount systems with flexible common beds "
+                     "(Lee, Kim & Jeong 1999): bed modes, statics, dynamics, post-processing.")
     parser.add_argument("--version", action="version", version=f"flexbed {package_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name, summary in COMMANDS.items():
