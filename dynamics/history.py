@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .layout import N_WORK
 from .rotation import angles_from_p
 from .system import System
 
@@ -27,9 +28,11 @@ def history(system: System, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarra
     [rad/s²], ``deflection``, ``rate``, ``force`` (k, M, 3) [m, m/s, N] along
     the mount axes, ``force_i``, ``force_j`` (k, M, 3) [N] inertial,
     ``kinetic`` (k, nb) [J], ``gravity_potential`` (k, nb) [J],
-    ``mount_potential`` (k, M) [J], ``work`` (k, 3) [J] (mount, external,
-    drive), ``power`` (k, 3) [W], ``balance`` (k,) [J] = kinetic + gravity
-    potential − works (constant for an exact solution).
+    ``mount_potential`` (k, M) [J], ``strain`` (k, nb) [J], ``modal``,
+    ``modal_rate`` (k, n_modal), ``work`` (k, 4) [J] (mount, external,
+    drive, structural damping), ``power`` (k, 4) [W], ``balance`` (k,) [J] =
+    kinetic + gravity potential + strain − works (constant for an exact
+    solution).
     """
     k = len(t)
     nb, M = system.nb, system.M
@@ -40,7 +43,10 @@ def history(system: System, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarra
         "deflection": np.zeros((k, M, 3)), "rate": np.zeros((k, M, 3)), "force": np.zeros((k, M, 3)),
         "force_i": np.zeros((k, M, 3)), "force_j": np.zeros((k, M, 3)),
         "kinetic": np.zeros((k, nb)), "gravity_potential": np.zeros((k, nb)),
-        "mount_potential": np.zeros((k, M)), "work": np.zeros((k, 3)), "power": np.zeros((k, 3)),
+        "mount_potential": np.zeros((k, M)), "strain": np.zeros((k, nb)),
+        "modal": np.zeros((k, system.layout.n_modal)),
+        "modal_rate": np.zeros((k, system.layout.n_modal)),
+        "work": np.zeros((k, N_WORK)), "power": np.zeros((k, N_WORK)),
     }
     for n in range(k):
         o = system.observe(float(t[n]), y[n])
@@ -58,9 +64,12 @@ def history(system: System, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarra
         out["kinetic"][n] = o.kinetic
         out["gravity_potential"][n] = o.gravity_potential
         out["mount_potential"][n] = o.mount_potential
+        out["strain"][n] = o.strain
+        out["modal"][n] = o.a
+        out["modal_rate"][n] = o.ad
         out["work"][n] = o.work
         out["power"][n] = o.power
     out["orientation"] = angles_from_p(out["euler_parameters"]) if k else np.zeros((0, nb, 3))
     out["balance"] = (out["kinetic"].sum(axis=1) + out["gravity_potential"].sum(axis=1)
-                      - out["work"].sum(axis=1))
+                      + out["strain"].sum(axis=1) - out["work"].sum(axis=1))
     return out

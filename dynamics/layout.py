@@ -5,25 +5,30 @@
 ``q`` — coordinates, one block per moving body:
 
 - free base (body 1 with ``motion = "free"``): ``r`` (3) [m]
-- rigid body: ``r`` (3) [m], position of the centre of mass in the inertial
+- every other body: ``r`` (3) [m], position of the body-frame origin (the
+  centre of mass; for a flexible body the undeformed one) in the inertial
   frame; ``p`` (4) [–], Euler parameters, scalar first
-- (flexible body, issue 4: ``r`` (3), ``p`` (4), modal coordinates ``a`` (m))
+- then the modal coordinates ``a`` of the flexible bodies, one block per
+  flexible body in scene order [kg^1/2 m]
 
 ``v`` — velocities, the same blocks in the same order:
 
 - free base: ``ṙ`` (3) [m/s]
-- rigid body: ``ṙ`` (3) [m/s], inertial frame; ``ω̄`` (3) [rad/s], angular
-  velocity in the body frame (``ṗ = ½ G(p)ᵀ ω̄``)
-- (flexible body: ``ṙ``, ``ω̄``, ``ȧ`` (m))
+- every other body: ``ṙ`` (3) [m/s], inertial frame; ``ω̄`` (3) [rad/s],
+  angular velocity in the body frame (``ṗ = ½ G(p)ᵀ ω̄``)
+- then the modal rates ``ȧ``, same blocks as ``a``
 
-``w`` — energy quadratures (3) [J], integrated along with the motion:
+``w`` — energy quadratures (4) [J], integrated along with the motion:
 ``W_mount`` (work of all mount forces on the bodies, springs and dampers),
 ``W_ext`` (work of the base's external loads and support force),
-``W_drive`` (work of the force that makes a driven base follow its drive).
+``W_drive`` (work of the force that makes a driven base follow its drive),
+``W_struct`` (work of the flexible bodies' structural damping, ≤ 0).
 
-Block order: the base (if it has a state), then the rigid bodies in scene
-order (contiguous, so that ``q[...].reshape(n, 7)`` views them all at once),
-then flexible bodies. A fixed or driven base has no state.
+Block order: the base (if it has a state), then bodies 2… in scene order
+(contiguous, so that ``q[...].reshape(n, 7)`` views them all at once,
+flexible bodies included: their frame coordinates sit with the others'),
+then the modal blocks. A fixed or driven base has no state. With no
+flexible body the modal blocks are empty.
 """
 
 from __future__ import annotations
@@ -34,7 +39,7 @@ import numpy as np
 
 __all__ = ["Layout", "N_WORK"]
 
-N_WORK = 3
+N_WORK = 4
 
 
 @dataclass(frozen=True, slots=True)
@@ -48,20 +53,48 @@ class Layout:
     base_free : bool
         Whether the base has a translation state.
     rigid : tuple of int
-        Scene indices of the rigid bodies with a state (1..n_bodies-1).
+        Scene indices of the bodies with a frame state (1..n_bodies-1),
+        rigid or flexible.
+    modal : tuple of (int, int)
+        (scene index, number of modes) of each flexible body, in scene order.
     """
 
     n_bodies: int
     base_free: bool
     rigid: tuple
+    modal: tuple = ()
+
+    @property
+    def n_modal(self) -> int:
+        """Modal coordinates of all flexible bodies together."""
+        return int(sum(n for _, n in self.modal))
 
     @property
     def nq(self) -> int:
-        return 3 * self.base_free + 7 * len(self.rigid)
+        return 3 * self.base_free + 7 * len(self.rigid) + self.n_modal
 
     @property
     def nv(self) -> int:
-        return 3 * self.base_free + 6 * len(self.rigid)
+        return 3 * self.base_free + 6 * len(self.rigid) + self.n_modal
+
+    @property
+    def q_modal(self) -> slice:
+        a = 3 * self.base_free + 7 * len(self.rigid)
+        return slice(a, a + self.n_modal)
+
+    @property
+    def v_modal(self) -> slice:
+        a = self.nq + 3 * self.base_free + 6 * len(self.rigid)
+        return slice(a, a + self.n_modal)
+
+    def modal_block(self, body: int) -> slice:
+        """Offsets of a flexible body's modes within the modal blocks."""
+        a = 0
+        for b, n in self.modal:
+            if b == body:
+                return slice(a, a + n)
+            a += n
+        raise KeyError(body)
 
     @property
     def ny(self) -> int:
@@ -99,7 +132,8 @@ class Layout:
 
         Returns dict with ``r_base`` (..., 3) or None, ``rd_base``,
         ``r`` (..., n, 3), ``p`` (..., n, 4), ``rd`` (..., n, 3),
-        ``w`` (..., n, 3) [ω̄], ``work`` (..., 3).
+        ``w`` (..., n, 3) [ω̄], ``a`` (..., n_modal), ``ad`` (..., n_modal),
+        ``work`` (..., 3).
         """
         y = np.asarray(y)
         lead = y.shape[:-1]
@@ -110,5 +144,6 @@ class Layout:
             "r_base": y[..., self.q_base] if self.base_free else None,
             "rd_base": y[..., self.v_base] if self.base_free else None,
             "r": qr[..., :3], "p": qr[..., 3:], "rd": vr[..., :3], "w": vr[..., 3:],
+            "a": y[..., self.q_modal], "ad": y[..., self.v_modal],
             "work": y[..., self.work],
         }

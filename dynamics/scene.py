@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import SceneError
+from .flexible import FlexibleBody
 from .laws import CurveLaw, LinearLaw, PolynomialLaw
 from .shapes import Curve, Sinusoid, Trapezoid, Triangle
 
@@ -255,6 +256,10 @@ class Scene:
     gravity : array_like, shape (3,)
         Gravity vector in the inertial frame [m/s²].
     name : str
+    flexible : tuple of (str, FlexibleBody)
+        Bodies modelled as flexible (floating frame), by name. Their mass
+        and inertia come from the FlexibleBody and must agree with the
+        body's table within 1e-4 (rounding of published values).
     """
 
     bodies: tuple
@@ -262,6 +267,7 @@ class Scene:
     mounts: tuple = ()
     gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, -9.81]))
     name: str = "scene"
+    flexible: tuple = ()
 
     def __post_init__(self):
         bodies = tuple(self.bodies)
@@ -289,6 +295,31 @@ class Scene:
                 if getattr(m, key) not in names:
                     raise SceneError(f"mount {m.name!r}: {key} = {getattr(m, key)!r} is not a body "
                                      f"(bodies: {', '.join(names)})")
+        flexible = tuple(self.flexible)
+        for entry in flexible:
+            name, fb = entry
+            if name not in names:
+                raise SceneError(f"flexible body {name!r} is not a body "
+                                 f"(bodies: {', '.join(names)})")
+            if name == names[0]:
+                raise SceneError(f"body {name!r}: the base cannot be flexible")
+            if not isinstance(fb, FlexibleBody):
+                raise SceneError(f"body {name!r}: {fb!r} is not a FlexibleBody")
+            body = bodies[names.index(name)]
+            if abs(fb.mass - body.mass) > 1e-4 * body.mass:
+                raise SceneError(f"body {name!r}: mass = {body.mass!r} kg differs from the "
+                                 f"flexible model's {fb.mass!r} kg")
+            J = body.inertia
+            if np.abs(fb.inertia - J).max() > 1e-4 * np.abs(J).max():
+                raise SceneError(f"body {name!r}: inertia {np.diag(J).tolist()} differs from "
+                                 f"the flexible model's {np.diag(fb.inertia).tolist()} kg m^2")
+            for m in mounts:
+                for key, point in (("body_i", m.point_i), ("body_j", m.point_j)):
+                    if getattr(m, key) == name:
+                        fb.point_index(point)   # raises if no shapes for that point
+        if len({n for n, _ in flexible}) != len(flexible):
+            raise SceneError("a body is listed as flexible twice")
+        object.__setattr__(self, "flexible", flexible)
         object.__setattr__(self, "bodies", bodies)
         object.__setattr__(self, "mounts", mounts)
         object.__setattr__(self, "gravity", _vector("scene", "gravity", self.gravity, (3,)))

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .rotation import A as rotation_matrix
 from .rotation import quat_mul, rotvec_to_p
 from .system import System
 
@@ -56,30 +57,56 @@ class Equilibrium:
     history: tuple = field(default=())
 
 
-def _residual(system: System, y: np.ndarray) -> np.ndarray:
+def _residual(system: System, y: np.ndarray, sag: bool = True) -> np.ndarray:
+    """Generalized forces at rest, flat: 6 per body (N, N m) then, with
+    ``sag``, the modal forces of the flexible bodies."""
     d = system.rhs(0.0, y)
     parts = system.layout.split(d)
     rdd = parts["rd"]                     # (n, 3): the slot of ṙ holds r̈
     wd = parts["w"]
     m = system.m_r
     Jw = np.einsum("nij,nj->ni", system.J, wd)
-    return np.concatenate([m * rdd, Jw], axis=1)   # (n, 6)
+    R = np.concatenate([m * rdd, Jw], axis=1)   # (n, 6)
+    modal = []
+    for fc in system.flex_compiled:
+        A = rotation_matrix(parts_p(system, y, fc.slot))
+        vd = np.concatenate([rdd[fc.slot], wd[fc.slot], d[fc.va]])
+        Q = system_mass(fc, A, y) @ vd
+        R[fc.slot] = Q[:6]
+        modal.append(Q[6:])
+    if sag and modal:
+        return np.concatenate([R.ravel()] + modal)
+    return R.ravel()
+
+
+def parts_p(system: System, y: np.ndarray, slot: int) -> np.ndarray:
+    p = system.layout.split(y)["p"][slot]
+    return p / np.linalg.norm(p)
+
+
+def system_mass(fc, A: np.ndarray, y: np.ndarray) -> np.ndarray:
+    return fc.eom.mass_matrix(A, y[fc.qa])
 
 
 def _apply(system: System, y: np.ndarray, dx: np.ndarray) -> np.ndarray:
-    """New state: translations added, rotations composed (dx : (n, 6))."""
+    """New state: translations added, rotations composed, modal
+    coordinates added (dx : flat, 6 per body then modal)."""
     y = y.copy()
+    n = system.n_rigid
     parts = system.layout.split(y)
-    parts["r"][...] += dx[:, :3]
-    for b in range(system.n_rigid):
-        p = quat_mul(parts["p"][b], rotvec_to_p(dx[b, 3:]))
+    body = dx[:6 * n].reshape(n, 6)
+    parts["r"][...] += body[:, :3]
+    for b in range(n):
+        p = quat_mul(parts["p"][b], rotvec_to_p(body[b, 3:]))
         parts["p"][b] = p / np.linalg.norm(p)
+    if dx.size > 6 * n:
+        y[system.layout.q_modal] += dx[6 * n:]
     return y
 
 
 def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 1e-6,
                   max_iter: int = 50, polish: int = 3, fd_step: float = 1e-6,
-                  max_move: float | None = None) -> Equilibrium:
+                  max_move: float | None = None, sag: bool = True) -> Equilibrium:
     """Static equilibrium of the free rigid bodies, the base held.
 
     Parameters
@@ -99,6 +126,9 @@ def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 
     max_move : float, optional
         A body moving further than this from its start [m] means divergence;
         default 100 × (1 m + the scene's largest coordinate).
+    sag : bool
+        Solve for the flexible bodies' modal coordinates too (their elastic
+        sag); False holds them at zero (the paper's statics).
 
     Returns
     -------
@@ -116,20 +146,35 @@ def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 
     names = [b.name for b in system.scene.bodies]
     rigid_names = [names[i] for i in lay.rigid]
     g = float(np.linalg.norm(system.g))
-    scale = np.repeat(system.m_r[:, 0] * g if g > 0 else np.ones(n), 6).reshape(n, 6)
+    scale = np.repeat(system.m_r[:, 0] * g if g > 0 else np.ones(n), 6)
     scale = np.where(scale > 0, scale, 1.0)
+    step_unit = np.ones(6 * n)
+    if sag and lay.n_modal:
+        # modal unknowns [kg^1/2 m]: forces scaled by g sqrt(m), steps by 1/sqrt(m)
+        for fc in system.flex_compiled:
+            root_m = math.sqrt(fc.eom.m)
+            k = fc.eom.n
+            scale = np.concatenate([scale, np.full(k, (g if g > 0 else 1.0) * root_m)])
+            step_unit = np.concatenate([step_unit, np.full(k, 1.0 / root_m)])
+    n_unknown = scale.size
     start_r = lay.split(y)["r"].copy()
     if max_move is None:
         max_move = 100.0 * (1.0 + float(np.max(np.abs(system.initial_r))))
 
     def result(success, message, it, res, step, rf, njev, history):
-        return Equilibrium(success, message, y, it, res, step, rf, njev,
+        return Equilibrium(success, message, y, it, res, step, rf[:6 * n].reshape(n, 6), njev,
                            system.nfev - nfev0, time.perf_counter() - t_start, tol,
                            tuple(history))
 
+    def name_of(c: int, verb: str = "in") -> str:
+        if c < 6 * n:
+            b, k = divmod(c, 6)
+            return f"body {rigid_names[b]!r} {verb} {COORDINATES[k]}"
+        return f"modal coordinate {c - 6 * n + 1}" + (" is free" if verb != "in" else "")
+
     if n == 0:
-        return result(True, "no free bodies", 0, 0.0, 0.0, np.zeros((0, 6)), 0, [])
-    R = _residual(system, y)
+        return result(True, "no free bodies", 0, 0.0, 0.0, np.zeros(0), 0, [])
+    R = _residual(system, y, sag)
     res = float(np.max(np.abs(R) / scale))
     step = math.inf
     njev = 0
@@ -137,26 +182,25 @@ def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 
     converged_at = None
     prev_step = math.inf
     for it in range(1, max_iter + 1):
-        # central-difference Jacobian, column c = (body, coordinate)
-        Jac = np.empty((6 * n, 6 * n))
-        for c in range(6 * n):
-            e = np.zeros((n, 6))
-            e[c // 6, c % 6] = fd_step
-            Jac[:, c] = ((_residual(system, _apply(system, y, e))
-                          - _residual(system, _apply(system, y, -e))) / (2 * fd_step)).ravel()
+        # central-difference Jacobian, column c = (body, coordinate) or a mode
+        Jac = np.empty((n_unknown, n_unknown))
+        for c in range(n_unknown):
+            e = np.zeros(n_unknown)
+            e[c] = fd_step
+            Jac[:, c] = (_residual(system, _apply(system, y, e), sag)
+                         - _residual(system, _apply(system, y, -e), sag)) / (2 * fd_step)
         njev += 1
         singular = _singular_direction(Jac)
         if singular is not None:
-            b, k = divmod(singular, 6)
-            return result(False, f"no static equilibrium: body {rigid_names[b]!r} is free in "
-                          f"{COORDINATES[k]} (the stiffness matrix is singular: no mount "
-                          f"holds that direction)", it - 1, res, step, R, njev, history)
-        dx = -np.linalg.solve(Jac, R.ravel()).reshape(n, 6)
-        step = float(np.max(np.abs(dx)))
+            return result(False, f"no static equilibrium: {name_of(singular, 'is free in')} "
+                          f"(the stiffness matrix is singular: no mount holds that direction)",
+                          it - 1, res, step, R, njev, history)
+        dx = -np.linalg.solve(Jac, R)
+        step = float(np.max(np.abs(dx) * step_unit))
         if converged_at is not None and not step < prev_step:
             break       # polishing no longer helps; keep the previous iterate
         y_new = _apply(system, y, dx)
-        R_new = _residual(system, y_new)
+        R_new = _residual(system, y_new, sag)
         moved = np.abs(lay.split(y_new)["r"] - start_r)
         if not np.all(np.isfinite(R_new)) or float(np.max(moved)) > max_move:
             b, k = np.unravel_index(int(np.argmax(np.where(np.isfinite(moved), moved, np.inf))),
@@ -176,12 +220,10 @@ def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 
     else:
         if converged_at is None:
             worst = int(np.argmax(np.abs(R) / scale))
-            b, k = divmod(worst, 6)
             return result(False, f"no static equilibrium after {max_iter} Newton–Raphson "
-                          f"iterations: largest residual on body {rigid_names[b]!r} in "
-                          f"{COORDINATES[k]} ({float(np.abs(R).ravel()[worst]):.3g} "
-                          f"{'N' if k < 3 else 'N m'}); step {step:.3g}", max_iter, res, step,
-                          R, njev, history)
+                          f"iterations: largest residual on {name_of(worst)} "
+                          f"({float(np.abs(R)[worst]):.3g}); step {step:.3g}", max_iter, res,
+                          step, R, njev, history)
     return result(True, f"converged in {len(history)} iterations", len(history), res, step, R,
                   njev, history)
 

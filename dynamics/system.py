@@ -27,9 +27,12 @@ Per call the right-hand side does only arithmetic on preallocated arrays:
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .errors import SceneError
+from .flexible import FlexibleEOM
 from .layout import N_WORK, Layout
 from .laws import LawBank
 from .rotation import A as rotation_matrix
@@ -82,17 +85,38 @@ _EPS = _cross_matrix()
 _CP = _pdot_matrix()
 
 
+@dataclass(frozen=True, slots=True)
+class _FlexCompiled:
+    """A flexible body as the right-hand side needs it: scene index ``body``,
+    row ``slot`` among bodies 2…, its equations, its mount ends (indices
+    into the 2M ends, their mounts, the sign of each end in l = P_j − P_i),
+    their mode shapes (E, 3, n), and the slices of a and ȧ in y."""
+
+    body: int
+    slot: int
+    eom: FlexibleEOM
+    ends: np.ndarray
+    mounts: np.ndarray
+    sign: np.ndarray
+    phi: np.ndarray
+    qa: slice
+    va: slice
+
+
 class Observation:
     """Everything the physics gives at one (t, y); plain attributes.
 
     r (nb, 3) [m], p (nb, 4), rd (nb, 3) [m/s], w (nb, 3) [rad/s] body frame,
     rdd (nb, 3) [m/s²], wd (nb, 3) [rad/s²]; dx, dxd, f (M, 3) [m, m/s, N];
     force_i, force_j (M, 3) [N] inertial; kinetic, gravity_potential,
-    mount_potential [J]; work (3,) [J] (mount, external, drive); powers.
+    mount_potential [J]; strain (nb,) [J] elastic energy of flexible bodies;
+    a, ad (n_modal,) modal coordinates and rates; work (4,) [J] (mount,
+    external, drive, structural damping); powers.
     """
 
     __slots__ = ("t", "r", "p", "rd", "w", "rdd", "wd", "dx", "dxd", "f", "force_i", "force_j",
-                 "kinetic", "gravity_potential", "mount_potential", "work", "power")
+                 "kinetic", "gravity_potential", "mount_potential", "strain", "a", "ad",
+                 "work", "power")
 
 
 class System:
@@ -119,16 +143,21 @@ class System:
         self.nb = nb
         base = scene.base
         self.base_motion = base.motion
+        flex = dict(scene.flexible)
+        self.flex_index = tuple(i for i, b in enumerate(bodies) if b.name in flex)
         self.layout = Layout(n_bodies=nb, base_free=base.motion == "free",
-                             rigid=tuple(range(1, nb)))
+                             rigid=tuple(range(1, nb)),
+                             modal=tuple((i, flex[bodies[i].name].n_modes)
+                                         for i in self.flex_index))
         lay = self.layout
         self.n_rigid = n = nb - 1
         self.ny = lay.ny
-        self.mass = np.array([b.mass for b in bodies])
+        self.mass = np.array([flex[b.name].mass if b.name in flex else b.mass for b in bodies])
         self.g = np.array(scene.gravity, dtype=float)
         # rigid bodies: mass, principal-axes factorisation of J
         self.m_r = self.mass[1:, None].copy()
-        self.J = np.array([b.inertia for b in bodies[1:]]).reshape(n, 3, 3)
+        self.J = np.array([flex[b.name].inertia if b.name in flex else b.inertia
+                           for b in bodies[1:]]).reshape(n, 3, 3)
         jv, jq = np.linalg.eigh(self.J) if n else (np.zeros((0, 3)), np.zeros((0, 3, 3)))
         self.J_eig = jv
         self.J_vec = jq
@@ -183,6 +212,7 @@ class System:
         self.initial_p = np.array([b.orientation for b in bodies])
         self.initial_p[0] = (1.0, 0.0, 0.0, 0.0)
         self._build_maps(A0)
+        self._build_flexible(flex)
         self._f = np.zeros(3 * M)
         self._acc_base = np.zeros(3)
         self._seg_end = None
@@ -269,6 +299,27 @@ class System:
         self._Fx = np.zeros(3)
         self._load_pairs = [(k, f.value) for k in range(3) for f in self._loads[k]]
 
+    def _build_flexible(self, flex: dict) -> None:
+        """Per flexible body: its equations, and its mount ends with their
+        mode shapes (ends on a flexible body move by ``A Φ_e a`` more than
+        the rigid offsets the linear maps already give)."""
+        M = self.M
+        lay = self.layout
+        self._flex = []
+        for b in self.flex_index:
+            body = self.scene.bodies[b]
+            fb = flex[body.name]
+            ends = np.flatnonzero(self.end_body == b)
+            phi = np.array([fb.point_shapes[fb.point_index(self.S[e])] for e in ends])
+            blk = lay.modal_block(b)
+            q0 = lay.q_modal.start
+            v0 = lay.v_modal.start
+            self._flex.append(_FlexCompiled(
+                body=b, slot=b - 1, eom=FlexibleEOM(fb), ends=ends, mounts=ends % M,
+                sign=np.where(ends < M, -1.0, 1.0)[:, None],
+                phi=phi.reshape(len(ends), 3, fb.n_modes),
+                qa=slice(q0 + blk.start, q0 + blk.stop), va=slice(v0 + blk.start, v0 + blk.stop)))
+
     # ------------------------------------------------------------------ base
     def set_segment(self, t_a: float | None, t_b: float | None = None) -> None:
         """Tell the inputs which segment between breakpoints is being integrated.
@@ -344,6 +395,19 @@ class System:
         l2 = O[:, :3 * M].reshape(2, M, 3).transpose(1, 2, 0)             # (M, 3, 2): l, l̇
         rho = O[0, 3 * M:9 * M].reshape(2, M, 3)
         Uw = O[0, 9 * M:].reshape(M, 3, 3)                                  # rows: u_k inertial
+        flex_state = []
+        for fc in self._flex:
+            a = y[fc.qa]
+            ad = y[fc.va]
+            A = (self._Xpp[fc.slot] @ _CA).reshape(3, 3)
+            w = wr[fc.slot]
+            u = fc.phi @ a                                                   # Φ_e a (E, 3)
+            drho = u @ A.T
+            drhod = (np.cross(w, u) + fc.phi @ ad) @ A.T
+            np.add.at(rho.reshape(2 * M, 3), fc.ends, drho)
+            np.add.at(l2[:, :, 0], fc.mounts, fc.sign * drho)
+            np.add.at(l2[:, :, 1], fc.mounts, fc.sign * drhod)
+            flex_state.append((A, w, a, ad))
         loc = Uw @ l2
         dx = loc[:, :, 0] - self.d0
         dxd = loc[:, :, 1]
@@ -364,6 +428,22 @@ class System:
         dv = dydt[self._sv_rigid].reshape(n, 6)
         dv[:, :3] = rdd
         dv[:, 3:] = wd.reshape(n, 3)
+        p_struct = 0.0
+        for fc, (A, w, a, ad) in zip(self._flex, flex_state):
+            eom = fc.eom
+            Q = eom.forces(A, w, a, ad, self.g).copy()
+            Fe = -fc.sign * Fi[fc.mounts]                                   # forces on its ends
+            Q[:3] += Fb[fc.body]
+            Q[3:6] += tau[fc.body] @ A
+            Q[6:] += np.einsum("eij,ei->j", fc.phi, Fe @ A)
+            vd = np.linalg.solve(eom.mass_matrix(A, a), Q)
+            dv[fc.slot, :3] = vd[:3]
+            dv[fc.slot, 3:] = vd[3:6]
+            dydt[fc.qa] = ad
+            dydt[fc.va] = vd[6:]
+            rdd[fc.slot] = vd[:3]
+            wd.reshape(n, 3)[fc.slot] = vd[3:6]
+            p_struct -= float(ad @ eom.C @ ad)
         # 5. base and powers
         p_mount = -float(f @ dxd.reshape(-1))
         p_ext = 0.0
@@ -386,6 +466,7 @@ class System:
         dydt[w0] = p_mount
         dydt[w0 + 1] = p_ext
         dydt[w0 + 2] = p_drive
+        dydt[w0 + 3] = p_struct
         self._last = (dx, dxd, f, Fi, rdd, wd)
 
     def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
@@ -439,10 +520,25 @@ class System:
         ke[1:] += 0.5 * np.einsum("ni,nij,nj->n", o.w[1:], self.J, o.w[1:])
         o.kinetic = ke
         o.gravity_potential = -self.mass * (o.r @ self.g)
+        o.strain = np.zeros(nb)
+        o.a = np.array(parts["a"], dtype=float)
+        o.ad = np.array(parts["ad"], dtype=float)
+        for fc in self._flex:
+            a, ad = y[fc.qa], y[fc.va]
+            A = rotation_matrix(o.p[fc.body])
+            o.kinetic[fc.body] = fc.eom.kinetic_energy(A, o.w[fc.body], a, o.rd[fc.body], ad)
+            S = fc.eom.I2 + fc.eom.I3 @ a
+            o.gravity_potential[fc.body] -= float((A @ S) @ self.g)
+            o.strain[fc.body] = fc.eom.strain_energy(a)
         o.mount_potential = self.laws.spring_potential(dx.reshape(-1)).reshape(M, 3).sum(axis=1)
         o.work = np.array(parts["work"], dtype=float)
         o.power = dydt[self.layout.work].copy()
         return o
+
+    @property
+    def flex_compiled(self) -> tuple:
+        """The compiled flexible bodies (see ``_FlexCompiled``)."""
+        return tuple(self._flex)
 
     def reset_counter(self) -> None:
         self.nfev = 0

@@ -12,7 +12,7 @@ import numpy as np
 
 from dynamics.statics import Equilibrium, solve_statics
 
-from .cmd_static import compile_scene
+from .cmd_static import add_modes_file_arg, compile_scene
 from .errors import InputError, NumericalError
 from .results_file import read_equilibrium, write_results
 from .scene_file import load_scene
@@ -39,6 +39,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--equilibrium", default=None,
                         help="equilibrium file from 'flexbed static' (default: solve it here)")
     parser.add_argument("--no-progress", action="store_true", help="no progress line on stderr")
+    add_modes_file_arg(parser)
 
 
 class _Progress:
@@ -73,7 +74,7 @@ class _Progress:
 
 def run(args: argparse.Namespace) -> int:
     sf = load_scene(args.scene)
-    system = compile_scene(sf)
+    system = compile_scene(sf, args.modes_file)
     solver = sf.solver
     method = args.integrator or solver.integrator
     if args.dt is not None and method != "rk4":
@@ -96,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
                              float("nan"), np.zeros((system.n_rigid, 6)), 0, 0, 0.0,
                              solver.static_tol)
         else:
-            eq = solve_statics(system, tol=solver.static_tol)
+            eq = solve_statics(system, tol=solver.static_tol, sag=sf.bed.static_sag)
             if not eq.success:
                 raise NumericalError(f"{sf.source.name}: {eq.message}")
             y0 = eq.y

@@ -17,7 +17,9 @@ from dynamics.rotation import angles_from_p
 from dynamics.statics import solve_statics
 from dynamics.system import System
 
+from .cmd_modes import default_modes_path
 from .errors import InputError, NumericalError
+from .flexible_bed import load_modes_for, with_flexible_bed
 from .results_file import write_equilibrium
 from .scene_file import SceneFile, load_scene
 
@@ -33,15 +35,26 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                         help="equilibrium file to write (default: <scene name>-equilibrium.h5)")
     parser.add_argument("--tol", type=float, default=None,
                         help="Newton–Raphson tolerance (default: the scene's static_tol)")
+    add_modes_file_arg(parser)
 
 
-def compile_scene(sf: SceneFile) -> System:
-    """The compiled system of a scene file (rigid bed only, for now)."""
+def add_modes_file_arg(parser: argparse.ArgumentParser) -> None:
+    """The option that says where a flexible bed's modes file is."""
+    parser.add_argument("--modes-file", default=None, metavar="FILE",
+                        help="modes file of a flexible bed (default: where 'flexbed modes' "
+                             "writes it for this scene)")
+
+
+def compile_scene(sf: SceneFile, modes_file: str | Path | None = None, **flex) -> System:
+    """The compiled system of a scene file; a flexible bed reads its modes
+    file (checked against the scene's plate). ``flex`` goes to
+    :func:`pipeline.flexible_bed.flexible_body`."""
+    scene = sf.scene
     if sf.bed.flexible:
-        raise InputError(f"{sf.source.name}: bed: model = 'flexible' is not available yet in "
-                         f"static/simulate (rigid bed only); set model = 'rigid'")
+        data = load_modes_for(sf, modes_file or default_modes_path(sf))
+        scene = with_flexible_bed(sf, data, **flex)
     try:
-        return System(sf.scene)
+        return System(scene)
     except SceneError as exc:
         raise InputError(f"{sf.source.name}: {exc}") from None
 
@@ -70,11 +83,11 @@ def equilibrium_table(system: System, y: np.ndarray) -> str:
 
 def run(args: argparse.Namespace) -> int:
     sf = load_scene(args.scene)
-    system = compile_scene(sf)
+    system = compile_scene(sf, args.modes_file)
     tol = sf.solver.static_tol if args.tol is None else args.tol
     if not (tol > 0):
         raise InputError(f"--tol = {tol!r} must be > 0")
-    eq = solve_statics(system, tol=tol)
+    eq = solve_statics(system, tol=tol, sag=sf.bed.static_sag)
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")
     out = Path(args.output) if args.output else Path(f"{sf.scene.name}-equilibrium.h5")

@@ -156,13 +156,18 @@ def write_results(path, sf: SceneFile, system: System, run: Run, *, start: str,
     ds["energy/gravity_potential"] = Dataset(h["gravity_potential"], "J", "−m gᵀr per body")
     ds["energy/mount_potential"] = Dataset(h["mount_potential"], "J",
                                            "∫ f_spring dΔx per mount (spring parts)")
-    for i, key in enumerate(("work_mount", "work_external", "work_drive")):
+    for i, key in enumerate(("work_mount", "work_external", "work_drive", "work_structural")):
         ds[f"energy/{key}"] = Dataset(h["work"][:, i], "J", {
             0: "work of all mount forces on the bodies (springs and dampers)",
             1: "work of the base's external loads and support force",
-            2: "work of the force that drives the base"}[i])
-    ds["energy/balance"] = Dataset(h["balance"], "J",
-                                   "kinetic + gravity potential − works: constant if exact")
+            2: "work of the force that drives the base",
+            3: "work of the flexible bodies' structural (modal) damping"}[i])
+    ds["energy/strain"] = Dataset(h["strain"], "J", "elastic energy of flexible bodies, ½aᵀKa")
+    ds["energy/balance"] = Dataset(h["balance"], "J", "kinetic + gravity potential + strain "
+                                   "− works: constant if exact")
+    ds["modal/coordinates"] = Dataset(h["modal"], "kg^1/2 m",
+                                      "modal coordinates a of the flexible bodies")
+    ds["modal/rates"] = Dataset(h["modal_rate"], "kg^1/2 m/s", "modal rates da/dt")
     y0 = run.y[0] if len(run.t) else system.initial_state()
     parts = system.layout.split(y0)
     pos0 = np.array(system.initial_r, dtype=float)

@@ -1,0 +1,278 @@
+"""A flexible body in the floating frame of reference, built from modal
+invariants (plain arrays; no FE objects).
+
+A material point at ū0 in the body frame (origin at the undeformed centre of
+mass) is at R = r + A(p) (ū0 + Φ(ū0) a), with modal coordinates a (n,).
+Velocity variables v = [ṙ (3, inertial), ω̄ (3, body frame), ȧ (n)], and
+ṗ = ½ G(p)ᵀ ω̄ as for the rigid bodies. With ū = ū0 + Φa, Ṙ = L v,
+L = [I, -A ũ, A Φ], the virtual power of the inertia forces gives
+
+    M(p, a) v̇ = Q_v + Q_g + Q_e + Σ Q_F
+
+with (~ the cross-product matrix; invariants as in :mod:`fem.invariants`:
+I2 first moment, I3 = ∫ρΦ, I4 = ∫ρũ0Φ, I5[k] = ∫ρΦ̃_kΦ, I6 = ∫ρΦᵀΦ,
+I7 = J0, I8[k] = ∫ρũ0ᵀΦ̃_k, I9[k, l] = ∫ρΦ̃_kᵀΦ̃_l):
+
+    S(a) = I2 + I3 a                       first moment
+    J(a) = I7 + Σ a_k (I8_k + I8_kᵀ) + Σ a_k a_l I9_kl
+    C(a) = I4 + Σ a_k I5[k]                ∫ρ ũ Φ
+    M = [[m I,      -A S̃,   A I3],
+         [S̃ Aᵀ,     J(a),   C(a)],
+         [I3ᵀ Aᵀ,   C(a)ᵀ,  I6  ]]
+    Q_v,r = -A (ω̃ω̃ S + 2 ω̃ I3 ȧ)
+    Q_v,ω = -ω × (J ω) - 2 [Σ_k ȧ_k (I8_k + Σ_l a_l I9_lk)] ω
+    Q_v,a[k] = ωᵀ [I8_kᵀ + Σ_l a_l I9_kl] ω + 2 Σ_l ωᵀ I5[k, :, l] ȧ_l
+    Q_e = [0; 0; -K a - C ȧ]
+    Q_g = [m g; S × (Aᵀ g); I3ᵀ Aᵀ g]
+    Q_F = [F; ū_P × (Aᵀ F); Φ_Pᵀ Aᵀ F]      (force F at material point P)
+
+The first-order set (``full = False``) keeps the terms linear in a in J and
+drops the I5 and I9 terms: enough for small deformations, and cheaper.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import SceneError
+
+__all__ = ["FlexibleBody", "rayleigh_damping", "modal_damping"]
+
+
+def _array(where: str, name: str, value, shape) -> np.ndarray:
+    a = np.array(value, dtype=float)
+    if a.shape != shape:
+        raise SceneError(f"{where}: {name} has shape {a.shape}, expected {shape}")
+    if not np.all(np.isfinite(a)):
+        raise SceneError(f"{where}: {name} has non-finite entries")
+    a.setflags(write=False)
+    return a
+
+
+def rayleigh_damping(modal_mass: np.ndarray, modal_stiffness: np.ndarray, alpha: float,
+                     beta: float) -> np.ndarray:
+    """c_aa = α M_aa + β K_aa (paper eq. 9) [kg/s per unit modal coordinate²]."""
+    if alpha < 0 or beta < 0:
+        raise SceneError(f"rayleigh: alpha = {alpha!r}, beta = {beta!r} must be >= 0")
+    return alpha * np.asarray(modal_mass) + beta * np.asarray(modal_stiffness)
+
+
+def modal_damping(omega: np.ndarray, ratio) -> np.ndarray:
+    """c_aa = diag(2 ζ_k ω_k) for mass-normalised modes; ``ratio`` a scalar
+    or one value per mode [–]."""
+    omega = np.asarray(omega, dtype=float)
+    zeta = np.broadcast_to(np.asarray(ratio, dtype=float), omega.shape)
+    if np.any(zeta < 0):
+        raise SceneError(f"damping_ratio = {np.asarray(ratio).tolist()!r} must be >= 0")
+    return np.diag(2.0 * zeta * omega)
+
+
+@dataclass(frozen=True, slots=True)
+class FlexibleBody:
+    """Floating-frame data of one flexible body.
+
+    Parameters
+    ----------
+    mass : float
+        [kg].
+    first_moment : (3,)
+        I2 [kg m] (zero with the origin at the centre of mass).
+    inertia : (3, 3)
+        I7 about the frame origin [kg m²].
+    phi_integral : (3, n)
+        I3 [kg^1/2].
+    u_cross_phi : (3, n)
+        I4 [kg^1/2 m].
+    phi_cross_phi : (n, 3, n)
+        I5 [–].
+    modal_mass : (n, n)
+        I6 [–].
+    inertia_first_order : (n, 3, 3)
+        I8 [kg^1/2 m].
+    inertia_second_order : (n, n, 3, 3)
+        I9 [–].
+    modal_stiffness : (n, n)
+        K_aa [s⁻²].
+    modal_damping : (n, n)
+        C_aa [s⁻¹].
+    points : (P, 3)
+        Material points the scene attaches to (mount ends, points of
+        interest) in the body frame [m].
+    point_shapes : (P, 3, n)
+        Translation of each point per unit modal coordinate (for a point off
+        the mid-surface: the node's translation plus its rotation × offset)
+        [kg^-1/2].
+    full : bool
+        Keep every configuration-dependent term (True) or the first-order
+        set only.
+    """
+
+    mass: float
+    first_moment: np.ndarray
+    inertia: np.ndarray
+    phi_integral: np.ndarray
+    u_cross_phi: np.ndarray
+    phi_cross_phi: np.ndarray
+    modal_mass: np.ndarray
+    inertia_first_order: np.ndarray
+    inertia_second_order: np.ndarray
+    modal_stiffness: np.ndarray
+    modal_damping: np.ndarray
+    points: np.ndarray
+    point_shapes: np.ndarray
+    full: bool = True
+
+    def __post_init__(self) -> None:
+        where = "flexible body"
+        n = np.shape(self.modal_mass)[0] if np.ndim(self.modal_mass) == 2 else -1
+        if n < 0:
+            raise SceneError(f"{where}: modal_mass must be (n, n)")
+        if not (np.isfinite(self.mass) and self.mass > 0):
+            raise SceneError(f"{where}: mass = {self.mass!r} must be > 0")
+        object.__setattr__(self, "mass", float(self.mass))
+        P = np.shape(self.points)[0] if np.ndim(self.points) == 2 else 0
+        for name, shape in (("first_moment", (3,)), ("inertia", (3, 3)),
+                            ("phi_integral", (3, n)), ("u_cross_phi", (3, n)),
+                            ("phi_cross_phi", (n, 3, n)), ("modal_mass", (n, n)),
+                            ("inertia_first_order", (n, 3, 3)),
+                            ("inertia_second_order", (n, n, 3, 3)),
+                            ("modal_stiffness", (n, n)), ("modal_damping", (n, n)),
+                            ("points", (P, 3)), ("point_shapes", (P, 3, n))):
+            object.__setattr__(self, name, _array(where, name, getattr(self, name), shape))
+        J = self.inertia
+        if not np.allclose(J, J.T, rtol=0, atol=1e-12 * np.abs(J).max()) or \
+                np.linalg.eigvalsh(J).min() <= 0:
+            raise SceneError(f"{where}: inertia must be symmetric positive definite")
+        if n and np.linalg.eigvalsh(0.5 * (self.modal_mass + self.modal_mass.T)).min() <= 0:
+            raise SceneError(f"{where}: modal_mass must be positive definite")
+
+    @property
+    def n_modes(self) -> int:
+        """Number of modal coordinates."""
+        return int(self.modal_mass.shape[0])
+
+    def point_index(self, point) -> int:
+        """Index of a material point in :attr:`points` (exact match within 1e-9 m)."""
+        d = np.abs(self.points - np.asarray(point, dtype=float)).max(axis=1) if len(
+            self.points) else np.array([])
+        hits = np.flatnonzero(d <= 1e-9)
+        if hits.size == 0:
+            raise SceneError(f"flexible body: no mode shapes for the point "
+                             f"{tuple(float(v) for v in point)}")
+        return int(hits[0])
+
+    def with_modes(self, keep: int) -> "FlexibleBody":
+        """The same body keeping only the first ``keep`` modes."""
+        k = slice(0, keep)
+        return FlexibleBody(
+            mass=self.mass, first_moment=self.first_moment, inertia=self.inertia,
+            phi_integral=self.phi_integral[:, k], u_cross_phi=self.u_cross_phi[:, k],
+            phi_cross_phi=self.phi_cross_phi[k, :, k], modal_mass=self.modal_mass[k, k],
+            inertia_first_order=self.inertia_first_order[k],
+            inertia_second_order=self.inertia_second_order[k, k],
+            modal_stiffness=self.modal_stiffness[k, k], modal_damping=self.modal_damping[k, k],
+            points=self.points, point_shapes=self.point_shapes[:, :, k], full=self.full)
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+class FlexibleEOM:
+    """The equations of motion of one :class:`FlexibleBody`, compiled once.
+
+    Every call does arithmetic only. Shapes: n modes; A (3, 3) rotation;
+    w (3,) body angular velocity [rad/s]; a, ad (n,) modal coordinates and
+    rates.
+    """
+
+    def __init__(self, body: FlexibleBody):
+        self.body = body
+        n = body.n_modes
+        self.n = n
+        self.m = body.mass
+        self.I2 = body.first_moment
+        self.I3 = body.phi_integral
+        self.I4 = body.u_cross_phi
+        self.I7 = body.inertia
+        self.I6 = body.modal_mass
+        self.K = body.modal_stiffness
+        self.C = body.modal_damping
+        I8 = body.inertia_first_order
+        self.I8 = I8
+        self.I8s = (I8 + np.transpose(I8, (0, 2, 1))).reshape(n, 9)
+        self.full = bool(body.full) and n > 0
+        self.I5 = body.phi_cross_phi if self.full else np.zeros_like(body.phi_cross_phi)
+        I9 = body.inertia_second_order if self.full else np.zeros_like(
+            body.inertia_second_order)
+        self.I9 = I9
+        self.I9_flat = I9.reshape(n * n, 9)
+        # T_k(a) = I8_k + Σ_l a_l I9_lk: the map a -> (n, 3, 3)
+        self.I9_lk = np.transpose(I9, (1, 0, 2, 3)).reshape(n, n * 9)   # [k, (l, i, j)]
+        self.I5_k = np.transpose(self.I5, (0, 2, 1))                        # [k, l, i]
+        self._M = np.zeros((6 + n, 6 + n))
+        self._Q = np.zeros(6 + n)
+
+    def inertia(self, a: np.ndarray) -> np.ndarray:
+        """J(a) (3, 3) [kg m²]."""
+        J = self.I7 + (a @ self.I8s).reshape(3, 3)
+        if self.full:
+            J = J + (np.outer(a, a).reshape(-1) @ self.I9_flat).reshape(3, 3)
+        return J
+
+    def mass_matrix(self, A: np.ndarray, a: np.ndarray) -> np.ndarray:
+        """M (6+n, 6+n) for velocities [ṙ, ω̄, ȧ] (a view, overwritten on the
+        next call)."""
+        n = self.n
+        M = self._M
+        S = self.I2 + self.I3 @ a
+        St = _skew(S)
+        M[:3, :3] = self.m * np.eye(3)
+        M[:3, 3:6] = -A @ St
+        M[3:6, :3] = M[:3, 3:6].T
+        M[3:6, 3:6] = self.inertia(a)
+        if n:
+            AI3 = A @ self.I3
+            M[:3, 6:] = AI3
+            M[6:, :3] = AI3.T
+            Cm = self.I4 + np.tensordot(a, self.I5, axes=(0, 0)) if self.full else self.I4
+            M[3:6, 6:] = Cm
+            M[6:, 3:6] = Cm.T
+            M[6:, 6:] = self.I6
+        return M
+
+    def forces(self, A: np.ndarray, w: np.ndarray, a: np.ndarray, ad: np.ndarray,
+               g: np.ndarray) -> np.ndarray:
+        """Q_v + Q_g + Q_e (6+n,): quadratic velocity, gravity, elastic and
+        damping forces [N; N m; N m per unit a]."""
+        n = self.n
+        Q = self._Q
+        S = self.I2 + self.I3 @ a
+        J = self.inertia(a)
+        gb = A.T @ g
+        wS = np.cross(w, np.cross(w, S))
+        if n:
+            I3ad = self.I3 @ ad
+            Q[:3] = -A @ (wS + 2.0 * np.cross(w, I3ad)) + self.m * g
+            T = self.I8 + (a @ self.I9_lk).reshape(n, 3, 3) if self.full else self.I8
+            B = np.tensordot(ad, T, axes=(0, 0))
+            Q[3:6] = -np.cross(w, J @ w) - 2.0 * (B @ w) + np.cross(S, gb)
+            qa = np.einsum("i,kij,j->k", w, T, w)
+            if self.full:
+                qa = qa + 2.0 * np.einsum("i,kli,l->k", w, self.I5_k, ad)
+            Q[6:] = qa + self.I3.T @ gb - self.K @ a - self.C @ ad
+        else:
+            Q[:3] = -A @ wS + self.m * g
+            Q[3:6] = -np.cross(w, J @ w) + np.cross(S, gb)
+        return Q
+
+    def kinetic_energy(self, A, w, a, rd, ad) -> float:
+        """½ vᵀ M v [J]."""
+        v = np.concatenate([rd, w, ad])
+        return 0.5 * float(v @ self.mass_matrix(A, a) @ v)
+
+    def strain_energy(self, a: np.ndarray) -> float:
+        """½ aᵀ K a [J]."""
+        return 0.5 * float(a @ self.K @ a)
