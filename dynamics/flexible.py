@@ -176,6 +176,18 @@ class FlexibleBody:
             points=self.points, point_shapes=self.point_shapes[:, :, k], full=self.full)
 
 
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a × b along the last axis (both (..., 3)); plain arithmetic, several
+    times faster than ``np.cross`` on the small arrays of the hot path."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
+
+
 def _skew(v: np.ndarray) -> np.ndarray:
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
@@ -252,20 +264,20 @@ class FlexibleEOM:
         S = self.I2 + self.I3 @ a
         J = self.inertia(a)
         gb = A.T @ g
-        wS = np.cross(w, np.cross(w, S))
+        wS = cross(w, cross(w, S))
         if n:
             I3ad = self.I3 @ ad
-            Q[:3] = -A @ (wS + 2.0 * np.cross(w, I3ad)) + self.m * g
+            Q[:3] = -A @ (wS + 2.0 * cross(w, I3ad)) + self.m * g
             T = self.I8 + (a @ self.I9_lk).reshape(n, 3, 3) if self.full else self.I8
             B = np.tensordot(ad, T, axes=(0, 0))
-            Q[3:6] = -np.cross(w, J @ w) - 2.0 * (B @ w) + np.cross(S, gb)
+            Q[3:6] = -cross(w, J @ w) - 2.0 * (B @ w) + cross(S, gb)
             qa = np.einsum("i,kij,j->k", w, T, w)
             if self.full:
                 qa = qa + 2.0 * np.einsum("i,kli,l->k", w, self.I5_k, ad)
             Q[6:] = qa + self.I3.T @ gb - self.K @ a - self.C @ ad
         else:
             Q[:3] = -A @ wS + self.m * g
-            Q[3:6] = -np.cross(w, J @ w) + np.cross(S, gb)
+            Q[3:6] = -cross(w, J @ w) + cross(S, gb)
         return Q
 
     def kinetic_energy(self, A, w, a, rd, ad) -> float:

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import SceneError
-from .flexible import FlexibleEOM
+from .flexible import FlexibleEOM, cross
 from .layout import N_WORK, Layout
 from .laws import LawBank
 from .rotation import A as rotation_matrix
@@ -403,7 +403,7 @@ class System:
             w = wr[fc.slot]
             u = fc.phi @ a                                                   # Φ_e a (E, 3)
             drho = u @ A.T
-            drhod = (np.cross(w, u) + fc.phi @ ad) @ A.T
+            drhod = (cross(w, u) + fc.phi @ ad) @ A.T
             np.add.at(rho.reshape(2 * M, 3), fc.ends, drho)
             np.add.at(l2[:, :, 0], fc.mounts, fc.sign * drho)
             np.add.at(l2[:, :, 1], fc.mounts, fc.sign * drhod)

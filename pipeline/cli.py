@@ -20,6 +20,7 @@ COMMANDS = {
     "modes": "free-free modes and invariants of the bed -> modes file",
     "static": "static equilibrium (paper Table 2) -> equilibrium file",
     "simulate": "time integration of the mount system -> results file",
+    "compare": "rigid vs flexible vs damped flexible bed -> tables and plots",
     "run": "the whole pipeline on one scene, into one folder",
     "bench": "benchmarks: speed against error, printed as tables",
 }

@@ -14,10 +14,13 @@
   ``force`` (k, M, 3) along the mount axes [m, m/s, N], ``force_i``,
   ``force_j`` (k, M, 3) inertial [N] on P_i and P_j;
 - ``energy/``: ``kinetic`` (k, nb), ``gravity_potential`` (k, nb),
-  ``mount_potential`` (k, M) [J] (spring parts), ``work_mount``,
-  ``work_external``, ``work_drive`` (k,) [J], ``balance`` (k,) [J] =
-  kinetic + gravity potential − the three works (constant for an exact
-  solution);
+  ``mount_potential`` (k, M) [J] (spring parts), ``strain`` (k, nb) [J]
+  (flexible bodies, ½aᵀKa), ``work_mount``, ``work_external``,
+  ``work_drive``, ``work_structural`` (k,) [J], ``balance`` (k,) [J] =
+  kinetic + gravity potential + strain − the four works (constant for an
+  exact solution);
+- ``modal/``: ``coordinates``, ``rates`` (k, n_modal) of the flexible
+  bodies [kg^1/2 m, kg^1/2 m/s] (empty with a rigid bed);
 - ``solver/`` attributes: method, settings and statistics;
 - ``scene/toml`` (the scene file's text) with attributes ``digest``,
   ``statics_digest``, ``source``, ``name``;
