@@ -17,7 +17,7 @@ from .errors import InputError
 
 _PLATE_KEYS = tuple(f.name for f in fields(PlateSpec))
 _KEYS = _PLATE_KEYS + ("body", "model", "modes", "fmax", "rayleigh", "damping_ratio",
-                       "modes_file", "static_sag")
+                       "modes_file", "static_sag", "invariants")
 DEFAULT_MODES = 2
 
 
@@ -46,6 +46,9 @@ class BedSection:
         Path of the modes file as written in the scene (relative to it).
     static_sag : bool
         Include the elastic sag in the static equilibrium.
+    invariants : str
+        "full" (every configuration-dependent inertia term) or
+        "first_order" (inertia linear in the modal coordinates, no I5/I9).
     """
 
     plate: PlateSpec = PlateSpec()
@@ -57,8 +60,12 @@ class BedSection:
     damping_ratio: tuple[float, ...] | None = None
     modes_file: str | None = None
     static_sag: bool = True
+    invariants: str = "full"
 
     def __post_init__(self) -> None:
+        if self.invariants not in ("full", "first_order"):
+            raise ValueError(f"invariants = {self.invariants!r} must be \"full\" or "
+                             "\"first_order\"")
         if self.model not in ("rigid", "flexible"):
             raise ValueError(f"model = {self.model!r} must be \"rigid\" or \"flexible\"")
         if self.modes is not None and (isinstance(self.modes, bool)
@@ -119,7 +126,7 @@ def read_bed(table: dict, where: str) -> BedSection:
     except TypeError as exc:
         raise InputError(f"{where}: {exc}") from None
     args: dict[str, Any] = {"plate": plate}
-    for key in ("body", "model", "modes_file"):
+    for key in ("body", "model", "modes_file", "invariants"):
         if key in table:
             if not isinstance(table[key], str):
                 raise InputError(f"{where}: {key} = {table[key]!r} must be a string")

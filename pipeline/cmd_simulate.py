@@ -12,6 +12,7 @@ import numpy as np
 
 from dynamics.statics import Equilibrium, solve_statics
 
+from .cmd_modes import default_modes_path
 from .cmd_static import add_modes_file_arg, compile_scene
 from .errors import InputError, NumericalError
 from .results_file import read_equilibrium, write_results
@@ -110,7 +111,9 @@ def run(args: argparse.Namespace) -> int:
         result = integrate(system, y0, settings, progress=progress)
     finally:
         progress.close()
-    write_results(out, sf, system, result, start=start, equilibrium=eq)
+    write_results(out, sf, system, result, start=start, equilibrium=eq,
+                  modes_path=(args.modes_file or default_modes_path(sf)) if sf.bed.flexible
+                  else None)
     st = result.stats
     rej = "n/a" if st.rejected < 0 else str(st.rejected)
     print(f"{method}: {st.steps} steps ({rej} rejected), {st.rhs_evaluations} right-hand sides, "

@@ -63,7 +63,8 @@ def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=p
     y0 = eq.y if start == "equilibrium" else system.initial_state()
     result = integrate(system, y0, sf.solver.settings())
     write_results(path, csf, system, result, start=start,
-                  equilibrium=eq if start == "equilibrium" else None)
+                  equilibrium=eq if start == "equilibrium" else None,
+                  modes_path=data.path if case != "rigid" else None)
     if not result.complete:
         raise NumericalError(f"{LABELS[case]}: {result.message}; the samples up to "
                              f"t = {result.t_reached:.6g} s are in {path} (marked incomplete)")

@@ -43,7 +43,7 @@ def kept_modes(sf: SceneFile, data: ModesData) -> int:
 
 
 def flexible_body(sf: SceneFile, data: ModesData, *, n_modes: int | None = None,
-                  damped: bool = True, full: bool = True) -> FlexibleBody:
+                  damped: bool = True, full: bool | None = None) -> FlexibleBody:
     """The bed as a :class:`FlexibleBody` with the scene's points and damping.
 
     Parameters
@@ -56,10 +56,13 @@ def flexible_body(sf: SceneFile, data: ModesData, *, n_modes: int | None = None,
         through the flexible machinery.
     damped : bool
         Apply the scene's Rayleigh coefficients or damping ratios (False: α = β = 0).
-    full : bool
-        Keep the configuration-dependent invariants (False: first-order set).
+    full : bool, optional
+        Keep the configuration-dependent invariants (False: first-order
+        set); default: the scene's ``invariants`` key.
     """
     where = f"{sf.source.name}: bed"
+    if full is None:
+        full = sf.bed.invariants == "full"
     if data.input_hash != sf.bed.plate.digest():
         raise InputError(f"{where}: the modes file {data.path} was made for another bed "
                          f"(plate inputs differ); re-run 'flexbed modes'")

@@ -121,8 +121,11 @@ def read_equilibrium(path, sf: SceneFile, system: System) -> np.ndarray:
 
 
 def write_results(path, sf: SceneFile, system: System, run: Run, *, start: str,
-                  equilibrium: Equilibrium | None = None) -> Path:
-    """Write a run (complete or not) atomically; returns the path."""
+                  equilibrium: Equilibrium | None = None, modes_path=None) -> Path:
+    """Write a run (complete or not) atomically; returns the path.
+
+    ``modes_path``: the modes file a flexible bed was built from (recorded
+    with the plate's input hash, which the modes file carries too)."""
     h = history(system, run.t, run.y)
     ds, sattrs = _scene_part(sf)
     sc = system.scene
@@ -194,6 +197,23 @@ def write_results(path, sf: SceneFile, system: System, run: Run, *, start: str,
     attrs = {"": {"complete": bool(run.complete), "message": run.message, "start": start,
                   "scene_digest": sf.digest},
              "solver": solver_attrs, **sattrs}
+    bed = sf.bed
+    flex = dict(system.scene.flexible)
+    attrs["bed"] = {
+        "model": "flexible" if flex else "rigid",
+        "plate_input_hash": bed.plate.digest(),
+        "modes_file": str(Path(modes_path).resolve()) if (flex and modes_path) else "",
+        "n_modes": int(sum(fb.n_modes for fb in flex.values())),
+        "invariants": ("full" if all(fb.full for fb in flex.values()) else "first_order")
+        if flex else "",
+        "rayleigh": np.array(bed.rayleigh, dtype=float),
+        "damping_ratio": np.array(bed.damping_ratio or (), dtype=float),
+        "static_sag": bool(bed.static_sag),
+    }
+    for fb in flex.values():
+        ds["modal/damping"] = Dataset(fb.modal_damping, "s^-1", "modal damping matrix C_aa")
+        ds["modal/stiffness"] = Dataset(fb.modal_stiffness, "s^-2",
+                                        "modal stiffness matrix K_aa")
     if equilibrium is not None:
         eds, eattrs = _equilibrium_part(system, equilibrium, "equilibrium/")
         ds.update(eds)
