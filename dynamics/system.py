@@ -31,9 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import SceneError
 from .flexible import FlexibleEOM, cross
-from .layout import N_WORK, Layout
+from .layout import Layout
 from .laws import LawBank
 from .rotation import A as rotation_matrix
 from .scene import Scene

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, BilinearForm, MeshQuad
-from skfem.helpers import dd, ddot, dot, grad, trace
+from skfem.helpers import dd, ddot, grad, trace
 
 from .element import ElementQuadBFSLocal
 from .spec import PlateSpec

@@ -7,9 +7,9 @@ import sys
 import time
 from pathlib import Path
 
-from dynamics.integrate import METHODS, integrate
 import numpy as np
 
+from dynamics.integrate import METHODS, integrate
 from dynamics.statics import Equilibrium, solve_statics
 
 from .cmd_modes import default_modes_path

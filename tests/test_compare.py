@@ -3,7 +3,6 @@ findings on the reference scene, and one-line refusals of bad input."""
 
 import csv
 
-import numpy as np
 import pytest
 
 from pipeline.cli import main

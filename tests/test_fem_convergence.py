@@ -3,7 +3,6 @@
 import math
 
 import numpy as np
-import pytest
 import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla

@@ -2,7 +2,6 @@
 `flexbed static` command."""
 
 import numpy as np
-import pytest
 
 from dynamics.laws import LinearLaw, PolynomialLaw
 from dynamics.rotation import angles_from_p
