@@ -5,7 +5,7 @@ Schema ``flexbed.modes``, version 1.0. Layout (every dataset has ``units``):
 =================================  ==============  =====================  =========
 dataset                            shape           units                  from
 =================================  ==============  =====================  =========
-``plate/<input>`` (attributes)     –               see scene-file doc     inputs
+``plate/<input>`` (attributes)     –               as in the scene     inputs  
 ``mesh/nodes``                     (N, 3)          m                      mesh
 ``mesh/cells``                     (ne, 4)         1                      mesh
 ``modes/frequency``                (n,)            Hz                     FE

@@ -1,4 +1,4 @@
-"""The scene file (TOML, docs/scene-file.md) read into frozen dataclasses.
+"""The scene file (TOML, see "Scene file reference" in README.md) read into frozen dataclasses.
 
 :func:`load_scene` returns a :class:`SceneFile`: the dynamics
 :class:`~dynamics.scene.Scene`, the ``[bed]`` section, the solver settings,
@@ -61,7 +61,7 @@ _POINT_KEYS = ("name", "body", "position", "relative_to")
 
 @dataclass(frozen=True, slots=True)
 class SolverSection:
-    """``[solver]``: see docs/scene-file.md. Times [s], tolerances as stated there."""
+    """``[solver]``: see the README. Times [s], tolerances as stated there."""
 
     t_end: float = 3.0
     integrator: str = "dop853"
