@@ -38,7 +38,7 @@ import numpy as np
 
 from .errors import SceneError
 
-__all__ = ["FlexibleBody", "rayleigh_damping", "modal_damping"]
+__all__ = ["FlexibleBody", "FlexibleEOM", "rayleigh_damping", "modal_damping", "cross"]
 
 
 def _array(where: str, name: str, value, shape) -> np.ndarray:
@@ -162,18 +162,6 @@ class FlexibleBody:
             raise SceneError(f"flexible body: no mode shapes for the point "
                              f"{tuple(float(v) for v in point)}")
         return int(hits[0])
-
-    def with_modes(self, keep: int) -> "FlexibleBody":
-        """The same body keeping only the first ``keep`` modes."""
-        k = slice(0, keep)
-        return FlexibleBody(
-            mass=self.mass, first_moment=self.first_moment, inertia=self.inertia,
-            phi_integral=self.phi_integral[:, k], u_cross_phi=self.u_cross_phi[:, k],
-            phi_cross_phi=self.phi_cross_phi[k, :, k], modal_mass=self.modal_mass[k, k],
-            inertia_first_order=self.inertia_first_order[k],
-            inertia_second_order=self.inertia_second_order[k, k],
-            modal_stiffness=self.modal_stiffness[k, k], modal_damping=self.modal_damping[k, k],
-            points=self.points, point_shapes=self.point_shapes[:, :, k], full=self.full)
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
