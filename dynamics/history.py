@@ -29,7 +29,7 @@ def history(system: System, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarra
     the mount axes, ``force_i``, ``force_j`` (k, M, 3) [N] inertial,
     ``kinetic`` (k, nb) [J], ``gravity_potential`` (k, nb) [J],
     ``mount_potential`` (k, M) [J], ``strain`` (k, nb) [J], ``modal``,
-    ``modal_rate`` (k, n_modal), ``work`` (k, 4) [J] (mount, external,
+    ``modal_rate``, ``modal_acceleration`` (k, n_modal), ``work`` (k, 4) [J] (mount, external,
     drive, structural damping), ``power`` (k, 4) [W], ``balance`` (k,) [J] =
     kinetic + gravity potential + strain − works (constant for an exact
     solution).
@@ -46,6 +46,7 @@ def history(system: System, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarra
         "mount_potential": np.zeros((k, M)), "strain": np.zeros((k, nb)),
         "modal": np.zeros((k, system.layout.n_modal)),
         "modal_rate": np.zeros((k, system.layout.n_modal)),
+        "modal_acceleration": np.zeros((k, system.layout.n_modal)),
         "work": np.zeros((k, N_WORK)), "power": np.zeros((k, N_WORK)),
     }
     for n in range(k):
@@ -67,6 +68,7 @@ def history(system: System, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarra
         out["strain"][n] = o.strain
         out["modal"][n] = o.a
         out["modal_rate"][n] = o.ad
+        out["modal_acceleration"][n] = o.add
         out["work"][n] = o.work
         out["power"][n] = o.power
     out["orientation"] = angles_from_p(out["euler_parameters"]) if k else np.zeros((0, nb, 3))

@@ -109,12 +109,12 @@ class Observation:
     rdd (nb, 3) [m/s²], wd (nb, 3) [rad/s²]; dx, dxd, f (M, 3) [m, m/s, N];
     force_i, force_j (M, 3) [N] inertial; kinetic, gravity_potential,
     mount_potential [J]; strain (nb,) [J] elastic energy of flexible bodies;
-    a, ad (n_modal,) modal coordinates and rates; work (4,) [J] (mount,
+    a, ad, add (n_modal,) modal coordinates, rates and accelerations; work (4,) [J] (mount,
     external, drive, structural damping); powers.
     """
 
     __slots__ = ("t", "r", "p", "rd", "w", "rdd", "wd", "dx", "dxd", "f", "force_i", "force_j",
-                 "kinetic", "gravity_potential", "mount_potential", "strain", "a", "ad",
+                 "kinetic", "gravity_potential", "mount_potential", "strain", "a", "ad", "add",
                  "work", "power")
 
 
@@ -522,6 +522,7 @@ class System:
         o.strain = np.zeros(nb)
         o.a = np.array(parts["a"], dtype=float)
         o.ad = np.array(parts["ad"], dtype=float)
+        o.add = dydt[self.layout.v_modal].copy()
         for fc in self._flex:
             a, ad = y[fc.qa], y[fc.va]
             A = rotation_matrix(o.p[fc.body])

@@ -21,6 +21,7 @@ COMMANDS = {
     "static": "static equilibrium (paper Table 2) -> equilibrium file",
     "simulate": "time integration of the mount system -> results file",
     "compare": "rigid vs flexible vs damped flexible bed -> tables and plots",
+    "post": "points of interest and mount forces from a results file",
     "run": "the whole pipeline on one scene, into one folder",
     "bench": "benchmarks: speed against error, printed as tables",
 }

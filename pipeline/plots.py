@@ -11,7 +11,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 STYLES = {"rigid": dict(color="k", lw=1.2), "flexible": dict(color="tab:blue", lw=1.0, ls="--"),
-          "damped": dict(color="tab:red", lw=1.0)}
+          "damped": dict(color="tab:red", lw=1.0), "x": dict(color="tab:green", lw=1.0),
+          "y": dict(color="tab:orange", lw=1.0), "z": dict(color="k", lw=1.2)}
 
 
 def _save(fig, path: Path) -> Path:

@@ -19,8 +19,8 @@
   ``work_drive``, ``work_structural`` (k,) [J], ``balance`` (k,) [J] =
   kinetic + gravity potential + strain − the four works (constant for an
   exact solution);
-- ``modal/``: ``coordinates``, ``rates`` (k, n_modal) of the flexible
-  bodies [kg^1/2 m, kg^1/2 m/s] (empty with a rigid bed);
+- ``modal/``: ``coordinates``, ``rates``, ``accelerations`` (k, n_modal)
+  of the flexible bodies [kg^1/2 m, /s, /s²] (empty with a rigid bed);
 - ``solver/`` attributes: method, settings and statistics;
 - ``scene/toml`` (the scene file's text) with attributes ``digest``,
   ``statics_digest``, ``source``, ``name``;
@@ -174,6 +174,8 @@ def write_results(path, sf: SceneFile, system: System, run: Run, *, start: str,
     ds["modal/coordinates"] = Dataset(h["modal"], "kg^1/2 m",
                                       "modal coordinates a of the flexible bodies")
     ds["modal/rates"] = Dataset(h["modal_rate"], "kg^1/2 m/s", "modal rates da/dt")
+    ds["modal/accelerations"] = Dataset(h["modal_acceleration"], "kg^1/2 m/s^2",
+                                        "modal accelerations d2a/dt2")
     y0 = run.y[0] if len(run.t) else system.initial_state()
     parts = system.layout.split(y0)
     pos0 = np.array(system.initial_r, dtype=float)

@@ -1,0 +1,116 @@
+"""Post-processing from the results file: consistent with the run's own
+kinematics, for rigid bodies and for points on the flexible bed."""
+
+import h5py
+import numpy as np
+import pytest
+
+from pipeline.cli import main
+from pipeline.modes_file import read_modes_file
+from pipeline.post import Point, Run
+from pipeline.results_file import read_results
+from pipeline.scene_file import builtin_scene_path
+
+
+@pytest.fixture(scope="module")
+def flexible_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("post")
+    text = builtin_scene_path().read_text().replace('model = "rigid"', 'model = "flexible"')
+    text += ('\n[[point]]\nname = "A top"\nbody = "equipment A"\nposition = [0.0, 0.0, 0.15]\n'
+             'relative_to = "bed"\n')
+    scene = folder / "flex.toml"
+    scene.write_text(text)
+    modes = folder / "m.h5"
+    assert main(["modes", str(scene), "-o", str(modes)]) == 0
+    results = folder / "r.h5"
+    assert main(["simulate", str(scene), "--modes-file", str(modes), "-o", str(results),
+                 "--t-end", "0.3", "--no-progress"]) == 0
+    return folder, scene, modes, results
+
+
+def test_a_point_at_a_body_origin_is_the_body(flexible_run):
+    _, _, _, results = flexible_run
+    run = Run(results)
+    c = read_results(results)
+    for b, name in enumerate(run.names[2:], start=2):
+        m = run.absolute(Point("o", name, np.zeros(3)))
+        assert np.array_equal(m.position, np.asarray(c.get("bodies/position"))[:, b])
+        assert np.array_equal(m.velocity, np.asarray(c.get("bodies/velocity"))[:, b])
+        assert np.array_equal(m.acceleration, np.asarray(c.get("bodies/acceleration"))[:, b])
+
+
+def test_a_body_relative_to_itself_is_still(flexible_run):
+    _, _, _, results = flexible_run
+    run = Run(results)
+    m = run.relative(Point("o", "equipment B", np.array([0.1, -0.2, 0.3])), "equipment B")
+    assert np.allclose(m.position, [0.1, -0.2, 0.3], rtol=0, atol=1e-14)
+    assert np.abs(m.velocity).max() < 1e-14
+    assert np.abs(m.acceleration).max() < 1e-12
+
+
+def test_mount_points_from_post_give_the_runs_deflections(flexible_run):
+    """M1 joins the base (never rotates, upright axes) to a corner of the
+    flexible bed: Δx = P_j − P_i − l0 and Δẋ = Ṗ_j − Ṗ_i, with the points'
+    motion from post (the bed's corner moved by the modes)."""
+    _, _, _, results = flexible_run
+    run = Run(results)
+    Pi = run.absolute(Point("i", "base", np.array([-0.4, -2.4, 5.0])))
+    Pj = run.absolute(Point("j", "bed", np.array([-0.4, -2.4, 0.0])))
+    l0 = np.array([0.0, 0.0, 0.1])                     # unstrained, scene positions
+    dx = Pj.position - Pi.position - l0
+    dxd = Pj.velocity - Pi.velocity
+    m = run.mount_names.index("M1")
+    assert np.abs(dx - run.mounts["deflection"][:, m]).max() < 1e-12
+    assert np.abs(dxd - run.mounts["rate"][:, m]).max() < 1e-11
+    assert np.abs(run.a).max() > 1e-4                  # the bed did deform
+
+
+def test_a_bed_node_moves_by_the_modal_reconstruction(flexible_run):
+    _, _, modes, results = flexible_run
+    run = Run(results)
+    data = read_modes_file(modes)
+    node = 17
+    s = data.nodes[node]
+    m = run.absolute(Point("n", "bed", s))
+    n = run.a.shape[1]
+    u = s + np.einsum("kn,nj->kj", run.a, data.translation[:n, node])
+    expect = run.r[:, 1] + np.einsum("kij,kj->ki", run.A[:, 1], u)
+    assert np.abs(m.position - expect).max() < 1e-13
+
+
+def test_post_command_outputs(flexible_run, capsys):
+    folder, _, _, results = flexible_run
+    code = main(["post", str(results), "--point", "P=bed:0.2,1.0,0.05", "--relative-to",
+                 "base", "--mounts", "--csv", str(folder / "csv"), "--plot", str(folder / "png")])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert "| A top | equipment A | inertial |" in out and "| A top | equipment A | bed |" in out
+    assert "| P | bed | base |" in out and "| M12 |" in out
+    assert (folder / "csv" / "point-A_top-rel-bed.csv").is_file()
+    assert (folder / "csv" / "mounts.csv").is_file()
+    assert (folder / "png" / "point-P.png").is_file()
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--point", "P=bed:1,2"], "expected NAME=BODY:x,y,z"),
+    (["--point", "P=nobody:0,0,0"], "body 'nobody' is not a body"),
+    (["--relative-to", "moon"], "--relative-to body 'moon' is not a body"),
+    (["--point", "P=bed:0.5,0,0"], "lies outside the plate"),
+])
+def test_post_bad_input(flexible_run, capsys, argv, words):
+    _, _, _, results = flexible_run
+    code = main(["post", str(results)] + argv)
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and words in err, err
+
+
+def test_post_refuses_missing_results_and_stale_modes(flexible_run, tmp_path, capsys):
+    _, _, modes, results = flexible_run
+    assert main(["post", str(tmp_path / "none.h5")]) == 2
+    assert "none.h5: no such file" in capsys.readouterr().err
+    stale = tmp_path / "r.h5"
+    stale.write_bytes(results.read_bytes())
+    with h5py.File(stale, "a") as f:
+        f["bed"].attrs["plate_input_hash"] = "0" * 64
+    assert main(["post", str(stale), "--mounts"]) == 2
+    assert "made for another bed" in capsys.readouterr().err
