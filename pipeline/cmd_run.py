@@ -4,7 +4,7 @@ Stages, each with a progress line: the bed's modes (reused when the folder
 already holds a matching modes file) and their shapes for ParaView → the
 static equilibrium (the paper's Table 2, rigid bed) → the simulations with a
 rigid, a flexible and a damped flexible bed and their comparison (tables
-and plots) → a summary in Markdown. Everything goes into one folder.
+and plots) → the scene's points of interest (CSV) → a summary in Markdown. Everything goes into one folder.
 """
 
 from __future__ import annotations
@@ -21,10 +21,11 @@ from .cmd_compare import compare_scene
 from .cmd_modes import ensure_modes, modes_table
 from .cmd_static import compile_scene, equilibrium_table
 from .errors import NumericalError
+from .post import Run, motion_csv, motion_table
 from .results_file import write_equilibrium
 from .scene_file import load_scene
 
-STAGES = 4
+STAGES = 5
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -73,6 +74,27 @@ def run(args: argparse.Namespace) -> int:
     print(f"[3/{STAGES}] simulations done ({time.perf_counter() - t0:.2f} s)")
     print(res["table"])
 
+    t0 = time.perf_counter()
+    point_tables = []
+    if sf.points:
+        for case, cr in res["runs"].items():
+            r = Run(cr.path)
+            motions = []
+            for p in r.scene_points:
+                motions.append(r.absolute(p))
+                if p.relative_to:
+                    motions.append(r.relative(p, p.relative_to))
+            for m in motions:
+                suffix = "" if m.frame == "inertial" else f"-rel-{m.frame.replace(' ', '_')}"
+                f = out / f"{name}-{case}-point-{m.point.name.replace(' ', '_')}{suffix}.csv"
+                f.write_text(motion_csv(r.t, m))
+                res["files"].append(f)
+            point_tables.append((case, motion_table(motions)))
+        print(f"[4/{STAGES}] points of interest: {len(sf.points)} points x {len(res['runs'])} "
+              f"runs ({time.perf_counter() - t0:.2f} s) -> CSV")
+    else:
+        print(f"[4/{STAGES}] points of interest: none in the scene")
+
     summary = out / f"{name}-summary.md"
     lines = [f"# {name}: summary", "", f"Scene: `{sf.source}`.", "", "## Bed modes", "", "```", modes_table(data), "```", "",
              "## Static equilibrium (rigid bed, the paper's Table 2)", "", "```", table2, "```",
@@ -80,11 +102,18 @@ def run(args: argparse.Namespace) -> int:
              "d = vertical motion of the equipment relative to the base, from its static "
              "position; delay from the cross-correlation with the rigid case; decay = peak "
              "|d| over the second half of the free vibration / over its first half.", "",
-             res["table"], "", "## Files", ""]
+             res["table"], ""]
+    if point_tables:
+        lines += ["## Points of interest", "",
+                  "Peak displacement from t = 0, speed and acceleration; absolute (inertial) "
+                  "and relative to the scene's reference body (in its frame).", ""]
+        for case, table in point_tables:
+            lines += [f"### {case}", "", table, ""]
+    lines += ["## Files", ""]
     files = [data.path, vtu, Path(eq_path)] + [r.path for r in res["runs"].values()] + \
         res["files"]
     lines += [f"- `{Path(f).name}`" for f in files]
     summary.write_text("\n".join(lines) + "\n")
-    print(f"[4/{STAGES}] summary -> {summary.name}")
+    print(f"[5/{STAGES}] summary -> {summary.name}")
     print(f"done in {time.perf_counter() - t_start:.1f} s; outputs in {out}/")
     return 0

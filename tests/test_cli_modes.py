@@ -127,16 +127,18 @@ def test_missing_scene_file(tmp_path, capsys):
 def test_run_writes_every_stage_into_the_folder(tmp_path, capsys):
     code, out, err = run(capsys, "run", "-o", str(tmp_path / "out"))
     assert code == 0, err
-    for stage in ("[1/4] modes", "[2/4] static", "[3/4] simulations", "[4/4] summary"):
+    for stage in ("[1/5] modes", "[2/5] static", "[3/5] simulations", "[4/5] points",
+                  "[5/5] summary"):
         assert stage in out
     names = {p.name for p in (tmp_path / "out").iterdir()}
     for f in ("lee1999-modes.h5", "lee1999-modes.vtu", "lee1999-equilibrium.h5",
               "lee1999-rigid.h5", "lee1999-flexible.h5", "lee1999-damped.h5",
               "lee1999-compare.csv", "lee1999-summary.md", "lee1999-equipment_A-z.png",
-              "lee1999-equipment_B-z.png", "lee1999-base-acceleration.png"):
+              "lee1999-equipment_B-z.png", "lee1999-base-acceleration.png",
+              "lee1999-damped-point-A_top-rel-bed.csv", "lee1999-rigid-point-bed_centre.csv"):
         assert f in names, f
     summary = (tmp_path / "out" / "lee1999-summary.md").read_text()
     assert "5.084327544" in summary and "5.331875044" in summary
     # a second run reuses the modes file
     code, out, err = run(capsys, "run", "-o", str(tmp_path / "out"))
-    assert code == 0 and "[1/4] modes: reused" in out
+    assert code == 0 and "[1/5] modes: reused" in out

@@ -16,7 +16,7 @@ from pipeline.scene_file import builtin_scene_path
 def flexible_run(tmp_path_factory):
     folder = tmp_path_factory.mktemp("post")
     text = builtin_scene_path().read_text().replace('model = "rigid"', 'model = "flexible"')
-    text += ('\n[[point]]\nname = "A top"\nbody = "equipment A"\nposition = [0.0, 0.0, 0.15]\n'
+    text += ('\n[[point]]\nname = "A roof"\nbody = "equipment A"\nposition = [0.0, 0.0, 0.15]\n'
              'relative_to = "bed"\n')
     scene = folder / "flex.toml"
     scene.write_text(text)
@@ -84,9 +84,9 @@ def test_post_command_outputs(flexible_run, capsys):
                  "base", "--mounts", "--csv", str(folder / "csv"), "--plot", str(folder / "png")])
     out = capsys.readouterr().out
     assert code == 0
-    assert "| A top | equipment A | inertial |" in out and "| A top | equipment A | bed |" in out
+    assert "| A roof | equipment A | inertial |" in out and "| A roof | equipment A | bed |" in out
     assert "| P | bed | base |" in out and "| M12 |" in out
-    assert (folder / "csv" / "point-A_top-rel-bed.csv").is_file()
+    assert (folder / "csv" / "point-A_roof-rel-bed.csv").is_file()
     assert (folder / "csv" / "mounts.csv").is_file()
     assert (folder / "png" / "point-P.png").is_file()
 
