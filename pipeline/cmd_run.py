@@ -14,18 +14,23 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
 from dynamics.statics import solve_statics
-from fem.export import write_modes_vtu
+from fem.export import write_modes_vtu, write_motion_series
 
 from .cmd_compare import compare_scene
 from .cmd_modes import ensure_modes, modes_table
-from .cmd_static import compile_scene, equilibrium_table
+from .cmd_static import compile_scene, equilibrium_csv, equilibrium_table
+from .compare import LABELS
 from .errors import NumericalError
-from .post import Run, motion_csv, motion_table
+from .plots import plot_responses
+from .post import Run, bed_motion, motion_csv, motion_table, mount_peaks_csv
 from .results_file import write_equilibrium
 from .scene_file import load_scene
 
 STAGES = 5
+FRAME_DT = 0.01        # s between frames of the bed's motion for ParaView
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -73,6 +78,30 @@ def run(args: argparse.Namespace) -> int:
     res = compare_scene(sf, out, log=print)
     print(f"[3/{STAGES}] simulations done ({time.perf_counter() - t0:.2f} s)")
     print(res["table"])
+
+    # the bed's motion for ParaView, the mount forces, CSV of every table
+    data_rows = ["mode,frequency_Hz,shape,symmetry"] + [
+        f"{k + 1},{f:.10g},{lab},{sym}" for k, (f, lab, sym)
+        in enumerate(zip(data.frequency, data.labels, data.symmetry))]
+    (out / f"{name}-modes.csv").write_text("\n".join(data_rows) + "\n")
+    (out / f"{name}-equilibrium.csv").write_text(equilibrium_csv(system, eq.y))
+    res["files"] += [out / f"{name}-modes.csv", out / f"{name}-equilibrium.csv"]
+    for case, cr in res["runs"].items():
+        r = Run(cr.path)
+        if r.mount_names:
+            f = out / f"{name}-{case}-mounts.csv"
+            f.write_text(mount_peaks_csv(r))
+            curves = {m: (r.t, r.mounts["force"][:, i, 2]) for i, m in enumerate(r.mount_names)}
+            res["files"] += [f, plot_responses(out / f"{name}-{case}-mount-forces.png",
+                                               f"mount forces along u3 ({LABELS[case]})",
+                                               curves, {}, "f3 [N]")]
+        if case != "rigid":
+            pos, defl = bed_motion(r, data.nodes, data.translation)
+            stride = max(1, int(round(FRAME_DT / float(np.mean(np.diff(r.t))))))
+            frames = slice(None, None, stride)
+            res["files"].append(write_motion_series(
+                out / f"{name}-{case}-bed.xdmf", pos[0], data.cells, r.t[frames],
+                (pos - pos[0])[frames], defl[frames]))
 
     t0 = time.perf_counter()
     point_tables = []

@@ -81,6 +81,17 @@ def equilibrium_table(system: System, y: np.ndarray) -> str:
     return "\n".join(lines)
 
 
+def equilibrium_csv(system: System, y: np.ndarray) -> str:
+    """Table 2 as CSV: body, name, x, y, z [m], roll, pitch, yaw [deg]."""
+    lines = ["body,name,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg"]
+    for row in equilibrium_table(system, y).splitlines()[1:]:
+        parts = row.split()
+        body, rest = parts[0], parts[1:]
+        name = " ".join(rest[:-6])
+        lines.append(",".join([body, name] + rest[-6:]))
+    return "\n".join(lines) + "\n"
+
+
 def run(args: argparse.Namespace) -> int:
     sf = load_scene(args.scene)
     system = compile_scene(sf, args.modes_file)

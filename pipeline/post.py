@@ -223,6 +223,16 @@ def mount_table(run: Run) -> str:
     return "\n".join(lines)
 
 
+def mount_peaks_csv(run: Run) -> str:
+    """Peak |deflection| and |force| per mount and direction as CSV (m, N)."""
+    dx = np.abs(run.mounts["deflection"]).max(axis=0)
+    f = np.abs(run.mounts["force"]).max(axis=0)
+    lines = ["mount,peak_dx1_m,peak_dx2_m,peak_dx3_m,peak_f1_N,peak_f2_N,peak_f3_N"]
+    for i, name in enumerate(run.mount_names):
+        lines.append(",".join([name] + [f"{v:.10g}" for v in (*dx[i], *f[i])]))
+    return "\n".join(lines) + "\n"
+
+
 def mount_csv(run: Run) -> str:
     """Mount deflections and forces over time as CSV (SI units)."""
     cols = ["t_s"]
@@ -234,3 +244,33 @@ def mount_csv(run: Run) -> str:
     data = np.hstack(blocks)
     return "\n".join([",".join(cols)] + [",".join(f"{v:.12g}" for v in row)
                                          for row in data]) + "\n"
+
+
+def bed_motion(run: Run, nodes: np.ndarray, translation: np.ndarray):
+    """Positions of the bed's nodes over the run.
+
+    Parameters
+    ----------
+    nodes : ndarray (N, 3)
+        Nodes in the bed frame [m].
+    translation : ndarray (n, N, 3)
+        Mode translations at the nodes (n ≥ the run's modes; zero modes for a
+        rigid bed).
+
+    Returns
+    -------
+    position : ndarray (k, N, 3)
+        Inertial positions [m].
+    deflection : ndarray (k, N)
+        Elastic deflection along the bed's normal [m].
+    """
+    b = run.names.index(run.bed_name) if run.bed_name else 1
+    u = np.broadcast_to(nodes, (run.t.size,) + nodes.shape).copy()
+    deflection = np.zeros((run.t.size, nodes.shape[0]))
+    if run.shapes is not None:
+        n = run.a.shape[1]
+        d = np.einsum("kn,nNj->kNj", run.a, translation[:n])
+        u += d
+        deflection = d[..., 2]
+    position = run.r[:, b, None, :] + np.einsum("kij,kNj->kNi", run.A[:, b], u)
+    return position, deflection

@@ -135,10 +135,24 @@ def test_run_writes_every_stage_into_the_folder(tmp_path, capsys):
               "lee1999-rigid.h5", "lee1999-flexible.h5", "lee1999-damped.h5",
               "lee1999-compare.csv", "lee1999-summary.md", "lee1999-equipment_A-z.png",
               "lee1999-equipment_B-z.png", "lee1999-base-acceleration.png",
-              "lee1999-damped-point-A_top-rel-bed.csv", "lee1999-rigid-point-bed_centre.csv"):
+              "lee1999-damped-point-A_top-rel-bed.csv", "lee1999-rigid-point-bed_centre.csv",
+              "lee1999-modes.csv", "lee1999-equilibrium.csv", "lee1999-damped-mounts.csv",
+              "lee1999-damped-mount-forces.png", "lee1999-damped-bed.xdmf",
+              "lee1999-damped-bed.h5", "lee1999-flexible-bed.xdmf"):
         assert f in names, f
     summary = (tmp_path / "out" / "lee1999-summary.md").read_text()
     assert "5.084327544" in summary and "5.331875044" in summary
+    # the summary's numbers are the results files' numbers
+    import numpy as np
+    from pipeline.post import Point, Run, motion_table
+    from pipeline.results_file import read_results
+    for case in ("rigid", "flexible", "damped"):
+        c = read_results(tmp_path / "out" / f"lee1999-{case}.h5")
+        z = np.asarray(c.get("bodies/position"))[0, 2, 2]
+        assert f"| equipment A | {case} | {z:.6f} |" in summary
+        run_ = Run(tmp_path / "out" / f"lee1999-{case}.h5")
+        table = motion_table([run_.absolute(Point("bed centre", "bed", np.array([0, 0, 0.05])))])
+        assert table.splitlines()[-1] in summary
     # a second run reuses the modes file
     code, out, err = run(capsys, "run", "-o", str(tmp_path / "out"))
     assert code == 0 and "[1/5] modes: reused" in out
