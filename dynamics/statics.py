@@ -68,24 +68,16 @@ def _residual(system: System, y: np.ndarray, sag: bool = True) -> np.ndarray:
     Jw = np.einsum("nij,nj->ni", system.J, wd)
     R = np.concatenate([m * rdd, Jw], axis=1)   # (n, 6)
     modal = []
-    for fc in system.flex_compiled:
-        A = rotation_matrix(parts_p(system, y, fc.slot))
+    p = system.layout.split(y)["p"]
+    for fc in system.flex_compiled:      # flexible bodies: M(q) v̇, coupled blocks
+        A = rotation_matrix(p[fc.slot])
         vd = np.concatenate([rdd[fc.slot], wd[fc.slot], d[fc.va]])
-        Q = system_mass(fc, A, y) @ vd
+        Q = fc.eom.mass_matrix(A, y[fc.qa]) @ vd
         R[fc.slot] = Q[:6]
         modal.append(Q[6:])
     if sag and modal:
         return np.concatenate([R.ravel()] + modal)
     return R.ravel()
-
-
-def parts_p(system: System, y: np.ndarray, slot: int) -> np.ndarray:
-    p = system.layout.split(y)["p"][slot]
-    return p / np.linalg.norm(p)
-
-
-def system_mass(fc, A: np.ndarray, y: np.ndarray) -> np.ndarray:
-    return fc.eom.mass_matrix(A, y[fc.qa])
 
 
 def _apply(system: System, y: np.ndarray, dx: np.ndarray) -> np.ndarray:

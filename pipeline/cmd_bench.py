@@ -21,7 +21,7 @@ import sys
 from pathlib import Path
 
 from .bench_modes import benchmark_modes
-from .bench_rigid import benchmark_dynamics
+from .bench_dynamics import benchmark_dynamics
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:

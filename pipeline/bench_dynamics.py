@@ -1,4 +1,4 @@
-"""Speed against error of every integrator on a scene with a rigid bed.
+"""Speed against error of every integrator on a scene, with a rigid or a flexible bed.
 
 For each integrator, a ladder of steps or tolerances over the scene's run
 (the reference scene: 0–3 s): wall time, steps, rejected steps,
@@ -6,10 +6,11 @@ right-hand-side and Jacobian evaluations, and the maximum position error of
 every body but the base against the project's own reference — fixed-step
 RK4 at a step far below the ladder's (adaptive methods at tight rtol are
 limited by rtol·|r| with |r| ≈ 5 m, fixed steps are not), its own error
-estimated by Richardson extrapolation against twice that step. Plus the
-cost of one right-hand-side evaluation in µs. :func:`benchmark_rigid`
-returns the Markdown text (``flexbed bench rigid`` once the command offers
-it).
+estimated by Richardson extrapolation against twice that step (with a
+flexible bed the step is also kept below 0.2 / the fastest rate of its
+damped modes, so that the reference is stable). Plus the cost of one
+right-hand-side evaluation in µs. :func:`benchmark_dynamics` returns the
+Markdown text (``flexbed bench rigid`` and ``flexbed bench flexible``).
 """
 
 from __future__ import annotations
