@@ -213,6 +213,9 @@ class FlexibleEOM:
         self.I9_lk = np.transpose(I9, (1, 0, 2, 3)).reshape(n, n * 9)   # [k, (l, i, j)]
         self.I5_k = np.transpose(self.I5, (0, 2, 1))                        # [k, l, i]
         self._M = np.zeros((6 + n, 6 + n))
+        self._M[:3, :3] = self.m * np.eye(3)       # constant block, set once
+        if n:
+            self._M[6:, 6:] = self.I6
         self._Q = np.zeros(6 + n)
 
     def inertia(self, a: np.ndarray) -> np.ndarray:
@@ -222,17 +225,17 @@ class FlexibleEOM:
             J = J + (np.outer(a, a).reshape(-1) @ self.I9_flat).reshape(3, 3)
         return J
 
-    def mass_matrix(self, A: np.ndarray, a: np.ndarray) -> np.ndarray:
+    def mass_matrix(self, A: np.ndarray, a: np.ndarray,
+                    J: np.ndarray | None = None) -> np.ndarray:
         """M (6+n, 6+n) for velocities [ṙ, ω̄, ȧ] (a view, overwritten on the
-        next call)."""
+        next call); ``J`` = :meth:`inertia` (a) when the caller has it."""
         n = self.n
         M = self._M
         S = self.I2 + self.I3 @ a
         St = _skew(S)
-        M[:3, :3] = self.m * np.eye(3)
         M[:3, 3:6] = -A @ St
         M[3:6, :3] = M[:3, 3:6].T
-        M[3:6, 3:6] = self.inertia(a)
+        M[3:6, 3:6] = self.inertia(a) if J is None else J
         if n:
             AI3 = A @ self.I3
             M[:3, 6:] = AI3
@@ -240,17 +243,18 @@ class FlexibleEOM:
             Cm = self.I4 + np.tensordot(a, self.I5, axes=(0, 0)) if self.full else self.I4
             M[3:6, 6:] = Cm
             M[6:, 3:6] = Cm.T
-            M[6:, 6:] = self.I6
         return M
 
     def forces(self, A: np.ndarray, w: np.ndarray, a: np.ndarray, ad: np.ndarray,
-               g: np.ndarray) -> np.ndarray:
+               g: np.ndarray, J: np.ndarray | None = None) -> np.ndarray:
         """Q_v + Q_g + Q_e (6+n,): quadratic velocity, gravity, elastic and
-        damping forces [N; N m; N m per unit a]."""
+        damping forces [N; N m; N m per unit a] (a view, overwritten on the
+        next call); ``J`` = :meth:`inertia` (a) when the caller has it."""
         n = self.n
         Q = self._Q
         S = self.I2 + self.I3 @ a
-        J = self.inertia(a)
+        if J is None:
+            J = self.inertia(a)
         gb = A.T @ g
         wS = cross(w, cross(w, S))
         if n:

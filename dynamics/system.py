@@ -430,12 +430,13 @@ class System:
         p_struct = 0.0
         for fc, (A, w, a, ad) in zip(self._flex, flex_state):
             eom = fc.eom
-            Q = eom.forces(A, w, a, ad, self.g).copy()
+            J = eom.inertia(a)                                              # once per call
+            Q = eom.forces(A, w, a, ad, self.g, J)
             Fe = -fc.sign * Fi[fc.mounts]                                   # forces on its ends
             Q[:3] += Fb[fc.body]
             Q[3:6] += tau[fc.body] @ A
             Q[6:] += np.einsum("eij,ei->j", fc.phi, Fe @ A)
-            vd = np.linalg.solve(eom.mass_matrix(A, a), Q)
+            vd = np.linalg.solve(eom.mass_matrix(A, a, J), Q)
             dv[fc.slot, :3] = vd[:3]
             dv[fc.slot, 3:] = vd[3:6]
             dydt[fc.qa] = ad
