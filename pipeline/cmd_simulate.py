@@ -9,14 +9,15 @@ from pathlib import Path
 
 import numpy as np
 
-from dynamics.integrate import METHODS, integrate
+from dynamics.integrate import METHODS
 from dynamics.statics import Equilibrium, solve_statics
 
 from .cmd_modes import default_modes_path
 from .cmd_static import add_modes_file_arg, compile_scene
 from .errors import InputError, NumericalError
+from .motion import solve_motion
 from .results_file import read_equilibrium, write_results
-from .scene_file import load_scene
+from .scene_file import MODELS, load_scene
 
 __all__ = ["add_args", "run"]
 
@@ -39,6 +40,13 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--output-dt", type=float, default=None, help="spacing of stored samples [s]")
     parser.add_argument("--equilibrium", default=None,
                         help="equilibrium file from 'flexbed static' (default: solve it here)")
+    parser.add_argument("--model", choices=MODELS, default=None,
+                        help="nonlinear integration, the linear fast path about the static "
+                             "equilibrium, or auto: linear when its estimated error is below "
+                             "--linear-tol (default: the scene's [solver] model)")
+    parser.add_argument("--linear-tol", type=float, default=None,
+                        help="position error [m] below which --model auto keeps the linear "
+                             "model (default: the scene's [solver] linear_tol)")
     parser.add_argument("--no-progress", action="store_true", help="no progress line on stderr")
     add_modes_file_arg(parser)
 
@@ -89,8 +97,13 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise InputError(f"option: {exc}") from None
     start = args.start or solver.start
+    model = args.model or solver.model
+    linear_tol = solver.linear_tol if args.linear_tol is None else args.linear_tol
+    if not (np.isfinite(linear_tol) and linear_tol > 0):
+        raise InputError(f"option: --linear-tol = {linear_tol!r} must be > 0")
     out = Path(args.output) if args.output else Path(f"{sf.scene.name}-results.h5")
     eq = None
+    y_eq = None
     if start == "equilibrium":
         if args.equilibrium:
             y0 = read_equilibrium(args.equilibrium, sf, system)
@@ -106,18 +119,37 @@ def run(args: argparse.Namespace) -> int:
         if args.equilibrium:
             raise InputError("--equilibrium needs --from equilibrium")
         y0 = system.initial_state()
+    if model != "nonlinear":
+        if eq is None:       # the linear model is about the equilibrium, whatever the start
+            eq_lin = solve_statics(system, tol=solver.static_tol, sag=sf.bed.static_sag)
+            if not eq_lin.success:
+                raise NumericalError(f"{sf.source.name}: {eq_lin.message}")
+            y_eq = eq_lin.y
+        else:
+            y_eq = y0
     progress = _Progress(settings.t_end, enabled=not args.no_progress)
     try:
-        result = integrate(system, y0, settings, progress=progress)
+        motion = solve_motion(system, y_eq, y0, settings, model=model, linear_tol=linear_tol,
+                              progress=progress)
     finally:
         progress.close()
+    result = motion.run
     write_results(out, sf, system, result, start=start, equilibrium=eq,
                   modes_path=(args.modes_file or default_modes_path(sf)) if sf.bed.flexible
-                  else None)
+                  else None, model=motion.attrs())
     st = result.stats
-    rej = "n/a" if st.rejected < 0 else str(st.rejected)
-    print(f"{method}: {st.steps} steps ({rej} rejected), {st.rhs_evaluations} right-hand sides, "
-          f"{st.jacobian_evaluations} Jacobians, {st.segments} segments, {st.wall_time:.3f} s")
+    if model != "nonlinear":
+        print(f"model {model}: {motion.reason}")
+    if motion.model == "linear":
+        lr = motion.linear
+        print(f"linear: {lr.pieces} exact steps, linearisation {lr.time_linearise:.3f} s, "
+              f"propagation {lr.time_propagate:.3f} s, error estimate {lr.time_estimate:.3f} s "
+              f"({st.rhs_evaluations} right-hand sides)")
+    else:
+        rej = "n/a" if st.rejected < 0 else str(st.rejected)
+        print(f"{method}: {st.steps} steps ({rej} rejected), {st.rhs_evaluations} right-hand "
+              f"sides, {st.jacobian_evaluations} Jacobians, {st.segments} segments, "
+              f"{st.wall_time:.3f} s")
     if not result.complete:
         raise NumericalError(f"{result.message}; the samples up to t = {result.t_reached:.6g} s "
                              f"are in {out} (marked incomplete)")

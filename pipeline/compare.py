@@ -17,12 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-from dynamics.integrate import integrate
+
 from dynamics.statics import solve_statics
 
 from .cmd_static import compile_scene
 from .errors import NumericalError
 from .modes_file import ModesData
+from .motion import solve_motion
 from .results_file import read_results, write_results
 from .scene_file import SceneFile
 
@@ -61,10 +62,12 @@ def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=p
         raise NumericalError(f"{sf.source.name} ({LABELS[case]}): {eq.message}")
     start = sf.solver.start
     y0 = eq.y if start == "equilibrium" else system.initial_state()
-    result = integrate(system, y0, sf.solver.settings())
+    motion = solve_motion(system, eq.y, y0, sf.solver.settings(), model=sf.solver.model,
+                          linear_tol=sf.solver.linear_tol)
+    result = motion.run
     write_results(path, csf, system, result, start=start,
                   equilibrium=eq if start == "equilibrium" else None,
-                  modes_path=data.path if case != "rigid" else None)
+                  modes_path=data.path if case != "rigid" else None, model=motion.attrs())
     if not result.complete:
         raise NumericalError(f"{LABELS[case]}: {result.message}; the samples up to "
                              f"t = {result.t_reached:.6g} s are in {path} (marked incomplete)")
@@ -73,8 +76,9 @@ def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=p
     acc = np.asarray(stored.get("bodies/acceleration"))[:, 0, :]
     obs0 = system.observe(0.0, eq.y)
     st = result.stats
-    log(f"  {LABELS[case]}: {st.steps} steps, {st.rhs_evaluations} right-hand sides, "
-        f"{st.wall_time:.2f} s -> {path.name}")
+    how = f" (model {sf.solver.model}: {motion.reason})" if sf.solver.model != "nonlinear" else ""
+    log(f"  {LABELS[case]}: {st.method}, {st.steps} steps, {st.rhs_evaluations} right-hand "
+        f"sides, {st.wall_time:.2f} s{how} -> {path.name}")
     return CaseRun(case=case, path=path, t=result.t, position=pos, base_acceleration=acc,
                    static_position=obs0.r.copy(), steps=st.steps,
                    rhs_evaluations=st.rhs_evaluations, wall_time=st.wall_time,

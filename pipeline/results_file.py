@@ -121,11 +121,14 @@ def read_equilibrium(path, sf: SceneFile, system: System) -> np.ndarray:
 
 
 def write_results(path, sf: SceneFile, system: System, run: Run, *, start: str,
-                  equilibrium: Equilibrium | None = None, modes_path=None) -> Path:
+                  equilibrium: Equilibrium | None = None, modes_path=None,
+                  model: dict | None = None) -> Path:
     """Write a run (complete or not) atomically; returns the path.
 
     ``modes_path``: the modes file a flexible bed was built from (recorded
-    with the plate's input hash, which the modes file carries too)."""
+    with the plate's input hash, which the modes file carries too).
+    ``model``: the model's attributes (:meth:`pipeline.motion.Motion.attrs`);
+    default: the nonlinear model."""
     h = history(system, run.t, run.y)
     ds, sattrs = _scene_part(sf)
     sc = system.scene
@@ -196,6 +199,8 @@ def write_results(path, sf: SceneFile, system: System, run: Run, *, start: str,
         "lu_decompositions": st.lu_decompositions, "segments": st.segments,
         "wall_time": st.wall_time, "t_reached": run.t_reached,
     }
+    solver_attrs.update(model or {"model": "nonlinear", "model_requested": "nonlinear",
+                                  "model_reason": "requested"})
     attrs = {"": {"complete": bool(run.complete), "message": run.message, "start": start,
                   "scene_digest": sf.digest},
              "solver": solver_attrs, **sattrs}

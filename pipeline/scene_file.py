@@ -55,7 +55,9 @@ _MOUNT_KEYS = ("name", "body_i", "body_j", "point_i", "point_j", "axes_deg", "ax
                "k", "c", "stiffness", "damping", "spring_curve", "damper_curve")
 _LAW_KEYS = {"linear": ("k", "c"), "polynomial": ("stiffness", "damping"),
              "curve": ("spring_curve", "damper_curve")}
-_SOLVER_KEYS = ("t_end", "integrator", "dt", "rtol", "atol", "output_dt", "start", "static_tol")
+_SOLVER_KEYS = ("t_end", "integrator", "dt", "rtol", "atol", "output_dt", "start", "static_tol",
+                "model", "linear_tol")
+MODELS = ("nonlinear", "linear", "auto")
 _POINT_KEYS = ("name", "body", "position", "relative_to")
 
 
@@ -71,6 +73,8 @@ class SolverSection:
     output_dt: float = 1e-3
     start: str = "equilibrium"
     static_tol: float = 1e-6
+    model: str = "nonlinear"
+    linear_tol: float = 1e-6
 
     def settings(self, **overrides) -> Settings:
         """Integration settings, with command-line overrides (None = keep)."""
@@ -448,13 +452,15 @@ class _Reader:
         where = "solver"
         self.keys(where, t, _SOLVER_KEYS)
         args: dict[str, Any] = {}
-        for key in ("t_end", "dt", "rtol", "atol", "output_dt", "static_tol"):
+        for key in ("t_end", "dt", "rtol", "atol", "output_dt", "static_tol", "linear_tol"):
             if key in t:
                 args[key] = self.number(where, key, t[key], positive=True)
         if "integrator" in t:
             args["integrator"] = self.string(where, "integrator", t["integrator"], METHODS)
         if "start" in t:
             args["start"] = self.string(where, "start", t["start"], ("equilibrium", "initial"))
+        if "model" in t:
+            args["model"] = self.string(where, "model", t["model"], MODELS)
         return SolverSection(**args)
 
     def points(self, value, names) -> list:
