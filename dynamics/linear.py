@@ -23,8 +23,9 @@ the statics' tolerance) and the inputs ``u`` of the base:
 - driven base: the drive's displacement [m] and velocity [m/s] along each
   axis; translating the base is translating every other body the other way
   (mount forces depend on relative positions and velocities only, gravity is
-  uniform), so ``B = −Σ_bodies ∂f/∂δr`` and ``−Σ_bodies ∂f/∂ṙ`` — exactly,
-  from the columns of A.
+  uniform), so ``B = −Σ_bodies ∂f/∂δr`` and ``−Σ_bodies ∂f/∂ṙ`` in the
+  dynamic rows — exactly, from the columns of A (the kinematic rows do not
+  see the base).
 
 Exact propagation
 -----------------
@@ -299,10 +300,9 @@ def linearise(system: System, y_eq: np.ndarray) -> Linearisation:
     for c, (kind, k) in enumerate(kinds):
         if kind == "load":
             B[coords.base_v_index[k], c] = 1.0 / system.m_base
-        elif kind == "displacement":
-            B[:, c] = -A[:, coords.r_index[:, k]].sum(axis=1)
-        else:
-            B[:, c] = -A[:, coords.v_index[:, k]].sum(axis=1)
+        else:              # only the dynamic rows: the kinematic ones do not see the base
+            cols = coords.r_index[:, k] if kind == "displacement" else coords.v_index[:, k]
+            B[coords.n_pos:, c] = -A[coords.n_pos:, cols].sum(axis=1)
     u0 = np.array([c.values(np.zeros(1))[0] for c in chans], dtype=float)
     return Linearisation(coords, A, B, b0, tuple(chans), u0, system.nfev - nfev0)
 

@@ -17,7 +17,6 @@ from pathlib import Path
 
 import numpy as np
 
-
 from dynamics.statics import solve_statics
 
 from .cmd_static import compile_scene

@@ -1,0 +1,146 @@
+"""The linear fast path: exact propagation, its error estimate, the model choice."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from dynamics.integrate import Settings, integrate
+from dynamics.linear import run_linear
+from dynamics.statics import solve_statics
+from pipeline.cmd_modes import ensure_modes
+from pipeline.cmd_static import compile_scene
+from pipeline.results_file import read_results
+from pipeline.scene_file import load_scene
+
+SDOF = Path(__file__).parent / "scenes" / "linear_sdof.toml"
+
+
+def _pulse_pieces(start, rise, flat, fall, peak):
+    """(t_k, α, β) of a piecewise-linear acceleration a = α + β (t − t_k)."""
+    pts = [(start, 0.0), (start + rise, peak)]
+    if flat > 0:
+        pts.append((start + rise + flat, peak))
+    pts.append((pts[-1][0] + fall, 0.0))
+    pieces = [(0.0, 0.0, 0.0)] if start > 0 else []
+    for (ta, a0), (tb, a1) in zip(pts[:-1], pts[1:]):
+        pieces.append((ta, a0, (a1 - a0) / (tb - ta)))
+    pieces.append((pts[-1][0], 0.0, 0.0))
+    return pieces
+
+
+def _exact_sdof(t, omega2, pieces):
+    """Absolute displacement d_base + u of an undamped oscillator
+    ü + ω² u = −a(t) on a base with acceleration a(t), from rest; closed form
+    piece by piece (particular solution −(α + βτ)/ω² plus free vibration)."""
+    w = math.sqrt(omega2)
+    out = np.empty_like(t)
+    u = v = d = dv = 0.0
+    bounds = [p[0] for p in pieces[1:]] + [np.inf]
+    for (tk, al, be), tb in zip(pieces, bounds):
+        C, D = u + al / omega2, (v + be / omega2) / w
+
+        def state(tau):
+            uu = -(al + be * tau) / omega2 + C * np.cos(w * tau) + D * np.sin(w * tau)
+            dd = d + dv * tau + al * tau ** 2 / 2 + be * tau ** 3 / 6
+            return uu, dd
+
+        sel = (t >= tk) & (t < tb)
+        uu, dd = state(t[sel] - tk)
+        out[sel] = uu + dd
+        if np.isfinite(tb):
+            h = tb - tk
+            u, d_new = state(h)
+            v = -be / omega2 - C * w * math.sin(w * h) + D * w * math.cos(w * h)
+            dv, d = dv + al * h + be * h * h / 2, d_new
+    return out
+
+
+def test_linear_path_is_exact_on_a_linear_scene():
+    sf = load_scene(SDOF)
+    system = compile_scene(sf)
+    eq = solve_statics(system, tol=1e-12)
+    lr = run_linear(system, eq.y, eq.y, Settings("rk4", t_end=0.25, output_dt=1e-3))
+    t = lr.run.t
+    r = system.layout.split(lr.run.y)["r"][:, 0, :] - eq.y[system.layout.q_rigid][:3]
+    ex = _exact_sdof(t, 4 * 5.0e4 / 50.0, _pulse_pieces(0.0, 0.004, 0.01, 0.0065, -12.0))
+    ez = _exact_sdof(t, 4 * 1.25e5 / 50.0, _pulse_pieces(0.0102, 0.0031, 0.0, 0.0057, 30.0))
+    peak = max(np.max(np.abs(ex)), np.max(np.abs(ez)))
+    assert peak > 1e-3
+    # round-off only (measured 1.9e-14 m and 3.8e-13 m against a 0.043 m peak)
+    assert np.max(np.abs(r[:, 0] - ex)) < 5e-11 * peak
+    assert np.max(np.abs(r[:, 2] - ez)) < 5e-11 * peak
+    assert np.max(np.abs(r[:, 1])) < 1e-15
+    # the scene is linear: the estimated error is round-off too
+    assert lr.estimate.position < 1e-10 * peak
+
+
+def test_error_estimate_matches_the_nonlinear_model():
+    """On the reference scene with a flexible bed (2 undamped modes), the
+    estimate predicts the linear model's actual error against a converged
+    nonlinear run, and linear + estimated correction is far closer still."""
+    sf = load_scene(None)
+    sf = replace(sf, bed=replace(sf.bed, model="flexible", modes=2, fmax=None,
+                                 rayleigh=(0.0, 0.0)))
+    with pytest.MonkeyPatch.context() as mp:
+        import tempfile
+        tmp = Path(tempfile.mkdtemp())
+        mp.chdir(tmp)
+        data, _ = ensure_modes(sf, tmp / "m.h5", log=lambda m: None)
+        system = compile_scene(sf, data.path)
+    eq = solve_statics(system, tol=1e-11)
+    st = Settings("dop853", t_end=1.0, rtol=1e-11, atol=1e-13, output_dt=1e-3)
+    lr = run_linear(system, eq.y, eq.y, st)
+    ref = integrate(system, eq.y, st)
+    assert ref.complete
+    lay = system.layout
+    R = lay.split(ref.y)["r"]
+    actual = float(np.max(np.abs(lay.split(lr.run.y)["r"] - R)))
+    est = lr.estimate
+    assert 1e-9 < actual < 1e-5                      # a small but visible nonlinearity
+    assert 0.9 < est.position / actual < 1.1
+    assert est.reliable
+    c = lr.linearisation.coords
+    corrected = c.to_y(c.to_z(lr.run.y) + est.e)
+    assert float(np.max(np.abs(lay.split(corrected)["r"] - R))) < 0.05 * actual
+    # |p| = 1 on every sample of the linear solution
+    p = lay.split(lr.run.y)["p"]
+    assert np.max(np.abs(np.linalg.norm(p, axis=-1) - 1.0)) < 1e-14
+
+
+def _simulate(tmp_path, *args):
+    out = tmp_path / "r.h5"
+    cp = subprocess.run([sys.executable, "-m", "pipeline.cli", "simulate", str(SDOF), "-o",
+                         str(out), "--no-progress", *args], capture_output=True, text=True,
+                        cwd=tmp_path)
+    return cp, out
+
+
+def test_auto_picks_linear_below_the_tolerance(tmp_path):
+    cp, out = _simulate(tmp_path, "--model", "auto")
+    assert cp.returncode == 0, cp.stderr
+    assert "model auto: linear" in cp.stdout
+    attrs = read_results(out).attrs["solver"]
+    assert attrs["model"] == "linear" and attrs["model_requested"] == "auto"
+    assert attrs["linear_estimated_error"] < 1e-6
+
+
+def test_auto_falls_back_to_nonlinear_above_the_tolerance(tmp_path):
+    cp, out = _simulate(tmp_path, "--model", "auto", "--linear-tol", "1e-20")
+    assert cp.returncode == 0, cp.stderr
+    assert "model auto: nonlinear" in cp.stdout
+    attrs = read_results(out).attrs["solver"]
+    assert attrs["model"] == "nonlinear" and attrs["method"] == "dop853"
+
+
+def test_bad_linear_tol_is_one_line(tmp_path):
+    cp, out = _simulate(tmp_path, "--model", "auto", "--linear-tol", "-1")
+    assert cp.returncode == 2
+    assert cp.stderr.count("\n") == 1 and "linear-tol" in cp.stderr
+    assert not out.exists()
