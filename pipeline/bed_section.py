@@ -17,7 +17,7 @@ from .errors import InputError
 
 _PLATE_KEYS = tuple(f.name for f in fields(PlateSpec))
 _KEYS = _PLATE_KEYS + ("body", "model", "modes", "fmax", "rayleigh", "damping_ratio",
-                       "modes_file", "static_sag", "invariants")
+                       "modes_file", "static_sag", "invariants", "auto_factor")
 DEFAULT_MODES = 2
 
 
@@ -37,6 +37,12 @@ class BedSection:
         Number of elastic modes kept (lowest first); None when ``fmax`` is set.
     fmax : float or None
         Keep every elastic mode below this frequency [Hz].
+    auto : tuple of float or None
+        ``modes = "auto"`` in the scene: (f_cut, f_input, f_suspension) [Hz]
+        as :mod:`pipeline.modes_auto` resolved them (then ``fmax = f_cut``);
+        before resolution ``()``.
+    auto_factor : float
+        f_cut = auto_factor × max(f_input, f_suspension) [-].
     rayleigh : tuple of float
         (α [1/s], β [s]) of c_aa = α M_aa + β K_aa.
     damping_ratio : tuple of float or None
@@ -61,6 +67,8 @@ class BedSection:
     modes_file: str | None = None
     static_sag: bool = True
     invariants: str = "full"
+    auto: tuple | None = None
+    auto_factor: float = 2.0
 
     def __post_init__(self) -> None:
         if self.invariants not in ("full", "first_order"):
@@ -73,7 +81,12 @@ class BedSection:
             raise ValueError(f"modes = {self.modes!r} must be an integer >= 1")
         if self.fmax is not None and not (_is_number(self.fmax) and self.fmax > 0):
             raise ValueError(f"fmax = {self.fmax!r} must be a number > 0 [Hz]")
-        if (self.modes is None) == (self.fmax is None):
+        if not (_is_number(self.auto_factor) and self.auto_factor >= 1.0):
+            raise ValueError(f"auto_factor = {self.auto_factor!r} must be a number >= 1")
+        if self.auto == ():
+            if self.fmax is not None:
+                raise ValueError("give either modes = \"auto\" or fmax, not both")
+        elif (self.modes is None) == (self.fmax is None):
             raise ValueError("give either modes or fmax, not both")
         if (len(self.rayleigh) != 2 or not all(_is_number(v) for v in self.rayleigh)):
             raise ValueError(f"rayleigh = {list(self.rayleigh)!r} must be two numbers [alpha, beta]")
@@ -135,11 +148,18 @@ def read_bed(table: dict, where: str) -> BedSection:
         if not isinstance(table["static_sag"], bool):
             raise InputError(f"{where}: static_sag = {table['static_sag']!r} must be true or false")
         args["static_sag"] = table["static_sag"]
-    if "fmax" in table:
+    if table.get("modes") == "auto":
+        args["modes"] = None
+        args["auto"] = ()
+        if "fmax" in table:
+            args["fmax"] = table["fmax"]
+    elif "fmax" in table:
         args["fmax"] = table["fmax"]
         args["modes"] = table.get("modes")
     elif "modes" in table:
         args["modes"] = table["modes"]
+    if "auto_factor" in table:
+        args["auto_factor"] = table["auto_factor"]
     if "rayleigh" in table:
         value = table["rayleigh"]
         args["rayleigh"] = tuple(value) if isinstance(value, list) else (value,)

@@ -88,11 +88,25 @@ def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,
             else:
                 return data, True
     try:
-        bed = compute_bed_modes(spec, n_modes=n_modes, fmax=fmax)
+        if sf.bed.auto and fmax is not None and n_modes is None:
+            try:                       # modes = "auto" keeps at least one mode
+                bed = compute_bed_modes(spec, fmax=fmax)
+            except ModesError:
+                bed = compute_bed_modes(spec, n_modes=1)
+        else:
+            bed = compute_bed_modes(spec, n_modes=n_modes, fmax=fmax)
     except ModesError as exc:
         raise InputError(f"{sf.source.name}: bed: {exc}") from None
     write_modes_file(path, bed)
     return read_modes_file(path), False
+
+
+def auto_line(bed) -> str:
+    """One line saying how ``modes = "auto"`` chose its cut-off."""
+    f_cut, f_in, f_sus = bed.auto
+    return (f"modes = \"auto\": inputs up to {f_in:.3g} Hz, suspension up to {f_sus:.3g} Hz; "
+            f"keeping the modes below {bed.auto_factor:g} x {max(f_in, f_sus):.3g} = "
+            f"{f_cut:.3g} Hz (at least one)")
 
 
 def modes_table(data: ModesData) -> str:
@@ -138,6 +152,8 @@ def run(args: argparse.Namespace) -> int:
                                 log=lambda m: print(m, file=sys.stderr))
     elapsed = time.perf_counter() - t0
     print_summary(data)
+    if sf.bed.auto and args.modes is None and args.fmax is None:
+        print(auto_line(sf.bed))
     asked = (f"{args.modes} asked" if args.modes else
              f"all below {args.fmax:g} Hz asked" if args.fmax else "")
     held = f"{data.n_modes} elastic modes" + (f", {asked}" if asked else "")

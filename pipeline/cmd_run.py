@@ -20,7 +20,7 @@ from dynamics.statics import solve_statics
 from fem.export import write_modes_vtu, write_motion_series
 
 from .cmd_compare import compare_scene
-from .cmd_modes import ensure_modes, modes_table
+from .cmd_modes import auto_line, ensure_modes, modes_table
 from .cmd_static import compile_scene, equilibrium_csv, equilibrium_table
 from .compare import LABELS
 from .errors import NumericalError
@@ -57,6 +57,8 @@ def run(args: argparse.Namespace) -> int:
                           data.translation, data.rotation, data.frequency)
     print(f"[1/{STAGES}] modes: {'reused' if reused else 'computed'} {data.n_modes} elastic "
           f"modes ({time.perf_counter() - t0:.2f} s) -> {data.path.name}, {vtu.name}")
+    if sf.bed.auto:
+        print(f"  {auto_line(sf.bed)}")
     print(modes_table(data))
 
     t0 = time.perf_counter()

@@ -35,7 +35,8 @@ def kept_modes(sf: SceneFile, data: ModesData) -> int:
             raise InputError(f"{where}: fmax = {sf.bed.fmax:g} Hz, but {data.path} holds the "
                              f"modes below {data.next_frequency:.4g} Hz only; re-run "
                              f"'flexbed modes --fmax {sf.bed.fmax:g}'")
-        return int(np.sum(data.frequency < sf.bed.fmax))
+        kept = int(np.sum(data.frequency < sf.bed.fmax))
+        return max(kept, 1) if sf.bed.auto else kept       # "auto" keeps at least one
     if sf.bed.modes > data.n_modes:
         raise InputError(f"{where}: modes = {sf.bed.modes}, but {data.path} holds only "
                          f"{data.n_modes}; re-run 'flexbed modes --modes {sf.bed.modes}'")

@@ -16,7 +16,7 @@ import hashlib
 import json
 import math
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -227,12 +227,24 @@ class _Reader:
             scene = Scene(tuple(bodies), base, tuple(mounts), np.array(gravity), name)
         except SceneError as exc:
             self.fail("", str(exc))
+        if bed.auto == ():
+            bed = self.resolve_auto_modes(scene, bed, solver)
         digest = _digest(data, self.csv)
         statics = {"gravity": gravity, "body": data.get("body"), "mount": data.get("mount", []),
                    "bed": data.get("bed", {}), "static_tol": solver.static_tol}
         return SceneFile(scene=scene, bed=bed, solver=solver, points=tuple(points),
                          source=path, text=text, digest=digest,
                          statics_digest=_digest(statics, {}))
+
+    def resolve_auto_modes(self, scene: Scene, bed: BedSection, solver) -> BedSection:
+        """``[bed] modes = "auto"`` → fmax = f_cut (see :mod:`pipeline.modes_auto`)."""
+        from .modes_auto import cutoff
+        try:
+            f_cut, f_in, f_sus = cutoff(scene, solver.t_end, bed.auto_factor, solver.static_tol)
+        except RuntimeError as exc:
+            self.fail("bed", f"modes = \"auto\" needs the static equilibrium with a rigid "
+                             f"bed: {exc}")
+        return replace(bed, fmax=float(f_cut), auto=(float(f_cut), f_in, f_sus))
 
     def body(self, i: int, t: dict) -> Body:
         where = f"body {t['name']!r}" if isinstance(t, dict) and isinstance(t.get("name"), str) \

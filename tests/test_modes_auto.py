@@ -1,0 +1,90 @@
+"""``[bed] modes = "auto"``: the cut-off rule and its place in the scene file."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from dynamics.scene import Base, Body, Drive, Scene
+from dynamics.shapes import Sinusoid, Triangle
+from dynamics.statics import solve_statics
+from dynamics.system import System
+from pipeline.errors import InputError
+from pipeline.modes_auto import input_frequency, suspension_frequency
+from pipeline.scene_file import load_scene
+
+SDOF = Path(__file__).parent / "scenes" / "linear_sdof.toml"
+
+
+def _driven(sf, *drives):
+    base = Base("driven", drives=tuple(drives))
+    return Scene(sf.scene.bodies, base, sf.scene.mounts, sf.scene.gravity, "s")
+
+
+def test_input_frequency_of_a_sinusoid():
+    """A 7 Hz drive over 10 whole periods: at least 7 Hz; the switch-on and
+    switch-off corners spread 0.1 % of the energy to about twice that."""
+    sf = load_scene(SDOF)
+    f = input_frequency(_driven(sf, Drive(2, Sinusoid(3.0, 7.0, 0.0, 0.0, 10 / 7.0))), 10 / 7.0)
+    assert 7.0 <= f <= 2.5 * 7.0
+
+
+def test_input_frequency_scales_with_the_pulse():
+    """Halving a pulse's duration (and the window with it) doubles the
+    frequency the rule finds; the amplitude does not matter."""
+    sf = load_scene(SDOF)
+    f1 = input_frequency(_driven(sf, Drive(0, Triangle(20.0, 0.003, 0.003))), 0.06)
+    f2 = input_frequency(_driven(sf, Drive(0, Triangle(-7.0, 0.0015, 0.0015))), 0.03)
+    assert 100.0 < f1 < 1000.0
+    assert f2 == pytest.approx(2.0 * f1, rel=0.02)
+
+
+def test_suspension_frequency_is_the_highest_natural_frequency():
+    """50 kg on four mounts at (±0.2, ±0.3) m in the plane of its centre of
+    mass: the decoupled modes are √(4k/m) per axis and, in roll,
+    √(4 k_z y² / J_xx) = √(4 · 1.25e5 · 0.09 / 2) rad/s, the highest."""
+    sf = load_scene(SDOF)
+    system = System(sf.scene)
+    eq = solve_statics(system, tol=1e-12)
+    exact = math.sqrt(4 * 1.25e5 * 0.3 ** 2 / 2.0) / (2 * math.pi)
+    assert suspension_frequency(system, eq.y) == pytest.approx(exact, rel=1e-7)
+
+
+def _auto_scene(tmp_path, extra: str) -> Path:
+    text = (Path(__file__).parents[1] / "pipeline" / "scenes" / "lee1999.toml").read_text()
+    text = text.replace('model = "rigid"', 'model = "flexible"')
+    text = text.replace("modes = 2\n", f"modes = \"auto\"\n{extra}")
+    path = tmp_path / "auto.toml"
+    path.write_text(text)
+    return path
+
+
+def test_reference_scene_auto_cut_off(tmp_path):
+    sf = load_scene(_auto_scene(tmp_path, ""))
+    f_cut, f_in, f_sus = sf.bed.auto
+    assert sf.bed.fmax == f_cut == pytest.approx(2.0 * max(f_in, f_sus))
+    # the load is a 5 Hz sinusoid switched off after 1 s; the equipment's
+    # rocking on its mounts is the fastest suspension mode
+    assert 5.0 < f_in < 20.0 and 10.0 < f_sus < 30.0
+    sf3 = load_scene(_auto_scene(tmp_path, "auto_factor = 3.0\n"))
+    assert sf3.bed.fmax == pytest.approx(1.5 * f_cut)
+
+
+@pytest.mark.parametrize("extra, words", [("fmax = 40.0\n", "not both"),
+                                          ("auto_factor = 0.5\n", "auto_factor = 0.5")])
+def test_auto_bad_input(tmp_path, extra, words):
+    with pytest.raises(InputError, match=words):
+        load_scene(_auto_scene(tmp_path, extra))
+
+
+def test_auto_keeps_at_least_one_mode(tmp_path):
+    from pipeline.cmd_modes import ensure_modes
+    from pipeline.flexible_bed import kept_modes
+    sf = load_scene(_auto_scene(tmp_path, ""))
+    data, _ = ensure_modes(sf, tmp_path / "m.h5", log=lambda m: None)
+    n = kept_modes(sf, data)
+    assert n >= 1
+    assert np.all(data.frequency[:n] < sf.bed.fmax) or n == 1
