@@ -102,6 +102,18 @@ class _FlexCompiled:
     va: slice
 
 
+@dataclass(frozen=True, slots=True)
+class _FlexHot:
+    """What the right-hand side reads of a flexible body: its row among
+    bodies 2…, its equations, the slices of a and ȧ in y, and 6 + n."""
+
+    slot: int
+    eom: FlexibleEOM
+    qa: slice
+    va: slice
+    N: int
+
+
 class Observation:
     """Everything the physics gives at one (t, y); plain attributes.
 
@@ -219,92 +231,202 @@ class System:
         self._last = None
 
     def _build_maps(self, A0: np.ndarray) -> None:
-        """Precompute the linear maps of the hot path.
+        """Precompute the linear maps of the hot path and its buffers.
 
         For unit p, every rotated quantity is a fixed linear function of the
-        16 products p_a p_b (``A = Σ p_a p_b CA_ab``), and its rate is the same
-        map applied to 2 p_a ṗ_b. So one matrix product of
-        ``X = [[p⊗p (all rigid bodies), R (all bodies)], [2 p⊗ṗ, Ṙ]]`` with
-        the precomputed ``DT`` gives, for all mounts and ends at once: the
-        mount vectors l and l̇, the end offsets ρ = A s̄ and the mount axes in
-        the inertial frame (rows of Ū A_iᵀ).
+        16 products p_a p_b (``A = Σ p_a p_b CA_ab``), and a point of a
+        flexible body at A (s̄ + Φ a) of the products p_a p_b a_k; the rate
+        of each is the same map applied to the products' rates. So one
+        matrix product of ``X = [[1, p⊗p, R, p⊗p⊗a], [0, d/dt of these]]``
+        with the precomputed ``DT`` gives, for all mounts and ends at once:
+        the mount vectors l and l̇, the end offsets ρ and the mount axes in
+        the inertial frame (rows of Ū A_iᵀ). A second one maps the end
+        forces and moments to every body's force, moment and (flexible
+        bodies) the body-frame generalized forces as a map of A.
+        Everything per call writes into arrays allocated here.
         """
         n, nb, M = self.n_rigid, self.nb, self.M
-        K = 16 * n + 3 * nb
+        lay = self.layout
+        self._flex_modes = [dict(self.scene.flexible)[self.scene.bodies[b].name].n_modes
+                            for b in self.flex_index]
+        kf = [16 * m for m in self._flex_modes]
+        K = 1 + 16 * n + 3 * nb + sum(kf)
+        c_pp, c_R = 1, 1 + 16 * n
+        c_f = np.cumsum([c_R + 3 * nb] + kf)[:-1].astype(int)
         CA = _CA.reshape(16, 3, 3)
         rows_l, rows_rho, rows_u = 3 * M, 6 * M, 9 * M
         D = np.zeros((rows_l + rows_rho + rows_u, K))
-        c0 = np.zeros(rows_l + rows_rho + rows_u)
-        rho_rows = np.zeros((2 * M, 3, K))         # ρ_e as a map of X's first row
-        rho_const = np.zeros((2 * M, 3))
+        rho_rows = np.zeros((2 * M, 3, K))          # ρ_e as a map of X's first row
+        flex = dict(self.scene.flexible)
         for e in range(2 * M):
             b = int(self.end_body[e])
             s = self.S[e]
             if b == 0:
-                rho_const[e] = s                    # the base never rotates
+                rho_rows[e, :, 0] = s                  # the base never rotates
             else:
-                cols = slice(16 * (b - 1), 16 * b)
+                cols = slice(c_pp + 16 * (b - 1), c_pp + 16 * b)
                 rho_rows[e, :, cols] = np.einsum("akl,l->ka", CA, s)
+            if b in self.flex_index:
+                k = self.flex_index.index(b)
+                fb = flex[self.scene.bodies[b].name]
+                phi = fb.point_shapes[fb.point_index(s)]                  # (3, nm)
+                cols = slice(c_f[k], c_f[k] + kf[k])
+                rho_rows[e, :, cols] = np.einsum("acl,lk->cak", CA, phi).reshape(3, -1)
         for m in range(M):
             for sign, e in ((-1.0, m), (1.0, M + m)):
                 b = int(self.end_body[e])
                 rowsl = slice(3 * m, 3 * m + 3)
                 D[rowsl] += sign * rho_rows[e]
-                c0[rowsl] += sign * rho_const[e]
-                D[rowsl, 16 * n + 3 * b + np.arange(3)] += sign * np.eye(3)
+                D[rowsl, c_R + 3 * b + np.arange(3)] += sign * np.eye(3)
         D[rows_l:rows_l + rows_rho] = rho_rows.reshape(6 * M, K)
-        c0[rows_l:rows_l + rows_rho] = rho_const.reshape(-1)
         for m in range(M):
             b = int(self.body_i[m])
             U = self.U[m]
             r0 = rows_l + rows_rho + 9 * m
             if b == 0:
-                c0[r0:r0 + 9] = U.reshape(-1)
+                D[r0:r0 + 9, 0] = U.reshape(-1)
             else:
                 # Uw[k, c] = Σ_l U[k, l] A[c, l], A[c, l] = Σ_ab pp_ab CA[ab, c, l]
                 blk = np.einsum("kl,acl->kca", U, CA).reshape(9, 16)
-                D[r0:r0 + 9, 16 * (b - 1):16 * b] = blk
+                D[r0:r0 + 9, c_pp + 16 * (b - 1):c_pp + 16 * b] = blk
         self._DT = np.ascontiguousarray(D.T)
-        self._c0 = c0
-        self._X = np.zeros((2, K))
-        self._Xpp = self._X[0, :16 * n].reshape(n, 16)
-        self._Xppd = self._X[1, :16 * n].reshape(n, 16)
-        self._XR = self._X[0, 16 * n:].reshape(nb, 3)
-        self._XRD = self._X[1, 16 * n:].reshape(nb, 3)
+        X = np.zeros((2, K))
+        X[0, 0] = 1.0
+        self._X = X
+        self._Xpp = X[0, c_pp:c_R].reshape(n, 16)
+        self._Xpp3 = self._Xpp.reshape(n, 4, 4)
+        self._Xppd3 = X[1, c_pp:c_R].reshape(n, 4, 4)
+        self._XR = X[0, c_R:c_R + 3 * nb].reshape(nb, 3)
+        self._XRD = X[1, c_R:c_R + 3 * nb].reshape(nb, 3)
         self._XR[0] = self.r0_base
         self._XR[1:] = self.initial_r[1:]
-        # body incidence: force on body b = Einc @ F_i; torques: Es @ (ρ × F)
+        self._Xf = [(X[0, c:c + k].reshape(16, k // 16), X[1, c:c + k].reshape(16, k // 16))
+                    for c, k in zip(c_f, kf)]
+        self._O = np.zeros((2, D.shape[0]))
+        O = self._O
+        self._l2 = O[:, :3 * M].reshape(2, M, 3).transpose(1, 2, 0)       # (M, 3, 2): l, l̇
+        self._rho = O[0, 3 * M:9 * M].reshape(2, M, 3, 1)
+        self._Uw = O[0, 9 * M:].reshape(M, 3, 3)                          # rows: u_k inertial
+        self._loc = np.zeros((M, 3, 2))
+        self._dx = np.zeros((M, 3))
+        self._dx_flat = self._dx.reshape(-1)
+        self._dxd = self._loc[:, :, 1]
+        self._dxd_flat = np.zeros(3 * M)
+        # state gathers: y[_y_xi] -> X.flat[_x_xi] (positions, velocities of
+        # bodies 2… and of a free base); y[_y_z] -> _z = [p, ω̄]
+        xi, yi = [], []
+        qr, vr = lay.q_rigid.start, lay.v_rigid.start
+        for b in range(1, nb):
+            for c in range(3):
+                xi += [c_R + 3 * b + c, K + c_R + 3 * b + c]
+                yi += [qr + 7 * (b - 1) + c, vr + 6 * (b - 1) + c]
+        if lay.base_free:
+            for c in range(3):
+                xi += [c_R + c, K + c_R + c]
+                yi += [lay.q_base.start + c, lay.v_base.start + c]
+        self._x_xi = np.array(xi, dtype=np.intp)
+        self._y_xi = np.array(yi, dtype=np.intp)
+        self._y_z = np.concatenate([qr + 7 * np.arange(n)[:, None] + np.arange(3, 7),
+                                    vr + 6 * np.arange(n)[:, None] + np.arange(3, 6)],
+                                   axis=1).reshape(-1).astype(np.intp)
+        self._z = np.zeros((n, 7))
+        self._p = self._z[:, :4]
+        self._w = self._z[:, 4:]
+        self._wp = np.zeros((n, 3, 4))
+        self._ppw = np.zeros((n, 4, 4, 3))
+        # 2 p_a ṗ_b / |p|² = Σ_ci pp_ac ω_i 2 CP[(i, c), b]
+        self._CPP = np.ascontiguousarray(
+            2.0 * np.transpose(_CP.reshape(3, 4, 4), (1, 0, 2)).reshape(12, 4))
+        self._inv2 = np.zeros((n, 1))
+        # end forces -> generalized forces: G = [ρ ⊗ F (2M, 3, 3), F_i (M, 3)] @ W
+        nf = len(self.flex_index)
         Ei = np.zeros((nb, M))
         Ej = np.zeros((nb, M))
         Ei[self.body_i, np.arange(M)] = 1.0
         Ej[self.body_j, np.arange(M)] = 1.0
         self._Einc = Ei - Ej
-        self._Es = np.hstack([Ei, -Ej])
-        # Euler's equations: block-diagonal J and its principal-axes factors
-        self._Jblk = np.zeros((3 * n, 3 * n))
-        self._Qblk = np.zeros((3 * n, 3 * n))
-        for b in range(n):
-            sl = slice(3 * b, 3 * b + 3)
-            self._Jblk[sl, sl] = self.J[b]
-            self._Qblk[sl, sl] = self.J_vec[b]
-        self._QTblk = np.ascontiguousarray(self._Qblk.T)
+        Es = np.hstack([Ei, -Ej])                          # (nb, 2M)
+        cols_tau, cols_F = 3 * nb, 3 * nb
+        cols_H = [9 * (6 + k) for k in self._flex_modes]
+        W = np.zeros((2 * M * 9 + 3 * M, cols_tau + cols_F + sum(cols_H)))
+        # τ_b = Σ_e Es[b, e] ρ_e × F_e
+        W[:18 * M, :cols_tau] = np.einsum("be,xc->exbc", Es, _EPS).reshape(18 * M, 3 * nb)
+        W[18 * M:, cols_tau:cols_tau + cols_F] = np.einsum(
+            "bm,cd->mcbd", self._Einc, np.eye(3)).reshape(3 * M, 3 * nb)
+        h0 = cols_tau + cols_F
+        self._H = []
+        for k, b in enumerate(self.flex_index):
+            nm = self._flex_modes[k]
+            # body-frame generalized forces = A.ravel() @ H (9, 6 + nm):
+            # Aᵀ F_b, Aᵀ τ_b, Σ_e Φ_eᵀ Aᵀ F_e
+            Hm = np.zeros((2 * M * 9 + 3 * M, 3, 3, 6 + nm))
+            Wt = W[:, :cols_tau].reshape(-1, nb, 3)[:, b]          # τ_b (., 3)
+            WF = W[:, cols_tau:cols_tau + cols_F].reshape(-1, nb, 3)[:, b]
+            for d in range(3):
+                for c in range(3):
+                    Hm[:, d, c, c] = WF[:, d]
+                    Hm[:, d, c, 3 + c] = Wt[:, d]
+            fb = flex[self.scene.bodies[b].name]
+            for e in np.flatnonzero(self.end_body == b):
+                m, sgn = e % M, (1.0 if e < M else -1.0)
+                phi = fb.point_shapes[fb.point_index(self.S[e])]          # (3, nm)
+                # Σ_d A[d, c] F_e[d] Φ_e[c, :], F_e = sgn F_i[m]
+                Hm[18 * M + 3 * m:18 * M + 3 * m + 3, :, :, 6:] += sgn * np.einsum(
+                    "dD,ck->Ddck", np.eye(3), phi)
+            W[:, h0:h0 + cols_H[k]] = Hm.reshape(-1, cols_H[k])
+            self._H.append(slice(h0, h0 + cols_H[k]))
+            h0 += cols_H[k]
+        self._W = np.ascontiguousarray(W)
+        self._EF = np.zeros(W.shape[0])
+        self._rhoF = self._EF[:18 * M].reshape(2, M, 3, 3)
+        self._Fi = self._EF[18 * M:].reshape(M, 3)
+        self._Fi1 = self._Fi.reshape(M, 1, 3)
+        self._Fi4 = self._Fi.reshape(1, M, 1, 3)
+        self._gen = np.zeros(W.shape[1])
+        self._tau = self._gen[:cols_tau].reshape(nb, 3)
+        self._tau1 = self._tau[1:, None, :]
+        self._Fb = self._gen[cols_tau:cols_tau + cols_F].reshape(nb, 3)
+        self._Hv = [self._gen[sl].reshape(9, -1) for sl in self._H]
+        # Euler's equations, rigid bodies: ω̄̇ = [n̄, ω̄⊗ω̄] @ WE (per body)
+        Jinv = np.einsum("bij,bj,bkj->bik", self.J_vec, 1.0 / self.J_eig, self.J_vec)
+        gy = np.einsum("idc,bdj->bijc", _EPS.reshape(3, 3, 3), self.J).reshape(n, 9, 3)
+        JinvT = np.transpose(Jinv, (0, 2, 1))
+        self._WE = np.ascontiguousarray(np.concatenate([JinvT, -gy @ JinvT], axis=1))
+        self._eul = np.zeros((n, 1, 12))
+        self._nbar = self._eul[:, :, :3]
+        self._ww = self._eul[:, 0, 3:].reshape(n, 3, 3)
+        self._Ar = np.zeros((n, 9))
+        self._Ar3 = self._Ar.reshape(n, 3, 3)
         self._jeig = self.J_eig.reshape(-1).copy()
         self._inv_m = 1.0 / self.m_r
         self._inv_m_base = 1.0 / self.m_base
-        lay = self.layout
         self._sq_base, self._sv_base = lay.q_base, lay.v_base
         self._sq_rigid, self._sv_rigid = lay.q_rigid, lay.v_rigid
         self._w0 = lay.work.start
         self._Fx = np.zeros(3)
         self._load_pairs = [(k, f.value) for k in range(3) for f in self._loads[k]]
+        # the output, laid out as y
+        self._dy = np.zeros(self.ny)
+        dy = self._dy
+        self._dq = dy[lay.q_rigid].reshape(n, 7)
+        self._dq_r = self._dq[:, :3]
+        self._dq_p = self._dq[:, 3:]
+        dv = dy[lay.v_rigid].reshape(n, 6)
+        self._rdd = dv[:, :3]
+        self._wd1 = dv[:, None, 3:]
+        self._wd = dv[:, 3:]
+        self._pw = dy[lay.work]
+        self._dq_base = dy[lay.q_base]
+        self._dv_base = dy[lay.v_base]
 
     def _build_flexible(self, flex: dict) -> None:
         """Per flexible body: its equations, and its mount ends with their
         mode shapes (ends on a flexible body move by ``A Φ_e a`` more than
-        the rigid offsets the linear maps already give)."""
+        their rigid offsets; the linear maps carry both)."""
         M = self.M
         lay = self.layout
         self._flex = []
+        self._flex_hot = []
         for b in self.flex_index:
             body = self.scene.bodies[b]
             fb = flex[body.name]
@@ -313,11 +435,14 @@ class System:
             blk = lay.modal_block(b)
             q0 = lay.q_modal.start
             v0 = lay.v_modal.start
-            self._flex.append(_FlexCompiled(
+            fc = _FlexCompiled(
                 body=b, slot=b - 1, eom=FlexibleEOM(fb), ends=ends, mounts=ends % M,
                 sign=np.where(ends < M, -1.0, 1.0)[:, None],
                 phi=phi.reshape(len(ends), 3, fb.n_modes),
-                qa=slice(q0 + blk.start, q0 + blk.stop), va=slice(v0 + blk.start, v0 + blk.stop)))
+                qa=slice(q0 + blk.start, q0 + blk.stop), va=slice(v0 + blk.start, v0 + blk.stop))
+            self._flex.append(fc)
+            self._flex_hot.append(_FlexHot(slot=fc.slot, eom=fc.eom, qa=fc.qa, va=fc.va,
+                                           N=6 + fb.n_modes))
 
     # ------------------------------------------------------------------ base
     def set_segment(self, t_a: float | None, t_b: float | None = None) -> None:
@@ -362,92 +487,75 @@ class System:
         return F
 
     # ------------------------------------------------------------- the physics
-    def _evaluate(self, t: float, y: np.ndarray, dydt: np.ndarray) -> None:
-        n, M = self.n_rigid, self.M
+    def _evaluate(self, t: float, y: np.ndarray) -> np.ndarray:
+        """Fill and return the output buffer ``_dy`` (ny,) with dy/dt."""
         X = self._X
+        dy = self._dy
         # 1. kinematics of the bodies
         motion = self.base_motion
-        if motion == "driven":
-            if self._has_drive:
-                r_b, v_b, a_b = self.base_motion_at(t)
-                self._XR[0] = r_b
-                self._XRD[0] = v_b
-                self._acc_base = a_b
-        elif motion == "free":
-            self._XR[0] = y[self._sq_base]
-            self._XRD[0] = y[self._sv_base]
-        qr = y[self._sq_rigid].reshape(n, 7)
-        vr = y[self._sv_rigid].reshape(n, 6)
-        p = qr[:, 3:]
-        wr = vr[:, 3:]
-        pp = (p[:, :, None] * p[:, None, :]).reshape(n, 16)
-        inv2 = 1.0 / (pp @ _TRACE)                                          # 1/|p|², (n, 1)
-        pdot = (wr[:, :, None] * p[:, None, :]).reshape(n, 12) @ _CP       # ½ G(p)ᵀ ω̄
-        np.multiply(pp, inv2, out=self._Xpp)
-        pds = pdot * (2.0 * inv2)
-        np.multiply(p[:, :, None], pds[:, None, :], out=self._Xppd.reshape(n, 4, 4))
-        self._XR[1:] = qr[:, :3]
-        self._XRD[1:] = vr[:, :3]
+        if motion == "driven" and self._has_drive:
+            r_b, v_b, a_b = self.base_motion_at(t)
+            self._XR[0] = r_b
+            self._XRD[0] = v_b
+            self._acc_base = a_b
+        X.flat[self._x_xi] = y[self._y_xi]                  # R, Ṙ
+        self._z.flat[:] = y[self._y_z]                       # p, ω̄
+        p, w = self._p, self._w
+        Xpp = self._Xpp
+        np.multiply(p[:, :, None], p[:, None, :], out=self._Xpp3)
+        inv2 = np.divide(1.0, Xpp @ _TRACE, out=self._inv2)                   # 1/|p|²
+        np.multiply(Xpp, inv2, out=Xpp)                                         # p⊗p/|p|²
+        np.multiply(w[:, :, None], p[:, None, :], out=self._wp)
+        np.matmul(self._wp.reshape(-1, 12), _CP, out=self._dq_p)              # ṗ = ½ G(p)ᵀ ω̄
+        np.multiply(self._Xpp3[:, :, :, None], w[:, None, None, :], out=self._ppw)
+        np.matmul(self._ppw.reshape(-1, 4, 12), self._CPP, out=self._Xppd3)   # d/dt p⊗p/|p|²
+        for fh, (x0, x1) in zip(self._flex_hot, self._Xf):
+            a = y[fh.qa]
+            ad = y[fh.va]
+            pp, ppd = Xpp[fh.slot, :, None], self._Xppd3[fh.slot].reshape(16, 1)
+            np.multiply(pp, a, out=x0)
+            np.multiply(ppd, a, out=x1)
+            x1 += pp * ad
         # 2.-3. all mounts and ends at once
-        O = X @ self._DT
-        O[0] += self._c0
-        l2 = O[:, :3 * M].reshape(2, M, 3).transpose(1, 2, 0)             # (M, 3, 2): l, l̇
-        rho = O[0, 3 * M:9 * M].reshape(2, M, 3)
-        Uw = O[0, 9 * M:].reshape(M, 3, 3)                                  # rows: u_k inertial
-        flex_state = []
-        for fc in self._flex:
-            a = y[fc.qa]
-            ad = y[fc.va]
-            A = (self._Xpp[fc.slot] @ _CA).reshape(3, 3)
-            w = wr[fc.slot]
-            u = fc.phi @ a                                                   # Φ_e a (E, 3)
-            drho = u @ A.T
-            drhod = (cross(w, u) + fc.phi @ ad) @ A.T
-            np.add.at(rho.reshape(2 * M, 3), fc.ends, drho)
-            np.add.at(l2[:, :, 0], fc.mounts, fc.sign * drho)
-            np.add.at(l2[:, :, 1], fc.mounts, fc.sign * drhod)
-            flex_state.append((A, w, a, ad))
-        loc = Uw @ l2
-        dx = loc[:, :, 0] - self.d0
-        dxd = loc[:, :, 1]
-        f = self.laws.forces(dx.reshape(-1), dxd.reshape(-1), self._f)
-        Fi = (f.reshape(M, 1, 3) @ Uw)[:, 0, :]                            # Σ f_k u_k on P_i
-        # 4. generalized forces, Newton–Euler per body
-        Fb = self._Einc @ Fi
-        tau = self._Es @ ((rho[:, :, :, None] * Fi[None, :, None, :]).reshape(2 * M, 9) @ _EPS)
-        Ar = (self._Xpp @ _CA).reshape(n, 3, 3)
-        nbar = (tau[1:, None, :] @ Ar)[:, 0, :]                             # A_bᵀ τ_b
-        Jw = (self._Jblk @ wr.reshape(-1)).reshape(n, 3)
-        rhs_w = nbar - (wr[:, :, None] * Jw[:, None, :]).reshape(n, 9) @ _EPS
-        wd = self._Qblk @ ((self._QTblk @ rhs_w.reshape(-1)) / self._jeig)
-        rdd = Fb[1:] * self._inv_m + self.g
-        dq = dydt[self._sq_rigid].reshape(n, 7)
-        dq[:, :3] = vr[:, :3]
-        dq[:, 3:] = pdot
-        dv = dydt[self._sv_rigid].reshape(n, 6)
-        dv[:, :3] = rdd
-        dv[:, 3:] = wd.reshape(n, 3)
+        np.matmul(X, self._DT, out=self._O)
+        loc = np.matmul(self._Uw, self._l2, out=self._loc)
+        dx = np.subtract(loc[:, :, 0], self.d0, out=self._dx)
+        dxd = self._dxd_flat
+        dxd[:] = self._dxd.reshape(-1)
+        f = self.laws.forces(self._dx_flat, dxd, self._f)
+        np.matmul(f.reshape(-1, 1, 3), self._Uw, out=self._Fi1)              # F_i = Σ f_k u_k
+        np.multiply(self._rho, self._Fi4, out=self._rhoF)                    # ρ_e ⊗ F_e
+        np.matmul(self._EF, self._W, out=self._gen)
+        Fb = self._Fb
+        # 4. Newton–Euler per body
+        np.matmul(Xpp, _CA, out=self._Ar)                                      # A (n, 9)
+        np.matmul(self._tau1, self._Ar3, out=self._nbar)                       # A_bᵀ τ_b
+        np.multiply(w[:, :, None], w[:, None, :], out=self._ww)
+        np.matmul(self._eul, self._WE, out=self._wd1)                          # ω̄̇
+        rdd = np.multiply(Fb[1:], self._inv_m, out=self._rdd)
+        rdd += self.g
+        self._dq_r[...] = self._XRD[1:]
         p_struct = 0.0
-        for fc, (A, w, a, ad) in zip(self._flex, flex_state):
-            eom = fc.eom
-            J = eom.inertia(a)                                              # once per call
-            Q = eom.forces(A, w, a, ad, self.g, J)
-            Fe = -fc.sign * Fi[fc.mounts]                                   # forces on its ends
-            Q[:3] += Fb[fc.body]
-            Q[3:6] += tau[fc.body] @ A
-            Q[6:] += np.einsum("eij,ei->j", fc.phi, Fe @ A)
-            vd = np.linalg.solve(eom.mass_matrix(A, a, J), Q)
-            dv[fc.slot, :3] = vd[:3]
-            dv[fc.slot, 3:] = vd[3:6]
-            dydt[fc.qa] = ad
-            dydt[fc.va] = vd[6:]
-            rdd[fc.slot] = vd[:3]
-            wd.reshape(n, 3)[fc.slot] = vd[3:6]
-            p_struct -= float(ad @ eom.C @ ad)
+        for fh, Hv in zip(self._flex_hot, self._Hv):
+            eom = fh.eom
+            a = y[fh.qa]
+            ad = y[fh.va]
+            A = self._Ar3[fh.slot]
+            wf = w[fh.slot]
+            Mbar = eom.mass_matrix_body(a)
+            Q = eom.forces_body(wf, a, ad, self.g @ A, Mbar[3:6, 3:6])
+            Qv = Q[:fh.N]
+            Qv += A.reshape(9) @ Hv                                         # the mounts
+            vd = np.linalg.solve(Mbar, Qv)
+            np.matmul(A, vd[:3], out=rdd[fh.slot])
+            self._wd[fh.slot] = vd[3:6]
+            dy[fh.qa] = ad
+            dy[fh.va] = vd[6:]
+            p_struct -= float(ad @ Q[fh.N:])
         # 5. base and powers
-        p_mount = -float(f @ dxd.reshape(-1))
-        p_ext = 0.0
-        p_drive = 0.0
+        w0 = self._w0
+        dy[w0] = -float(f @ dxd)
+        dy[w0 + 3] = p_struct
         if motion == "free":
             Fx = self._Fx
             Fx[:] = self.support
@@ -455,26 +563,20 @@ class System:
             for k, fun in self._load_pairs:
                 Fx[k] += fun(t, at)
             ab = (Fb[0] + Fx) * self._inv_m_base + self.g
-            dydt[self._sq_base] = self._XRD[0]
-            dydt[self._sv_base] = ab
-            p_ext = float(Fx @ self._XRD[0])
+            self._dq_base[:] = self._XRD[0]
+            self._dv_base[:] = ab
+            dy[w0 + 1] = float(Fx @ self._XRD[0])
             self._acc_base = ab
         elif motion == "driven" and self._has_drive:
             Fd = self.m_base * (self._acc_base - self.g) - Fb[0]
-            p_drive = float(Fd @ self._XRD[0])
-        w0 = self._w0
-        dydt[w0] = p_mount
-        dydt[w0 + 1] = p_ext
-        dydt[w0 + 2] = p_drive
-        dydt[w0 + 3] = p_struct
-        self._last = (dx, dxd, f, Fi, rdd, wd)
+            dy[w0 + 2] = float(Fd @ self._XRD[0])
+        self._last = (dx, dxd.reshape(-1, 3), f, self._Fi, rdd, self._wd)
+        return dy
 
     def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
         """dy/dt at time t [s] for the state y (ny,); a new array each call."""
         self.nfev += 1
-        dydt = np.empty(self.ny)
-        self._evaluate(t, y, dydt)
-        return dydt
+        return self._evaluate(t, y).copy()
 
     # ------------------------------------------------------------ the outputs
     def initial_state(self) -> np.ndarray:
@@ -490,8 +592,7 @@ class System:
 
     def observe(self, t: float, y: np.ndarray) -> Observation:
         """Everything at one (t, y); same physics as :meth:`rhs`."""
-        dydt = np.empty(self.ny)
-        self._evaluate(t, np.asarray(y, dtype=float), dydt)
+        dydt = self._evaluate(t, np.asarray(y, dtype=float)).copy()
         dx, dxd, f, Fi, rdd, wd = self._last
         nb, M = self.nb, self.M
         o = Observation()
