@@ -1,156 +1,237 @@
-"""Speed against error of every integrator on a scene, with a rigid or a flexible bed.
+"""Every integrator over a ladder of steps or tolerances on one case.
 
-For each integrator, a ladder of steps or tolerances over the scene's run
-(the reference scene: 0–3 s): wall time, steps, rejected steps,
-right-hand-side and Jacobian evaluations, and the maximum position error of
-every body but the base against the project's own reference — fixed-step
-RK4 at a step far below the ladder's (adaptive methods at tight rtol are
-limited by rtol·|r| with |r| ≈ 5 m, fixed steps are not), its own error
-estimated by Richardson extrapolation against twice that step (with a
-flexible bed the step is also kept below 0.2 / the fastest rate of its
-damped modes, so that the reference is stable). Plus the cost of one
-right-hand-side evaluation in µs. :func:`benchmark_dynamics` returns the
-Markdown text (``flexbed bench rigid`` and ``flexbed bench flexible``).
+For each setting: wall time (the integration alone — stepping, dense
+output, projection, bookkeeping — not the statics; median of repeats),
+accepted and rejected steps, right-hand-side and Jacobian evaluations, and
+the maximum position error of bodies 2… and mount-force error against the
+case's reference (:mod:`pipeline.bench_reference`).
+
+A setting that the integrator refuses (its stiffness check: the message
+starts with "stiff scene") is reported as "stiff: refused"; one that blows
+up as "unstable"; one whose predicted wall time exceeds the budget is not
+run and says so, with the prediction. Predictions: RK4 from its step count
+and the reference's cost per right-hand side; DOP853's first setting on a
+case with fast damped modes from its stability bound (about 6/|λ| per step,
+12 right-hand sides a step); any later setting of a ladder from the one
+before it, times the growth seen so far (ladders go from cheap to dear).
 """
 
 from __future__ import annotations
 
 import math
-import platform
-import tempfile
-import timeit
-from dataclasses import replace
-from pathlib import Path
+import statistics
+from dataclasses import dataclass
 
 import numpy as np
-import scipy
 
-from dynamics.integrate import Settings, integrate
-from dynamics.statics import solve_statics
+from dynamics.integrate import Run, Settings, integrate
 
-from .cmd_modes import ensure_modes
-from .cmd_static import compile_scene
-from .errors import NumericalError
-from .scene_file import load_scene
+from .bench_cases import Case
+from .bench_markdown import fmt_error, md_table
+from .bench_reference import Reference, errors, sample
 
-__all__ = ["benchmark_rigid", "benchmark_dynamics", "LADDERS", "QUICK"]
+__all__ = ["LADDERS", "QUICK_LADDERS", "Measurement", "classify", "settings_for",
+           "predict_time", "measure", "run_ladders", "ladder_table", "fastest_reaching",
+           "observed_orders", "DOP853_STABILITY"]
 
+#: rk4: step dt [s]; the others: rtol (atol = 1e-3 rtol, on the motion from the start).
 LADDERS = {
-    "rk4": [4e-3, 2e-3, 1e-3, 5e-4],
-    "dop853": [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10],
-    "adams": [1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10],
-    "bdf": [1e-4, 1e-5, 1e-6, 1e-7, 1e-8],
-    "radau": [1e-4, 1e-5, 1e-6, 1e-7, 1e-8],
+    "rk4": (4e-3, 2e-3, 1e-3, 5e-4),
+    "adams": (1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10),
+    "bdf": (1e-4, 1e-5, 1e-6, 1e-7, 1e-8),
+    "radau": (1e-4, 1e-5, 1e-6, 1e-7, 1e-8),
+    "dop853": (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10),
 }
-QUICK = {"rk4": [2e-3], "dop853": [1e-5], "adams": [1e-7], "bdf": [1e-6], "radau": [1e-5]}
-AIMS = ((1e-6, 0.05), (1e-9, 0.2))
+QUICK_LADDERS = {
+    "rk4": (4e-3, 2e-3),
+    "adams": (1e-8,),
+    "bdf": (1e-6,),
+    "radau": (1e-6,),
+    "dop853": (1e-6, 1e-8),
+}
+#: |hλ| at DOP853's stability bound, about 6 on both axes (6.39 real, 5.96 imaginary).
+DOP853_STABILITY = 6.0
+ATOL_PER_RTOL = 1e-3
 
 
-def _positions(system, run):
-    return system.layout.split(run.y)["r"]
+@dataclass
+class Measurement:
+    """One setting of one integrator on one case.
+
+    status : "ok", "stiff: refused", "unstable", "failed" or "skipped";
+    note : why, for anything but "ok"; wall_time : median over ``runs``
+    runs [s] (time to failure for a failed run, the prediction for a
+    skipped one); position_error [m], force_error [N] : NaN unless "ok".
+    """
+
+    case: str
+    method: str
+    value: float
+    status: str = "ok"
+    note: str = ""
+    steps: int = 0
+    rejected: int = 0
+    rhs_evaluations: int = 0
+    jacobian_evaluations: int = 0
+    wall_time: float = math.nan
+    runs: int = 0
+    position_error: float = math.nan
+    force_error: float = math.nan
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+    @property
+    def setting(self) -> str:
+        if self.method == "rk4":
+            return f"dt = {self.value:g} s"
+        return f"rtol = {self.value:g}"
 
 
-def rhs_cost_us(system, t: float, y: np.ndarray, reps: int = 2000) -> float:
-    """Best-of-5 time of one right-hand-side evaluation [µs]."""
-    return min(timeit.repeat(lambda: system.rhs(t, y), number=reps, repeat=5)) / reps * 1e6
+def settings_for(method: str, value: float, t_end: float, output_dt: float) -> Settings:
+    """The integrator settings of one rung of a ladder."""
+    if method == "rk4":
+        return Settings("rk4", t_end=t_end, dt=value, output_dt=output_dt)
+    return Settings(method, t_end=t_end, rtol=value, atol=ATOL_PER_RTOL * value,
+                    output_dt=output_dt)
 
 
-def benchmark_rigid(scene=None, *, quick: bool = False, reference_dt: float = 1e-4,
-                    output_dt: float = 0.01, log=lambda m: None) -> str:
-    """Run the ladders on the scene with a rigid bed and return the Markdown
-    report (see the module docstring)."""
-    return benchmark_dynamics(scene, quick=quick, reference_dt=reference_dt,
-                              output_dt=output_dt, log=log)
+def classify(run: Run) -> tuple[str, str]:
+    """(status, note) of a finished run (see :class:`Measurement`)."""
+    if run.complete:
+        return "ok", ""
+    msg = run.message.splitlines()[0] if run.message else "incomplete"
+    if msg.startswith("stiff scene"):
+        return "stiff: refused", msg
+    if "non-finite" in msg:
+        return "unstable", msg
+    return "failed", msg
 
 
-def benchmark_dynamics(scene=None, *, n_modes: int | None = None, quick: bool = False,
-                       reference_dt: float = 1e-4, output_dt: float = 0.01,
-                       log=lambda m: None) -> str:
-    """The same ladders with a rigid bed (``n_modes`` None) or a flexible bed
-    keeping ``n_modes`` modes with the scene's damping."""
-    sf = load_scene(scene)
-    if n_modes is None:
-        sf = replace(sf, bed=replace(sf.bed, model="rigid"))
-        system = compile_scene(sf)
-        label = "rigid bed"
+def predict_time(method: str, value: float, case: Case, ref: Reference,
+                 before: list[Measurement]) -> tuple[float, str] | None:
+    """Predicted wall time [s] of a setting and how it was predicted, or
+    None when there is nothing to predict from (see the module docstring)."""
+    if method == "rk4":
+        nfev = 4.0 * case.t_end / value
+        return nfev * ref.seconds_per_rhs, f"{nfev:.3g} right-hand sides"
+    ran = [m for m in before if m.ok]
+    if ran:
+        last = ran[-1].wall_time
+        growth = 1.5
+        if len(ran) >= 2 and ran[-2].wall_time > 0:
+            growth = min(3.0, max(1.2, last / ran[-2].wall_time))
+        return last * growth, f"{growth:.2g} x the previous setting"
+    if method == "dop853" and ref.rate > 0:
+        steps = case.t_end * ref.rate / DOP853_STABILITY
+        return 12 * steps * ref.seconds_per_rhs, (f"stability: about {steps:.3g} steps "
+                                                  f"at |λ| = {ref.rate:.3g} 1/s")
+    return None
+
+
+def _repeats(first: float, quick: bool, budget: float) -> int:
+    if quick:
+        n = 3 if first < 0.3 else 1
     else:
-        sf = replace(sf, bed=replace(sf.bed, model="flexible", modes=n_modes, fmax=None))
-        with tempfile.TemporaryDirectory() as tmp:
-            data, _ = ensure_modes(sf, Path(tmp) / "modes.h5", log=lambda m: None)
-            system = compile_scene(sf, data.path)
-        alpha, beta = sf.bed.rayleigh
-        label = (f"flexible bed, {n_modes} modes, Rayleigh α = {alpha:g}, β = {beta:g}")
-    t_end = sf.solver.t_end
-    eq = solve_statics(system, tol=sf.solver.static_tol, sag=sf.bed.static_sag)
-    if not eq.success:
-        raise NumericalError(f"{sf.source.name}: {eq.message}")
-    y0 = eq.y
-    probe = integrate(system, y0, Settings("dop853", t_end=min(0.5, t_end), rtol=1e-6,
-                                           atol=1e-9, output_dt=min(0.5, t_end)))
-    t_probe, y_probe = float(probe.t[-1]), probe.y[-1]
-    rhs_us = rhs_cost_us(system, t_probe, y_probe)
-    log(f"bench {label}: one right-hand side {rhs_us:.1f} µs; reference ...")
-    # The reference must be stable: RK4's step below 0.2 / (the fastest rate
-    # of the damped modes), and a divisor of the output spacing.
-    for fc in system.flex_compiled:
-        k_max = float(np.max(np.diag(fc.eom.K), initial=0.0))
-        c_max = float(np.max(np.diag(fc.eom.C), initial=0.0))
-        rate = math.sqrt(k_max) + c_max
-        if rate > 0:
-            reference_dt = min(reference_dt, 0.2 / rate)
-    reference_dt = output_dt / math.ceil(output_dt / reference_dt - 1e-9)
-    ref = integrate(system, y0, Settings("rk4", t_end=t_end, dt=reference_dt, output_dt=output_dt))
-    ref2 = integrate(system, y0, Settings("rk4", t_end=t_end, dt=2 * reference_dt,
-                                          output_dt=output_dt))
-    if not (ref.complete and ref2.complete):
-        raise NumericalError(f"reference run failed: {ref.message} / {ref2.message}")
-    R = _positions(system, ref)
-    ref_err = float(np.max(np.abs(_positions(system, ref2) - R))) / 15.0
-    rows = []
-    for method, ladder in (QUICK if quick else LADDERS).items():
-        for v in ladder:
-            if method == "rk4":
-                st = Settings("rk4", t_end=t_end, dt=v, output_dt=output_dt)
-                setting = f"dt = {v:g} s"
+        n = 5 if first < 0.3 else 3 if first < 2.0 else 1
+    return max(1, min(n, int(budget / max(first, 1e-9))))
+
+
+def measure(case: Case, ref: Reference, method: str, value: float, *, output_dt: float,
+            quick: bool = False, budget: float = math.inf) -> Measurement:
+    """Run one setting (repeated when cheap) and measure it against the reference."""
+    st = settings_for(method, value, case.t_end, output_dt)
+    m = Measurement(case=case.spec.key, method=method, value=value)
+    walls = []
+    with np.errstate(all="ignore"):          # an unstable setting fails, reported
+        run = integrate(case.system, case.y0, st)
+    walls.append(run.stats.wall_time)
+    m.status, m.note = classify(run)
+    s = run.stats
+    m.steps, m.rejected = s.steps, s.rejected
+    m.rhs_evaluations, m.jacobian_evaluations = s.rhs_evaluations, s.jacobian_evaluations
+    if m.ok:
+        m.position_error, m.force_error = errors(ref.samples, sample(case.system, run))
+        for _ in range(_repeats(walls[0], quick, budget) - 1):
+            walls.append(integrate(case.system, case.y0, st).stats.wall_time)
+    m.wall_time = statistics.median(walls)
+    m.runs = len(walls)
+    return m
+
+
+def run_ladders(case: Case, ref: Reference, ladders: dict, *, output_dt: float,
+                budget: float, quick: bool = False, log=lambda m: None) -> list[Measurement]:
+    """Every method's ladder on one case, skipping settings predicted to take
+    longer than ``budget`` seconds (and, after one, the rest of that ladder)."""
+    rows: list[Measurement] = []
+    for method, ladder in ladders.items():
+        done: list[Measurement] = []
+        skipping = False
+        for value in ladder:
+            guess = predict_time(method, value, case, ref, done)
+            if skipping or (guess is not None and guess[0] > budget):
+                m = Measurement(case=case.spec.key, method=method, value=value, status="skipped")
+                if guess is not None:
+                    m.wall_time = guess[0]
+                    m.note = f"predicted {guess[0]:.3g} s > budget {budget:g} s ({guess[1]})"
+                else:
+                    m.note = "after a skipped setting"
+                skipping = skipping or method != "rk4"
+                log(f"bench {case.spec.key}: {method} {m.setting}: skipped ({m.note})")
             else:
-                st = Settings(method, t_end=t_end, rtol=v, atol=1e-3 * v, output_dt=output_dt)
-                setting = f"rtol = {v:g}, atol = {1e-3 * v:g}"
-            log(f"bench {label}: {method} {setting}")
-            with np.errstate(all="ignore"):      # an unstable setting fails, reported
-                r = integrate(system, y0, st)
-            err = float(np.max(np.abs(_positions(system, r) - R))) if r.complete else float("nan")
-            s = r.stats
-            rows.append((method, setting, s.steps, s.rejected, s.rhs_evaluations,
-                         s.jacobian_evaluations, s.wall_time, err, r.complete))
-    lines = [f"# Benchmark: {sf.scene.name}, {label}, 0–{t_end:g} s", "",
-             f"Machine: {platform.machine()}, Python {platform.python_version()}, "
-             f"NumPy {np.__version__}, SciPy {scipy.__version__}.", "",
-             f"One right-hand-side evaluation: **{rhs_us:.1f} µs** "
-             f"(timeit, best of 5 × 2000 calls, state at t = {t_probe:g} s).", "",
-             f"Reference: RK4 with dt = {reference_dt:g} s; its own error, estimated from the "
-             f"run with 2·dt (Richardson, /15): {ref_err:.1e} m. Error: the largest deviation "
-             f"of any position coordinate of bodies 2… from the reference on a {output_dt:g} s "
-             f"grid. Wall time: the integration alone (stepping, dense output, projection, "
-             f"bookkeeping), not the statics or the results file. Rejected steps of adams, bdf "
-             f"and radau are counted from the distinct trial times of their right-hand-side "
-             f"calls (SciPy does not report them).", "",
-             "| integrator | setting | steps | rejected | rhs evals | Jacobians | wall time [s] "
-             "| max error [m] |", "|---|---|---:|---:|---:|---:|---:|---:|"]
-    for method, setting, steps, rej, nfev, njev, wall, err, ok in rows:
-        rej_s = "n/a" if rej < 0 else str(rej)
-        err_s = f"{err:.2e}" if ok else "failed"
-        lines.append(f"| {method} | {setting} | {steps} | {rej_s} | {nfev} | {njev} | "
-                     f"{wall:.3f} | {err_s} |")
-    lines += ["", "Against the aims:", ""]
-    for target, budget in AIMS:
-        ok = [r for r in rows if r[8] and r[7] <= target]
-        if ok:
-            best = min(ok, key=lambda r: r[6])
-            verdict = "met" if best[6] <= budget else "not met"
-            lines.append(f"- error ≤ {target:g} m in ≤ {budget:g} s: fastest is {best[0]} "
-                         f"({best[1]}) in {best[6]:.3f} s with {best[4]} right-hand sides — "
-                         f"{verdict}.")
+                log(f"bench {case.spec.key}: {method} {settings_label(method, value)} ...")
+                m = measure(case, ref, method, value, output_dt=output_dt, quick=quick,
+                            budget=budget)
+            done.append(m)
+            rows.append(m)
+    return rows
+
+
+def settings_label(method: str, value: float) -> str:
+    return Measurement(case="", method=method, value=value).setting
+
+
+def _status_cell(m: Measurement) -> str:
+    return "skipped" if m.status == "skipped" else m.status
+
+
+def ladder_table(rows: list[Measurement]) -> str:
+    """The ladder as a Markdown table, then what did not run or finish."""
+    head = ["integrator", "setting", "steps", "rejected", "rhs evals", "Jacobians",
+            "wall time [s]", "runs", "max position error [m]", "max mount-force error [N]"]
+    body = []
+    for m in rows:
+        if m.status == "skipped":
+            body.append([m.method, m.setting, "–", "–", "–", "–",
+                         f"(≈ {m.wall_time:.3g})" if math.isfinite(m.wall_time) else "–",
+                         "0", "skipped", "skipped"])
+            continue
+        rej = "n/a" if m.rejected < 0 else str(m.rejected)
+        cells = [m.method, m.setting, str(m.steps), rej, str(m.rhs_evaluations),
+                 str(m.jacobian_evaluations), f"{m.wall_time:.3f}", str(m.runs)]
+        if m.ok:
+            cells += [fmt_error(m.position_error), fmt_error(m.force_error)]
         else:
-            lines.append(f"- error ≤ {target:g} m in ≤ {budget:g} s: no setting of this ladder "
-                         f"reached the error.")
-    return "\n".join(lines) + "\n"
+            cells += [_status_cell(m), _status_cell(m)]
+        body.append(cells)
+    text = md_table(head, body, align="llrrrrrrrr")
+    notes = [f"- {m.method} {m.setting}: {m.status} — {m.note}" for m in rows
+             if not m.ok and m.note]
+    if notes:
+        text += "\n\nNot run or not finished:\n\n" + "\n".join(notes)
+    return text
+
+
+def fastest_reaching(rows: list[Measurement], target: float) -> Measurement | None:
+    """The fastest finished setting whose position error is ≤ ``target`` [m]."""
+    ok = [m for m in rows if m.ok and m.position_error <= target]
+    return min(ok, key=lambda m: m.wall_time) if ok else None
+
+
+def observed_orders(rows: list[Measurement], method: str = "rk4") -> list[float]:
+    """log(e1/e2) / log(dt1/dt2) between successive finished settings of a
+    fixed-step method (position errors); 4 for RK4 in its asymptotic range."""
+    ok = [m for m in rows if m.method == method and m.ok and m.position_error > 0]
+    return [math.log(a.position_error / b.position_error) / math.log(a.value / b.value)
+            for a, b in zip(ok, ok[1:])]

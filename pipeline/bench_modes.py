@@ -18,17 +18,19 @@ import sys
 import tempfile
 import time
 import tracemalloc
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from fem.bed import compute_bed_modes
 
+from .bench_markdown import md_table
 from .modes_file import write_modes_file
 from .scene_file import builtin_scene_path, load_scene
 
-MESHES = ((10, 10), (40, 40), (100, 100))
+MESHES = ((10, 10), (20, 20), (40, 40), (100, 100))
+QUICK_MESHES = ((10, 10), (20, 20), (40, 40))
 N_MODES = 4
 
 
@@ -78,34 +80,66 @@ def _whole_command(scene: Path, folder: Path) -> tuple[float, float]:
     return elapsed, usage.ru_maxrss / 1024.0
 
 
-def benchmark_modes(meshes=MESHES, repeats: int = 3, log=print) -> str:
-    """Run the benchmark; return the Markdown table (and log progress)."""
+@dataclass
+class MeshRow:
+    """One mesh of the ladder.
+
+    nx, ny : elements; dofs : int; in_process : median [s]; parts : dict of
+    stage times [s] (assemble, eigen, invariants, write); peak_mib :
+    tracemalloc peak [MiB]; whole_command : [s]; rss_mib : the child's peak
+    resident set [MiB]; frequency : (N_MODES,) [Hz]; error : largest relative
+    error of the first N_MODES frequencies against the finest mesh [–].
+    """
+
+    nx: int
+    ny: int
+    dofs: int
+    in_process: float
+    parts: dict
+    peak_mib: float
+    whole_command: float
+    rss_mib: float
+    frequency: np.ndarray
+    error: float = float("nan")
+
+
+def mesh_rows(meshes=MESHES, repeats: int = 3, whole_command: bool = True,
+              log=print) -> list[MeshRow]:
+    """Run the mesh ladder; errors against its finest mesh. Without
+    ``whole_command`` the fresh-process runs are left out (NaN)."""
     base = load_scene(None).bed.plate
-    rows, results = [], {}
+    rows = []
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         compute_bed_modes(base, n_modes=N_MODES)         # warm-up (imports, ARPACK)
         for nx, ny in meshes:
             spec = replace(base, nx=nx, ny=ny)
             reps = repeats if nx * ny <= 2500 else 1
-            log(f"bench modes: {nx} x {ny} ...")
+            log(f"bench mesh: {nx} x {ny} ...")
             total, parts, bed = _in_process(spec, folder, reps)
             peak = _peak_memory(spec, folder)
-            wall, rss = _whole_command(_scene_with_mesh(folder, nx, ny), folder)
-            results[(nx, ny)] = bed.modes.frequency
-            rows.append((nx, ny, (nx + 1) * (ny + 1) * 4, total, parts, peak, wall, rss))
-    finest = results[max(results, key=lambda k: k[0] * k[1])]
-    lines = [
-        "| mesh | DOFs | in-process [s] | assemble | eigen | invariants | write "
-        "| peak memory (tracemalloc) [MiB] | whole command [s] | peak RSS [MiB] "
-        "| f1 [Hz] | max error f1-f4 vs finest |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
-    for nx, ny, ndof, total, parts, peak, wall, rss in rows:
-        err = np.abs(results[(nx, ny)] / finest - 1).max()
-        lines.append(
-            f"| {nx} x {ny} | {ndof} | {total:.3f} | {parts['assemble']:.3f} | "
-            f"{parts['eigen']:.3f} | {parts['invariants']:.3f} | {parts['write']:.3f} | "
-            f"{peak:.0f} | {wall:.2f} | {rss:.0f} | {results[(nx, ny)][0]:.6f} | "
-            f"{err:.1e} |")
-    return "\n".join(lines)
+            wall, rss = (_whole_command(_scene_with_mesh(folder, nx, ny), folder)
+                         if whole_command else (float("nan"), float("nan")))
+            rows.append(MeshRow(nx, ny, (nx + 1) * (ny + 1) * 4, total, parts, peak, wall, rss,
+                                np.array(bed.modes.frequency[:N_MODES], dtype=float)))
+    finest = max(rows, key=lambda r: r.nx * r.ny).frequency
+    for r in rows:
+        r.error = float(np.abs(r.frequency / finest - 1).max())
+    return rows
+
+
+def mesh_table(rows: list[MeshRow]) -> str:
+    """The mesh ladder as a Markdown table."""
+    head = ["mesh", "DOFs", "in-process [s]", "assemble", "eigen", "invariants", "write",
+            "peak memory (tracemalloc) [MiB]", "whole command [s]", "peak RSS [MiB]",
+            "f1 [Hz]", f"max rel. error f1-f{N_MODES} vs finest"]
+    body = [[f"{r.nx} x {r.ny}", str(r.dofs), f"{r.in_process:.3f}",
+             f"{r.parts['assemble']:.3f}", f"{r.parts['eigen']:.3f}",
+             f"{r.parts['invariants']:.3f}", f"{r.parts['write']:.3f}", f"{r.peak_mib:.0f}",
+             _num(r.whole_command, "{:.2f}"), _num(r.rss_mib, "{:.0f}"), f"{r.frequency[0]:.6f}",
+             f"{r.error:.1e}"] for r in rows]
+    return md_table(head, body, align="lrrrrrrrrrrr")
+
+
+def _num(value: float, fmt: str) -> str:
+    return "–" if value != value else fmt.format(value)

@@ -1,17 +1,18 @@
-"""``flexbed bench [modes|rigid] [SCENE] [--quick] [-o FILE]``: benchmarks,
-printed as Markdown tables.
+"""``flexbed bench [TARGET] [SCENE] [--quick] [-o DIR]``: the work-precision report.
 
-Speed is reported with the accuracy it buys.
+Without a target: the whole report, ``DIR/benchmarks.md`` (default DIR:
+``docs``) and its PNGs ``DIR/bench-*.png``, every one regenerated (see
+:mod:`pipeline.bench_report`). ``--quick``: the cheaper cases, one or two
+settings per integrator, fewer repeats (about a minute). A target writes a
+part only, as ``DIR/benchmarks-<target>.md``:
 
-- ``modes``: time, peak memory and frequency error of the bed-modes stage
-  for 10 x 10, 40 x 40 and 100 x 100 meshes, in-process and as a whole
-  command.
-- ``rigid``: every integrator over a ladder of steps or tolerances on the
-  scene with a rigid bed: wall time, steps, right-hand sides and the
-  maximum position error against a far tighter reference; the cost of one
-  right-hand-side evaluation.
-- ``flexible``: the same with the bed flexible, keeping 2 and 6 modes with
-  the scene's damping.
+- ``modes``: mesh density of the bed-modes stage;
+- ``rigid``: the integrators on the rigid bed, and the aims;
+- ``flexible``: the integrators on the flexible (2 modes, undamped) and the
+  damped flexible bed (6 modes), and the aims;
+- ``modelling``: modes kept, mesh density, invariants.
+
+The report is also printed on stdout; progress goes to stderr.
 """
 
 from __future__ import annotations
@@ -20,36 +21,49 @@ import argparse
 import sys
 from pathlib import Path
 
-from .bench_modes import benchmark_modes
-from .bench_dynamics import benchmark_dynamics
+from .bench_report import write_report
+
+#: target -> (sections, integrator cases); None: the profile's
+TARGETS = {
+    "all": (None, None),
+    "modes": (["mesh"], None),
+    "rigid": (["integrators", "aims"], ("rigid",)),
+    "flexible": (["integrators", "aims"], ("flexible", "damped")),
+    "modelling": (["modes_count", "mesh", "invariants"], None),
+}
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
-    parser.description = "Benchmarks, reported as speed against error."
-    parser.add_argument("target", nargs="?", default="modes", choices=["modes", "rigid", "flexible"],
-                        help="what to benchmark (default: modes)")
+    parser.description = ("Benchmarks as a work-precision report: every integrator's error "
+                          "against wall time, and the error and cost of the modelling "
+                          "choices, written to DIR/benchmarks.md with PNG diagrams.")
+    parser.add_argument("target", nargs="?", default="all", choices=list(TARGETS),
+                        help="a part of the report only (default: all)")
     parser.add_argument("scene", nargs="?", default=None,
-                        help="rigid: scene file (default: the built-in reference scene)")
-    parser.add_argument("--quick", action="store_true", help="rigid: a shorter ladder")
-    parser.add_argument("-o", "--output", default=None, metavar="FILE",
-                        help="also write the table to this Markdown file")
-    parser.add_argument("--repeats", type=int, default=3,
-                        help="repeats of the small cases (median reported)")
+                        help="scene file (default: the built-in reference scene)")
+    parser.add_argument("--quick", action="store_true",
+                        help="cheaper cases, fewer settings and repeats (about a minute)")
+    parser.add_argument("-o", "--output", default="docs", metavar="DIR",
+                        help="folder of the report and its PNGs (default: docs)")
+    parser.add_argument("--t-end", type=float, default=None, metavar="T",
+                        help="end every run at T seconds (default: the scene's; the aims "
+                             "are stated for 0-3 s)")
 
 
 def run(args: argparse.Namespace) -> int:
-    log = lambda m: print(m, file=sys.stderr)  # noqa: E731
-    if args.target == "modes":
-        table = benchmark_modes(repeats=max(1, args.repeats), log=log)
-    elif args.target == "rigid":
-        table = benchmark_dynamics(args.scene, quick=args.quick, log=log)
-    else:
-        table = "\n".join(benchmark_dynamics(args.scene, n_modes=n, quick=args.quick, log=log)
-                          for n in (2, 6))
-    print(table)
-    if args.output:
-        path = Path(args.output)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(table + "\n")
-        print(f"wrote {path}")
+    def log(m: str) -> None:
+        print(m, file=sys.stderr, flush=True)
+
+    sections, cases = TARGETS[args.target]
+    filename = "benchmarks.md" if args.target == "all" else f"benchmarks-{args.target}.md"
+    words = ["flexbed bench"] + ([] if args.target == "all" else [args.target])
+    words += [args.scene] if args.scene else []
+    words += ["--quick"] if args.quick else []
+    words += [f"--t-end {args.t_end:g}"] if args.t_end is not None else []
+    report = write_report(Path(args.output), scene=args.scene, quick=args.quick,
+                          sections=sections, cases=cases, t_end=args.t_end, filename=filename,
+                          command=" ".join(words), log=log)
+    print(report.path.read_text())
+    print(f"wrote {report.path} and {len(report.figures)} PNGs in {report.elapsed:.1f} s",
+          file=sys.stderr)
     return 0
