@@ -20,7 +20,7 @@ I7 = J0, I8[k] = ∫ρũ0ᵀΦ̃_k, I9[k, l] = ∫ρΦ̃_kᵀΦ̃_l):
          [S̃ Aᵀ,     J(a),   C(a)],
          [I3ᵀ Aᵀ,   C(a)ᵀ,  I6  ]]
     Q_v,r = -A (ω̃ω̃ S + 2 ω̃ I3 ȧ)
-    Q_v,ω = -ω × (J ω) - 2 [Σ_k ȧ_k (I8_k + Σ_l a_l I9_lk)] ω
+    Q_v,ω = -ω × (J ω) - 2 [Σ_k ȧ_k (I8_k + Σ_l a_l I9_kl)] ω
     Q_v,a[k] = ωᵀ [I8_kᵀ + Σ_l a_l I9_kl] ω + 2 Σ_l ωᵀ I5[k, :, l] ȧ_l
     Q_e = [0; 0; -K a - C ȧ]
     Q_g = [m g; S × (Aᵀ g); I3ᵀ Aᵀ g]
@@ -277,14 +277,14 @@ class FlexibleEOM:
         Fww[:, :, :, :3] = -(np.einsum("ci,qj->ijqc", d, Su) - np.einsum("qc,ij->ijqc", Su, d))
         Fwad[:, :, 0, :3] = -2.0 * np.einsum("cil,lk->ikc", eps, I3)
         Fg[:, 0, :3] = self.m * d
-        # Q̄_ω = -2 [Σ_k ȧ_k (I8_k + Σ_l a_l I9_lk)] ω + S × Aᵀg   (- ω × Jω apart)
+        # Q̄_ω = -2 [Σ_k ȧ_k (I8_k + Σ_l a_l I9_kl)] ω + S × Aᵀg   (- ω × Jω apart)
         Fwad[:, :, 0, 3:6] = -2.0 * np.einsum("kcj->jkc", I8)
         Fwad[:, :, 1:, 3:6] = -2.0 * np.einsum("klcj->jklc", I9)
         Fg[:, :, 3:6] = np.einsum("cde,qd->eqc", eps, Su)
         if n:
-            # Q̄_a[k] = ωᵀ (I8_k + Σ_l a_l I9_lk) ω + 2 ωᵀ I5[k] ȧ + I3ᵀ Aᵀg - K a - C ȧ
+            # Q̄_a[k] = ωᵀ (I8_k + Σ_l a_l I9_kl) ω + 2 ωᵀ I5[k] ȧ + I3ᵀ Aᵀg - K a - C ȧ
             Fww[:, :, 0, 6:N] = np.einsum("kij->ijk", I8)
-            Fww[:, :, 1:, 6:N] = np.einsum("lkij->ijlk", I9)
+            Fww[:, :, 1:, 6:N] = np.einsum("klij->ijlk", I9)
             Fwad[:, :, 0, 6:N] = 2.0 * np.einsum("kil->ilk", I5)
             Fg[:, 0, 6:N] = I3
             Fu[1:, 6:N] = -self.K.T
