@@ -34,8 +34,8 @@ class Profile:
 
 FULL = Profile("full", ("rigid", "flexible", "damped"), reference_dt=1e-4, budget=15.0,
                rhs_seconds=0.5)
-QUICK = Profile("quick", ("rigid", "flexible"), reference_dt=4e-4, budget=3.0,
-                rhs_seconds=0.1)
+QUICK = Profile("quick", ("rigid", "flexible"), reference_dt=2.5e-4, budget=3.0,
+                rhs_seconds=0.05)
 
 
 @dataclass

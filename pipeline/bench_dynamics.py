@@ -7,8 +7,9 @@ the maximum position error of bodies 2… and mount-force error against the
 case's reference (:mod:`pipeline.bench_reference`).
 
 A setting that the integrator refuses (its stiffness check: the message
-starts with "stiff scene") is reported as "stiff: refused"; one that blows
-up as "unstable"; one whose predicted wall time exceeds the budget is not
+starts with "stiff scene") is reported as "stiff: refused", an RK4 step it
+refuses as beyond the stability bound as "step too long: refused"; one that
+blows up as "unstable"; one whose predicted wall time exceeds the budget is not
 run and says so, with the prediction. Predictions: RK4 from its step count
 and the reference's cost per right-hand side; DOP853's first setting on a
 case with fast damped modes from its stability bound (about 6/|λ| per step,
@@ -58,7 +59,9 @@ ATOL_PER_RTOL = 1e-3
 class Measurement:
     """One setting of one integrator on one case.
 
-    status : "ok", "stiff: refused", "unstable", "failed" or "skipped";
+    status : "ok", "stiff: refused" (the integrator's stiffness check),
+    "step too long: refused" (RK4's step beyond its stability bound),
+    "unstable", "failed" or "skipped";
     note : why, for anything but "ok"; wall_time : median over ``runs``
     runs [s] (time to failure for a failed run, the prediction for a
     skipped one); position_error [m], force_error [N] : NaN unless "ok".
@@ -104,6 +107,8 @@ def classify(run: Run) -> tuple[str, str]:
     msg = run.message.splitlines()[0] if run.message else "incomplete"
     if msg.startswith("stiff scene"):
         return "stiff: refused", msg
+    if "step too long" in msg:
+        return "step too long: refused", msg
     if "non-finite" in msg:
         return "unstable", msg
     return "failed", msg
@@ -216,11 +221,28 @@ def ladder_table(rows: list[Measurement]) -> str:
             cells += [_status_cell(m), _status_cell(m)]
         body.append(cells)
     text = md_table(head, body, align="llrrrrrrrr")
-    notes = [f"- {m.method} {m.setting}: {m.status} — {m.note}" for m in rows
-             if not m.ok and m.note]
+    notes = []
+    for group in _runs_of_same_outcome([m for m in rows if not m.ok and m.note]):
+        first = group[0]
+        settings = ", ".join(f"{m.value:g}" for m in group)
+        what = "dt" if first.method == "rk4" else "rtol"
+        unit = " s" if first.method == "rk4" else ""
+        notes.append(f"- {first.method}, {what} = {settings}{unit}: {first.status} — "
+                     f"{first.note}" + (" (the first of these)" if len(group) > 1 else ""))
     if notes:
         text += "\n\nNot run or not finished:\n\n" + "\n".join(notes)
     return text
+
+
+def _runs_of_same_outcome(rows: list[Measurement]) -> list[list[Measurement]]:
+    """Consecutive rows of one method with one status, grouped."""
+    groups: list[list[Measurement]] = []
+    for m in rows:
+        if groups and groups[-1][0].method == m.method and groups[-1][0].status == m.status:
+            groups[-1].append(m)
+        else:
+            groups.append([m])
+    return groups
 
 
 def fastest_reaching(rows: list[Measurement], target: float) -> Measurement | None:

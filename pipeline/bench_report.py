@@ -19,7 +19,7 @@ import os
 import platform
 import tempfile
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable
 
@@ -152,6 +152,7 @@ def section_aims(ctx: BenchContext) -> str:
         lines += [f"(This report's runs end at {ctx.t_end:g} s, not 3 s: not comparable "
                   "with the aims.)", ""]
     verdicts = {}
+    rhs_us = ctx.results.get("rhs", {})
     for key, rows in by_case.items():
         label = ctx.case(key).label
         for target, budget in AIMS:
@@ -162,6 +163,10 @@ def section_aims(ctx: BenchContext) -> str:
                 met = best.wall_time <= budget
                 text = (f"{best.method} ({best.setting}) in {best.wall_time:.3f} s, "
                         f"{best.rhs_evaluations} right-hand sides")
+                if key in rhs_us:
+                    text += (f" ({best.rhs_evaluations * rhs_us[key] * 1e-6:.3f} s of them; "
+                             f"{budget:g} s is {budget / (rhs_us[key] * 1e-6):.0f} at "
+                             f"{rhs_us[key]:.0f} µs each)")
             verdicts[(key, target)] = (best, met)
             lines.append(f"- {label}: {target:g} m in ≤ {budget:g} s: {text} — "
                          f"**{'met' if met else 'not met'}**.")
@@ -347,19 +352,19 @@ def write_report(out_dir: str | Path, *, scene: str | Path | None = None, quick:
     """
     t0 = time.perf_counter()
     load = ", ".join(f"{v:.2f}" for v in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    sf = load_scene(scene)
     profile = QUICK if quick else FULL
     if cases is not None:
         unknown = [c for c in cases if c not in CASES]
         if unknown:
             raise ValueError(f"unknown case(s) {unknown}; known: {', '.join(CASES)}")
-        profile = type(profile)(**{**profile.__dict__, "cases": tuple(cases)})
+        profile = replace(profile, cases=tuple(cases))
     chosen = SECTIONS if sections is None else [s for s in SECTIONS if s.name in sections]
     if sections is not None and len(chosen) != len(set(sections)):
         known = ", ".join(s.name for s in SECTIONS)
         raise ValueError(f"unknown section(s) in {sections}; known: {known}")
+    sf = load_scene(scene)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
     command = command or ("flexbed bench" + (" --quick" if quick else ""))
     with tempfile.TemporaryDirectory(prefix="flexbed-bench-") as tmp:
         ctx = BenchContext(scene=sf, out_dir=out, workdir=Path(tmp), profile=profile,

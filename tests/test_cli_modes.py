@@ -166,16 +166,3 @@ def test_scene_prints_and_writes_the_reference(tmp_path, capsys):
     assert target.read_text() == out
     code, _, err = run(capsys, "scene", "-o", str(target))
     assert code == 2 and "already exists" in err
-
-
-def test_bench_rigid_quick_reports_speed_with_error(tmp_path, capsys):
-    report = tmp_path / "bench.md"
-    code, out, _ = run(capsys, "bench", "rigid", "--quick", "-o", str(report))
-    assert code == 0 and report.is_file()
-    rows = [line for line in out.splitlines() if line.startswith("| ")
-            and "integrator" not in line]
-    methods = {r.split("|")[1].strip() for r in rows}
-    assert {"rk4", "dop853", "adams", "bdf", "radau"} <= methods
-    for r in rows:
-        err = float(r.rstrip(" |").split("|")[-1])
-        assert 0 < err < 1e-4                       # every quick setting converged

@@ -1,0 +1,152 @@
+"""``flexbed bench``: the work-precision report is written whole, and its
+numbers mean what they say (reference far more accurate than the ladders,
+RK4 converging at 4th order, truncation error falling as modes are added).
+
+The report runs once, quick, over a shortened run (0–0.5 s) to keep the
+suite fast; no assertion is on a timing.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from dynamics.integrate import Run, Settings, Stats
+from pipeline.bench_dynamics import (Measurement, classify, fastest_reaching, observed_orders,
+                                     run_ladders)
+from pipeline.bench_report import SECTIONS, write_report
+from pipeline.cli import main
+
+T_END = 0.5
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench")
+    return write_report(out, quick=True, t_end=T_END)
+
+
+def test_report_and_every_figure_are_written(report):
+    text = report.path.read_text()
+    assert report.path.name == "benchmarks.md"
+    for title in ("## One right-hand side", "## Integrators", "## Against the aims",
+                  "## Modes kept", "## Mesh density", "## Invariants"):
+        assert title in text
+    assert "quick" in text.splitlines()[0] and "Python" in text and "SciPy" in text
+    assert len(report.figures) >= 4
+    for png in report.figures:
+        assert png.read_bytes()[:8] == PNG
+        assert f"]({png.name})" in text
+    # the aims are not claimed for a run that is not the scene's 0-3 s
+    assert "not comparable" in text
+
+
+def test_every_integrator_ran_on_every_quick_case(report):
+    rows = report.ctx.results["integrators"]
+    assert set(rows) == {"rigid", "flexible"}
+    for case_rows in rows.values():
+        assert {m.method for m in case_rows if m.ok} == {"rk4", "adams", "bdf", "radau",
+                                                         "dop853"}
+        for m in case_rows:
+            assert m.ok and 0 < m.position_error < 1e-4 and 0 < m.force_error < 10.0
+
+
+def test_reference_is_far_more_accurate_than_the_ladders(report):
+    for key, ref in report.ctx.results["references"].items():
+        ok = [m for m in report.ctx.results["integrators"][key] if m.ok]
+        assert 0 < ref.position_error < 0.05 * min(m.position_error for m in ok), key
+        assert 0 < ref.force_error < 0.05 * min(m.force_error for m in ok), key
+
+
+def test_rk4_converges_at_fourth_order(report):
+    for key in ("rigid", "flexible"):
+        orders = observed_orders(report.ctx.results["integrators"][key])
+        assert orders and all(3.6 < p < 4.4 for p in orders), (key, orders)
+
+
+def test_truncation_error_falls_as_modes_are_kept(report):
+    runs = report.ctx.results["modes_count"]["runs"]
+    for attr in ("position_error", "motion_error", "force_error"):
+        e = [getattr(r, attr) for r in runs]
+        assert all(b <= 1.01 * a for a, b in zip(e, e[1:])), (attr, e)
+        assert e[-1] < 0.5 * e[0], (attr, e)
+
+
+def test_mesh_error_falls_with_refinement(report):
+    rows = report.ctx.results["mesh"]
+    errs = [r.error for r in rows]
+    assert errs[-1] == 0.0 and all(b < a for a, b in zip(errs, errs[1:]))
+
+
+def test_first_order_invariants_differ_slightly_from_full(report):
+    full, first = report.ctx.results["invariants"]["flexible"]
+    assert full.position_error < 1e-7                     # the integrator's own error
+    d = float(np.max(np.abs(first.samples.r - full.samples.r)))
+    assert 0 < d < 1e-6
+
+
+def test_aims_name_the_fastest_setting_reaching_each_error(report):
+    verdicts = report.ctx.results["aims"]
+    assert set(verdicts) == {(k, e) for k in ("rigid", "flexible") for e in (1e-6, 1e-9)}
+    rows = report.ctx.results["integrators"]["rigid"]
+    best, _ = verdicts[("rigid", 1e-6)]
+    assert best is not None and best.position_error <= 1e-6
+    assert best.wall_time == min(m.wall_time for m in rows if m.ok and m.position_error <= 1e-6)
+
+
+def test_settings_over_budget_are_skipped_with_the_prediction(report):
+    ctx = report.ctx
+    rows = run_ladders(ctx.case("rigid"), ctx.reference("rigid"),
+                       {"rk4": (1e-5, 5e-6), "dop853": (1e-6, 1e-7)}, output_dt=ctx.output_dt,
+                       budget=1e-6)
+    rk4 = [m for m in rows if m.method == "rk4"]
+    assert all(m.status == "skipped" and "predicted" in m.note for m in rk4)
+    dop = [m for m in rows if m.method == "dop853"]
+    # nothing to predict the first setting from: it runs; the next is predicted from it
+    assert dop[0].ok and dop[1].status == "skipped" and "previous" in dop[1].note
+
+
+def _run(message: str, complete: bool = False) -> Run:
+    return Run(t=np.zeros(1), y=np.zeros((1, 1)), complete=complete, message=message,
+               stats=Stats(method="rk4"), settings=Settings("rk4"), t_reached=0.0)
+
+
+def test_refused_and_failed_runs_are_classified():
+    assert classify(_run("completed", True)) == ("ok", "")
+    status, note = classify(_run("stiff scene: the fastest rate 1.7e+04 1/s limits rk4 ..."))
+    assert status == "stiff: refused" and note.startswith("stiff scene")
+    assert classify(_run("rk4: the state became non-finite at t = 0.1 s"))[0] == "unstable"
+    assert classify(_run("the maximum number of steps was reached"))[0] == "failed"
+
+
+def test_fastest_reaching_and_observed_order_on_made_up_rows():
+    rows = [Measurement("c", "rk4", 2e-3, wall_time=1.0, position_error=1.6e-7),
+            Measurement("c", "rk4", 1e-3, wall_time=2.0, position_error=1e-8),
+            Measurement("c", "dop853", 1e-6, wall_time=0.5, position_error=5e-7),
+            Measurement("c", "bdf", 1e-6, status="stiff: refused", wall_time=0.01)]
+    assert fastest_reaching(rows, 1e-6).method == "dop853"
+    assert fastest_reaching(rows, 1e-8).value == 1e-3
+    assert fastest_reaching(rows, 1e-9) is None
+    assert observed_orders(rows) == [pytest.approx(4.0)]
+    assert math.isnan(Measurement("c", "rk4", 1e-3).position_error)
+
+
+def test_sections_are_a_named_list():
+    names = [s.name for s in SECTIONS]
+    assert names[:3] == ["rhs", "integrators", "aims"] and len(set(names)) == len(names)
+    with pytest.raises(ValueError, match="unknown section"):
+        write_report("unused", sections=["nonsense"])
+
+
+def test_bench_rigid_sub_report_through_the_command(tmp_path, capsys):
+    code = main(["bench", "rigid", "--quick", "--t-end", "0.2", "-o", str(tmp_path)])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    report = tmp_path / "benchmarks-rigid.md"
+    assert report.is_file() and (tmp_path / "bench-integrators-rigid.png").is_file()
+    assert not (tmp_path / "benchmarks.md").exists()
+    rows = [line for line in out.splitlines() if line.startswith("| ")
+            and "integrator" not in line]
+    assert {r.split("|")[1].strip() for r in rows} == {"rk4", "adams", "bdf", "radau", "dop853"}
+    assert "flexbed bench rigid --quick --t-end 0.2" in report.read_text()
