@@ -25,43 +25,50 @@ The steppers integrate the deviation from the start, ``z = y − y0`` in the
 positions and Euler parameters, so that relative tolerances act on the
 motion rather than on where the bodies sit.
 
-Euler parameters are projected back onto |p| = 1 at every restart and, for ``rk4`` and ``dop853``, after every accepted step (the
-derivative kept by the stepper is rescaled consistently, so no extra
-evaluation is needed); the multistep and implicit methods keep their own
-history, so they are projected at restarts only (the right-hand side uses
-p/|p| throughout, so |p| drift never enters the physics).
+Euler parameters are projected back onto |p| = 1 at every restart and,
+for ``rk4`` and ``dop853``, after every accepted step (the derivative kept
+by the stepper is rescaled consistently, so no extra evaluation is
+needed); the multistep and implicit methods keep their own history, so
+they are projected at restarts only (the right-hand side uses p/|p|
+throughout, so |p| drift never enters the physics).
 
-Stiff scenes and the explicit methods: before ``rk4`` or ``dop853`` starts,
-the eigenvalues λ of the Jacobian of the motion (the q and v blocks of
-``System.rhs``, by forward differences at t = 0 and y0; ny is small, so
-this costs about ny right-hand sides) give the longest step h for which
-every hλ lies in the method's stability region |R(hλ)| ≤ 1 (R: the
-method's stability polynomial; about 2.79 along the negative real axis and
-2.83 along the imaginary axis for RK4, 6.39 and 5.96 for DOP853; a growing
-mode's real part is set to zero first, since its growth is physics, not
-instability). ``rk4`` stops before starting when its step exceeds that
-bound (the message says "stiff scene" and points to the implicit methods
-when the stable step would take more than ``Settings.stiff_steps`` steps,
-otherwise it asks for a shorter ``dt``); ``dop853`` stops when the bound forces more than
-``Settings.stiff_steps`` steps over [0, t_end] (its step control would
-find the bound by itself, at that cost). The run then comes back
-incomplete, with one line such as ``stiff scene: the fastest rate
-8.8e+05 1/s limits dop853 to steps below 7.3e-06 s (275000 steps for 2 s,
-more than stiff_steps = 200000); use integrator = "radau" or "bdf"``.
-The estimate is the linearisation at the start: a hardening mount that
+Stiff scenes and the explicit methods: before ``rk4`` or ``dop853``
+starts, the eigenvalues λ of the Jacobian of the motion (the q and v
+blocks of ``System.rhs``, by forward differences at t = 0 and y0; about
+ny right-hand sides) give the longest step h for which every hλ lies in
+the method's stability region |R(hλ)| ≤ 1, R being the method's stability
+polynomial: |hλ| up to 2.79 along the negative real axis and 2.83 along
+the imaginary axis for RK4, 6.39 and 5.96 for DOP853 (a growing mode's
+real part is set to zero first: its growth is physics, not instability).
+
+- ``rk4`` stops before its first step when ``dt`` exceeds that bound: a
+  "stiff scene" pointing to the implicit methods when the stable step
+  would take more than ``Settings.stiff_steps`` steps over [0, t_end],
+  otherwise "rk4 step too long", asking for a shorter ``dt``.
+- ``dop853`` stops before its first step when the bound forces more than
+  ``Settings.stiff_steps`` steps (its step control would find the bound by
+  itself, at that cost).
+
+The run comes back incomplete (no step taken, the start state only) with
+one line, e.g. ``stiff scene: the fastest rate 3.6e+05 1/s limits dop853
+to steps below 1.8e-05 s (112483 steps for 2 s, more than stiff_steps =
+100000); use integrator = "radau" or "bdf"`` (a flexible bed with 20
+modes and β = 0.01); ``flexbed simulate`` prints it and exits with 1. The
+estimate is the linearisation at the start: a hardening mount that
 stiffens later is not seen, and a run that still goes unstable stops at
 the first non-finite state (below). ``stiff_steps = 0`` turns the check
 off. ``adams`` (LSODA switches to BDF by itself), ``bdf`` and ``radau``
 are not checked.
 
-``bdf`` and ``radau`` get their Jacobian from forward differences over
-the motion (q, v; steps sqrt(eps)·max(1, |y_j|); the quadratures' columns
-are zero, since nothing depends on them). SciPy's own differences scale
-their steps with ``atol``: at tight tolerances the steps in velocities
-near rest shrink to round-off, and the quadratures' atol of 1e30 overflows
-them; Newton then fails and the Jacobian is recomputed at nearly every
-step (radau at rtol 1e-8 on a 20-mode damped bed: 519 Jacobians and 28 s
-against 6 and 3.3 s).
+``bdf`` and ``radau`` get their Jacobian from the same forward
+differences (over q and v, steps sqrt(eps)·max(1, |y_j|); the
+quadratures' columns are zero, since nothing depends on them). SciPy's
+own differences scale their steps with ``atol``: at tight tolerances the
+steps of components near zero (the deviations from the start, velocities
+at rest) shrink towards round-off, and the quadratures' atol of 1e30
+overflows them; Newton then fails and the Jacobian is recomputed at
+nearly every step (radau at rtol 1e-8 on a 20-mode damped bed: 519
+Jacobians and 28 s, against 6 and 3.3 s).
 
 The energy quadratures (the last entries of y) are integrated with the
 motion but left out of the error control (their absolute tolerance is
