@@ -121,8 +121,9 @@ def test_beta20_implicit_methods_take_long_steps_and_converge(beta20):
     rel = r_ref - r_base[:, None, :]
     motion = np.abs(rel - rel[0]).max()                    # relative to the base
     assert motion > 1e-3
-    for method, rtol, atol, tol_r, tol_a in (("radau", sf.solver.rtol, sf.solver.atol, 5e-9, 1.5e-8),
-                                              ("bdf", 1e-8, 1e-11, 1.5e-8, 3.3e-8)):
+    cases = (("radau", sf.solver.rtol, sf.solver.atol, 5e-9, 1.5e-8),
+             ("bdf", 1e-8, 1e-11, 1.5e-8, 3.3e-8))
+    for method, rtol, atol, tol_r, tol_a in cases:
         run = integrate(system, y0, settings(sf, method=method, t_end=t_end, rtol=rtol, atol=atol))
         assert run.complete, run.message
         err_r = np.abs(lay.split(run.y)["r"] - r_ref).max()
