@@ -310,6 +310,19 @@ def _cpu_name() -> str:
     return platform.processor() or platform.machine()
 
 
+def _blas() -> str:
+    """NumPy's BLAS and the thread settings in the environment (BLAS threads
+    on small matrices cost much on a loaded machine)."""
+    try:
+        blas = np.show_config(mode="dicts")["Build Dependencies"]["blas"]
+        name = f"{blas.get('name', '?')} {blas.get('version', '')}".strip()
+    except Exception:  # noqa: BLE001 - informative only
+        name = "unknown"
+    env = ", ".join(f"{k}={os.environ[k]}" for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
+                                                      "MKL_NUM_THREADS") if k in os.environ)
+    return f"{name}; threads: {env or 'library default (no *_NUM_THREADS set)'}"
+
+
 def _header(ctx: BenchContext, names: list[str], elapsed: float, load: str,
             command: str) -> str:
     versions = (f"Python {platform.python_version()}, NumPy {np.__version__}, "
@@ -323,6 +336,7 @@ def _header(ctx: BenchContext, names: list[str], elapsed: float, load: str,
         f"{platform.system()} {platform.release()} ({platform.machine()}); load average "
         f"at the start {load}",
         f"- software: {versions}",
+        f"- BLAS: {_blas()}",
         f"- report: {ctx.profile.name}, took {fmt_time(elapsed)} in all",
         f"- sections: {', '.join(names)}", ""])
 
