@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import SceneError
+from .kernel import flex_forces_body, flex_mass_body, flex_T
 
 __all__ = ["FlexibleBody", "FlexibleEOM", "rayleigh_damping", "modal_damping", "cross"]
 
@@ -176,27 +177,21 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
-def _skew(v: np.ndarray) -> np.ndarray:
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
 class FlexibleEOM:
-    """The equations of motion of one :class:`FlexibleBody`, compiled once.
+    """The equations of motion of one :class:`FlexibleBody`.
 
-    The right-hand side works in the body frame, where the translational
-    row is multiplied by Aᵀ and the translational acceleration is
-    ``Aᵀ r̈``: there the mass matrix
+    In the body frame, where the translational row is multiplied by Aᵀ and
+    the translational acceleration is ``Aᵀ r̈``, the mass matrix
 
         M̄(a) = [[m I, -S̃, I3], [S̃, J(a), C(a)], [I3ᵀ, C(a)ᵀ, I6]]
 
-    does not depend on A, and M̄ and the body-frame forces Q̄ are linear
-    maps, compiled here, of a few products of (1, a), ȧ, ω̄ and Aᵀg; the
-    inertial forms of the module docstring are ``M = T M̄ Tᵀ``,
-    ``Q = T Q̄`` with ``T = diag(A, I, I)``.
+    does not depend on A; the inertial forms of the module docstring are
+    ``M = T M̄ Tᵀ``, ``Q = T Q̄`` with ``T = diag(A, I, I)``. M̄ and Q̄ come
+    from the compiled functions of :mod:`dynamics.kernel` (the right-hand
+    side's own), so this class is the Python view of the same physics.
 
-    Every call does arithmetic only. Shapes: n modes; A (3, 3) rotation;
-    w (3,) body angular velocity [rad/s]; a, ad (n,) modal coordinates and
-    rates; g (3,) gravity [m/s²].
+    Shapes: n modes; A (3, 3) rotation; w (3,) body angular velocity
+    [rad/s]; a, ad (n,) modal coordinates and rates; g (3,) gravity [m/s²].
     """
 
     def __init__(self, body: FlexibleBody):
@@ -211,131 +206,39 @@ class FlexibleEOM:
         self.I6 = body.modal_mass
         self.K = body.modal_stiffness
         self.C = body.modal_damping
-        I8 = body.inertia_first_order
-        self.I8 = I8
+        self.I8 = body.inertia_first_order
         self.full = bool(body.full) and n > 0
         self.I5 = body.phi_cross_phi if self.full else np.zeros_like(body.phi_cross_phi)
         self.I9 = body.inertia_second_order if self.full else np.zeros_like(
             body.inertia_second_order)
-        self._compile_mass()
-        self._compile_forces()
-
-    # -------------------------------------------------------------- compiled
-    def _compile_mass(self) -> None:
-        """M̄ = M̄0 + (its entries that vary) = [1, a, a⊗a] @ map."""
-        n = self.n
-        N = 6 + n
-        eps = _levi_civita()
-        # S(a) = Σ_q u_q Su[q], u = (1, a); J(a) likewise with a ⊗ a; C(a) = Σ u_q Cu[q]
-        Su = np.concatenate([self.I2[None], self.I3.T])                        # (n+1, 3)
-        Cu = np.concatenate([self.I4[None], self.I5])                           # (n+1, 3, n)
-        Ju = np.concatenate([self.I7[None], self.I8 + np.transpose(self.I8, (0, 2, 1))])
-        Jaa = self.I9                                                           # (n, n, 3, 3)
-        # -S̃ = Σ_d S_d (-ε_{c d e})... S̃[c, e] = Σ_d ε_{c d e} S_d
-        tilde = np.einsum("qd,cde->qce", Su, eps)                               # (n+1, 3, 3)
-        full = np.zeros((n + 1 + n * n, N, N))
-        full[:n + 1, :3, 3:6] = -tilde
-        full[:n + 1, 3:6, :3] = tilde
-        full[:n + 1, 3:6, 3:6] = Ju
-        full[n + 1:, 3:6, 3:6] = Jaa.reshape(n * n, 3, 3)
-        full[:n + 1, 3:6, 6:] = Cu
-        full[:n + 1, 6:, 3:6] = np.transpose(Cu, (0, 2, 1))
-        const = np.zeros((N, N))
-        const[:3, :3] = self.m * np.eye(3)
-        if n:
-            const[:3, 6:] = self.I3
-            const[6:, :3] = self.I3.T
-            const[6:, 6:] = self.I6
-        var = np.flatnonzero(np.any(full.reshape(n + 1 + n * n, N * N) != 0.0, axis=0))
-        self._M_var = var                                   # entries of M̄ that vary
-        self._M_map = np.ascontiguousarray(full.reshape(-1, N * N)[:, var])
-        self._Mbar = const.copy()
-        self._Mbar_flat = self._Mbar.reshape(-1)
-        self._M_const = const
-        self._ua = np.zeros(n + 1 + n * n)                  # [1, a, a ⊗ a]
-        self._ua[0] = 1.0
-        self._ua_a = self._ua[1:n + 1]
-        self._ua_aa = self._ua[n + 1:].reshape(n, n)
-
-    def _compile_forces(self) -> None:
-        """Q̄ and Cȧ = feat @ map, feat = [u, ȧ, ω⊗ω⊗u, ω⊗ȧ⊗u, Aᵀg⊗u],
-        u = (1, a); ω × Jω comes apart (J is quadratic in a)."""
-        n = self.n
-        N = 6 + n
-        u = n + 1
-        eps = _levi_civita()
-        I3, I5, I8, I9 = self.I3, self.I5, self.I8, self.I9
-        Su = np.concatenate([self.I2[None], I3.T])                              # (u, 3)
-        # outputs: Q̄ (N) then C ȧ (n)
-        Fu = np.zeros((u, N + n))
-        Fad = np.zeros((n, N + n))
-        Fww = np.zeros((3, 3, u, N + n))
-        Fwad = np.zeros((3, n, u, N + n))
-        Fg = np.zeros((3, u, N + n))
-        d = np.eye(3)
-        # Q̄_r = -ω × (ω × S) - 2 ω × (I3 ȧ) + m Aᵀg
-        Fww[:, :, :, :3] = -(np.einsum("ci,qj->ijqc", d, Su) - np.einsum("qc,ij->ijqc", Su, d))
-        Fwad[:, :, 0, :3] = -2.0 * np.einsum("cil,lk->ikc", eps, I3)
-        Fg[:, 0, :3] = self.m * d
-        # Q̄_ω = -2 [Σ_k ȧ_k (I8_k + Σ_l a_l I9_kl)] ω + S × Aᵀg   (- ω × Jω apart)
-        Fwad[:, :, 0, 3:6] = -2.0 * np.einsum("kcj->jkc", I8)
-        Fwad[:, :, 1:, 3:6] = -2.0 * np.einsum("klcj->jklc", I9)
-        Fg[:, :, 3:6] = np.einsum("cde,qd->eqc", eps, Su)
-        if n:
-            # Q̄_a[k] = ωᵀ (I8_k + Σ_l a_l I9_kl) ω + 2 ωᵀ I5[k] ȧ + I3ᵀ Aᵀg - K a - C ȧ
-            Fww[:, :, 0, 6:N] = np.einsum("kij->ijk", I8)
-            Fww[:, :, 1:, 6:N] = np.einsum("klij->ijlk", I9)
-            Fwad[:, :, 0, 6:N] = 2.0 * np.einsum("kil->ilk", I5)
-            Fg[:, 0, 6:N] = I3
-            Fu[1:, 6:N] = -self.K.T
-            Fad[:, 6:N] = -self.C.T
-            Fad[:, N:] = self.C.T
-        self._Q_map = np.ascontiguousarray(np.concatenate(
-            [Fu, Fad, Fww.reshape(-1, N + n), Fwad.reshape(-1, N + n), Fg.reshape(-1, N + n)]))
-        f = np.zeros(u + n + 9 * u + 3 * n * u + 3 * u)
-        self._feat = f
-        self._f_u = f[:u]
-        self._f_u[0] = 1.0
-        self._f_a = f[1:u]
-        self._f_ad = f[u:u + n]
-        o = u + n
-        self._f_ww = f[o:o + 9 * u].reshape(9, u)
-        o += 9 * u
-        self._f_wad = f[o:o + 3 * n * u].reshape(3 * n, u)
-        o += 3 * n * u
-        self._f_g = f[o:o + 3 * u].reshape(3, u)
-        self._ww = np.zeros((3, 3))
-        self._wad = np.zeros((3, n))
-        self._Qbar = np.zeros(N + n)
-        self._EPS = _levi_civita().reshape(9, 3)           # (a⊗b).ravel() @ EPS = a × b
-        self._Q = np.zeros(N)
-        self._M = np.zeros((N, N))
+        self._T = np.zeros((n, 3, 3))
+        self._Mbar = np.zeros((6 + n, 6 + n))
+        self._Qbar = np.zeros(6 + 2 * n)
+        self._Q = np.zeros(6 + n)
+        self._M = np.zeros((6 + n, 6 + n))
 
     # ------------------------------------------------------------ body frame
     def mass_matrix_body(self, a: np.ndarray) -> np.ndarray:
         """M̄(a) (6+n, 6+n) for [Aᵀ r̈, ω̄̇, ä] (a view, overwritten on the next call)."""
-        ua = self._ua
-        self._ua_a[:] = a
-        np.multiply(self._ua_a[:, None], self._ua_a[None, :], out=self._ua_aa)
-        self._Mbar_flat[self._M_var] = ua @ self._M_map
+        a = np.ascontiguousarray(a, dtype=float)
+        flex_T(self.I8, self.I9, self.n, a, self._T)
+        flex_mass_body(self.m, self.I2, self.I3, self.I4, self.I5, self.I6, self.I7, self.I8,
+                       self._T, self.n, a, self._Mbar)
         return self._Mbar
 
     def forces_body(self, w: np.ndarray, a: np.ndarray, ad: np.ndarray, gb: np.ndarray,
-                    J: np.ndarray) -> np.ndarray:
+                    J: np.ndarray | None = None) -> np.ndarray:
         """[Q̄ (6+n), C ȧ (n)]: Q̄ = body-frame Q_v + Q_g + Q_e (translational row
         times Aᵀ) [N; N m; N m per unit a], then the damping forces; gb = Aᵀ g
-        [m/s²], J = J(a) (a view, overwritten on the next call)."""
-        self._f_a[:] = a
-        self._f_ad[:] = ad
-        u = self._f_u
-        ww = np.multiply(w[:, None], w[None, :], out=self._ww)
-        np.multiply(ww.reshape(9, 1), u, out=self._f_ww)
-        wad = np.multiply(w[:, None], ad[None, :], out=self._wad)
-        np.multiply(wad.reshape(-1, 1), u, out=self._f_wad)
-        np.multiply(gb[:, None], u, out=self._f_g)
-        Q = np.matmul(self._feat, self._Q_map, out=self._Qbar)
-        Q[3:6] -= (w[:, None] * (J @ w)[None, :]).reshape(9) @ self._EPS      # ω × J ω
-        return Q
+        [m/s²] (a view, overwritten on the next call); ``J`` is accepted for
+        compatibility and not needed."""
+        M = self.mass_matrix_body(a)
+        flex_forces_body(self.m, self.I2, self.I3, self.I5, self.K, self.C, self._T, self.n,
+                         np.ascontiguousarray(w, dtype=float),
+                         np.ascontiguousarray(a, dtype=float),
+                         np.ascontiguousarray(ad, dtype=float),
+                         np.ascontiguousarray(gb, dtype=float), M, self._Qbar)
+        return self._Qbar
 
     # -------------------------------------------------------- inertial forms
     def inertia(self, a: np.ndarray) -> np.ndarray:
@@ -372,11 +275,3 @@ class FlexibleEOM:
     def strain_energy(self, a: np.ndarray) -> float:
         """½ aᵀ K a [J]."""
         return 0.5 * float(a @ self.K @ a)
-
-
-def _levi_civita() -> np.ndarray:
-    """ε (3, 3, 3)."""
-    eps = np.zeros((3, 3, 3))
-    eps[0, 1, 2] = eps[1, 2, 0] = eps[2, 0, 1] = 1.0
-    eps[0, 2, 1] = eps[2, 1, 0] = eps[1, 0, 2] = -1.0
-    return eps

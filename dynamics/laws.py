@@ -165,9 +165,12 @@ class LawBank:
     laws : sequence of law, length n
         Entry ``3 m + k`` is direction k of mount m.
 
-    ``forces(dx, dxd, out)`` fills out (n,) with the forces [N] for the
-    deflections dx (n,) [m] and rates dxd (n,) [m/s]; ``spring_potential(dx)``
-    gives V(Δx) [J] per entry (vectorised over leading axes of dx).
+    Per kind, the entries' indices (``lin``, ``poly``, ``curve``) and their
+    tables: ``k``, ``c`` [N/m, N s/m]; ``pk``, ``pc`` ascending polynomial
+    coefficients; ``curve_springs``, ``curve_dampers`` piecewise cubics. The
+    right-hand side (:mod:`dynamics.kernel`) evaluates the forces from these;
+    ``spring_potential(dx)`` gives V(Δx) [J] per entry (vectorised over
+    leading axes of dx).
     """
 
     def __init__(self, laws):
@@ -202,32 +205,9 @@ class LawBank:
                 dampers.append(PiecewisePolynomial([0.0], [[0.0], [0.0]]))
             else:
                 dampers.append(spline_with_tails(*law.damper, left="linear", right="linear"))
-        self._springs = _CurveStack(springs) if curve else None
-        self._dampers = _CurveStack(dampers) if curve else None
+        self.curve_springs = tuple(springs)      # per curve law, in ``curve`` order
+        self.curve_dampers = tuple(dampers)
         self._pot_stack = _CurveStack(self._spring_pot) if curve else None
-
-    def forces(self, dx: np.ndarray, dxd: np.ndarray, out: np.ndarray) -> np.ndarray:
-        if self.all_linear:
-            np.multiply(self.k, dx, out=out)
-            out += self.c * dxd
-            return out
-        if self.lin.size:
-            out[self.lin] = self.k * dx[self.lin] + self.c * dxd[self.lin]
-        if self.poly.size:
-            x = dx[self.poly]
-            v = dxd[self.poly]
-            fs = self.pk[:, -1].copy()
-            for j in range(self.pk.shape[1] - 2, -1, -1):
-                fs *= x
-                fs += self.pk[:, j]
-            fd = self.pc[:, -1].copy()
-            for j in range(self.pc.shape[1] - 2, -1, -1):
-                fd *= v
-                fd += self.pc[:, j]
-            out[self.poly] = fs + fd
-        if self.curve.size:
-            out[self.curve] = self._springs(dx[self.curve]) + self._dampers(dxd[self.curve])
-        return out
 
     def spring_potential(self, dx: np.ndarray) -> np.ndarray:
         """V(Δx) [J] for dx (..., n) -> (..., n)."""
