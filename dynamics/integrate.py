@@ -4,13 +4,21 @@ Methods
 -------
 ``rk4``     classical 4th-order Runge–Kutta, fixed step (the paper's choice);
             each segment between breakpoints is cut into equal steps of at
-            most ``dt``; cubic Hermite dense output (4th order).
+            most ``dt``; cubic Hermite dense output (4th order). Compiled.
 ``adams``   variable-order, variable-step Adams (SciPy's LSODA, which may
             switch to BDF by itself when it finds the problem stiff) — the
             role of the paper's DE/STEP.
 ``bdf``     implicit variable-order BDF (SciPy), for stiff scenes.
-``radau``   implicit Radau IIA of order 5 (SciPy), for stiff scenes.
-``dop853``  explicit adaptive Dormand–Prince 8(5,3) (SciPy).
+``radau``   implicit Radau IIA of order 5, for stiff scenes. Compiled.
+``dop853``  explicit adaptive Dormand–Prince 8(5,3). Compiled.
+
+"Compiled": the whole stepping loop runs in numba (:mod:`dynamics.steppers`)
+and calls the compiled right-hand side (:func:`dynamics.kernel.evaluate`)
+directly, in chunks of at most ``CHUNK_STEPS`` accepted steps (between
+chunks the driver reports progress and a Ctrl-C can stop the run); the
+step control of ``dop853`` and ``radau`` is SciPy's. ``adams`` and ``bdf``
+are SciPy's steppers driven from Python, one step at a time, calling
+``System.rhs``.
 
 Every method restarts at each breakpoint (pulse corners, ends of curve
 data; the stepper is built anew with that breakpoint as its bound, so no
@@ -88,15 +96,17 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import BDF, DOP853, LSODA, Radau
+from scipy.integrate import BDF, DOP853, LSODA
 
+from .steppers import (N_COUNTS, dop853_segment, radau_segment, radau_reset, radau_workspace,
+                       rk4_segment)
 from .system import System
 
 __all__ = ["Settings", "Stats", "Run", "integrate", "METHODS", "output_grid", "motion_eigenvalues",
            "stable_step", "stiff_message"]
 
 METHODS = ("rk4", "adams", "bdf", "radau", "dop853")
-_SCIPY = {"adams": LSODA, "bdf": BDF, "radau": Radau, "dop853": DOP853}
+_SCIPY = {"adams": LSODA, "bdf": BDF}
 _SQRT_EPS = math.sqrt(np.finfo(float).eps)
 
 
@@ -362,52 +372,6 @@ def stiff_message(system: System, y0: np.ndarray, settings: Settings) -> str | N
             f"stiff_steps = {settings.stiff_steps}); {use}")
 
 
-class _RK4:
-    """Classical Runge–Kutta, equal steps of at most dt over [t0, t_bound]."""
-
-    def __init__(self, fun, t0, y0, t_bound, dt):
-        self.fun = fun
-        self.t = t0
-        self.y = y0.copy()
-        self.t_bound = t_bound
-        n = _rk4_steps(t0, t_bound, dt)
-        self.h = (t_bound - t0) / n
-        self.n_left = n
-        self.f = fun(t0, self.y)
-        self.nfev = 1
-        self.status = "running"
-        self.t_old = t0
-        self.y_old = None
-        self.f_old = None
-
-    def step(self):
-        h, t, y, f = self.h, self.t, self.y, self.f
-        fun = self.fun
-        k2 = fun(t + 0.5 * h, y + 0.5 * h * f)
-        k3 = fun(t + 0.5 * h, y + 0.5 * h * k2)
-        t_new = self.t_bound if self.n_left == 1 else t + h
-        k4 = fun(t_new, y + h * k3)
-        self.y_old, self.f_old, self.t_old = y, f, t
-        self.y = y + (h / 6.0) * (f + 2.0 * (k2 + k3) + k4)
-        self.t = t_new
-        self.n_left -= 1
-        self.f = fun(self.t, self.y)
-        self.nfev += 4
-        if self.n_left == 0:
-            self.status = "finished"
-
-    def dense(self, tt):
-        """Cubic Hermite interpolation on the last step; tt : (k,) -> (k, ny)."""
-        h = self.t - self.t_old
-        s = ((np.asarray(tt) - self.t_old) / h)[:, None]
-        y0, y1, f0, f1 = self.y_old, self.y, self.f_old, self.f
-        h00 = (1 + 2 * s) * (1 - s) ** 2
-        h10 = s * (1 - s) ** 2
-        h01 = s * s * (3 - 2 * s)
-        h11 = s * s * (s - 1)
-        return h00 * y0 + h10 * h * f0 + h01 * y1 + h11 * h * f1
-
-
 class _Projector:
     """Puts every body's Euler parameters back on |p| = 1.
 
@@ -470,7 +434,8 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
         State at t = 0 (see :mod:`dynamics.layout`).
     settings : Settings
     progress : callable(t: float) -> None, optional
-        Called after every accepted step.
+        Called after every accepted step (SciPy's methods) or every chunk of
+        at most ``CHUNK_STEPS`` steps (the compiled ones).
 
     Returns
     -------
@@ -496,75 +461,153 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     shift[lay.q_base] = y[lay.q_base]
     shift[lay.q_rigid] = y[lay.q_rigid]
     project = _Projector(system, shift)
-    project_y = _Projector(system)
     z = y - shift
-    k_out = 1
-    t = 0.0
     bounds = [b for _, b in _segments(system, t_end)]
+    rtol = settings.rtol
+    # the energy quadratures are outputs: kept out of the error control
+    atol = np.full(y.size, settings.atol)
+    atol[system.layout.work] = 1e30
+    stats.rejected_source = {"rk4": "none (fixed step)", "dop853": "exact",
+                             "radau": "exact"}.get(method, "counted from distinct trial times")
+    state = {"t": 0.0, "k_out": 1}
+    counts = np.zeros(N_COUNTS, dtype=np.int64)
     complete, message = True, "completed"
+    try:
+        refused = stiff_message(system, y, settings)
+        if refused:
+            raise _Stop(refused)
+        if method in _COMPILED:
+            _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, counts,
+                          state, stats, project, progress)
+        else:
+            _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, stats,
+                       project, progress)
+    except _Stop as exc:
+        complete, message = False, str(exc)
+    except KeyboardInterrupt:
+        complete, message = False, f"interrupted (Ctrl-C) at t = {state['t']:.6g} s"
+    except FloatingPointError as exc:
+        complete, message = False, (f"{method}: floating-point error at t = "
+                                    f"{state['t']:.6g} s: {exc}")
+    system.set_segment(None)
+    if method in _COMPILED:
+        stats.steps = int(counts[1])
+        stats.rejected = int(counts[2])
+        stats.jacobian_evaluations = int(counts[3])
+        stats.lu_decompositions = int(counts[4])
+    stats.rhs_evaluations = system.nfev - nfev0 + int(counts[0])
+    stats.wall_time = time.perf_counter() - wall0
+    k_out = state["k_out"]
+    return Run(t=grid[:k_out].copy(), y=Y[:k_out].copy(), complete=complete, message=message,
+               stats=stats, settings=settings, t_reached=state["t"])
+
+
+#: Accepted steps per call of a compiled stepper: between calls the driver
+#: reports progress and Python can take a Ctrl-C.
+CHUNK_STEPS = 50
+
+_COMPILED = {"rk4": rk4_segment, "dop853": dop853_segment, "radau": radau_segment}
+
+
+def _first_step(system: System, t: float, tb: float) -> tuple[float, float]:
+    """(h_max, first step) of an adaptive method on [t, tb]: the inputs'
+    ``max_step`` and 1/20 of it, or (inf, 0 = automatic) with no input there."""
+    hmax = system.max_step(t, tb)
+    if np.isfinite(hmax):
+        return hmax, min(0.05 * hmax, 0.5 * (tb - t))
+    return math.inf, 0.0
+
+
+def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, counts, state,
+                  stats, project, progress):
+    """The compiled steppers (:mod:`dynamics.steppers`), segment by segment,
+    in chunks of at most CHUNK_STEPS accepted steps."""
+    method = settings.method
+    step = _COMPILED[method]
+    lay = system.layout
+    p_idx = np.ascontiguousarray(lay.p_indices(), dtype=np.int64).reshape(-1, 4)
+    n_motion = lay.nq + lay.nv
+    work = radau_workspace(z.size) if method == "radau" else ()
+    grid = np.ascontiguousarray(grid, dtype=float)
+    for tb in bounds:
+        t = state["t"]
+        stats.segments += 1
+        project(z)
+        system.set_segment(t, tb)
+        if method == "rk4":
+            hmax, h = math.inf, settings.dt
+        else:
+            hmax, h = _first_step(system, t, tb)
+        if method == "radau":
+            radau_reset(work)
+        while True:
+            budget = min(CHUNK_STEPS, settings.max_steps - int(counts[1]))
+            if budget <= 0:
+                raise _Stop(f"the maximum number of steps ({settings.max_steps}) was reached "
+                            f"at t = {t:.6g} s; raise max_steps or loosen the tolerances")
+            status, t, h, k_out = step(t, tb, z, shift, system.data, rtol, atol, h, hmax, grid,
+                                       Y, state["k_out"], budget, p_idx, n_motion, counts, work)
+            state["t"], state["k_out"] = float(t), int(k_out)
+            if progress is not None:
+                progress(float(t))
+            if status == 0:
+                break
+            if status == -1:
+                raise _Stop(f"{method} failed at t = {t:.6g} s: the step size became too small "
+                            f"(try an implicit method or looser tolerances)")
+            if status == -2:
+                raise _Stop(f"{method}: the state became non-finite at t = {t:.6g} s "
+                            f"(unstable step; try a smaller step or an implicit method)")
+
+
+def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, stats, project,
+               progress):
+    """SciPy's LSODA (adams) and BDF, one step at a time."""
+    method = settings.method
     rhs = system.rhs
+    lay = system.layout
+    project_y = _Projector(system)
+    n_motion = lay.nq + lay.nv
 
     def fun(t, zz):
         return rhs(t, zz + shift)
-
-    n_motion = lay.nq + lay.nv
 
     def implicit_jac(t, zz):
         out = np.zeros((zz.size, zz.size))
         out[:, :n_motion] = _jacobian_columns(fun, t, zz, n_motion, zz + shift)
         return out
 
-    rtol = settings.rtol
-    # the energy quadratures are outputs: kept out of the error control
-    atol = np.full(y.size, settings.atol)
-    atol[system.layout.work] = 1e30
-    if method in ("rk4", "dop853"):
-        stats.rejected_source = "exact" if method == "dop853" else "none (fixed step)"
-    else:
-        stats.rejected_source = "counted from distinct trial times"
+    stepper = None
     try:
-        refused = stiff_message(system, y, settings)
-        if refused:
-            raise _Stop(refused)
         for tb in bounds:
+            t = state["t"]
             stats.segments += 1
             project(z)
             system.set_segment(t, tb)
-            if method == "rk4":
-                stepper = _RK4(fun, t, z, tb, settings.dt)
-                trial = None
-            else:
-                per = {"adams": 1, "bdf": 1, "radau": 3}.get(method)
-                trial = _TrialTimes(fun, per) if per else None
-                cls = _SCIPY[method]
-                hmax = system.max_step(t, tb)
-                extra = {}
-                if np.isfinite(hmax):
-                    extra = {"max_step": hmax, "first_step": min(0.05 * hmax, 0.5 * (tb - t))}
-                if method in ("bdf", "radau"):
-                    extra["jac"] = implicit_jac
-                stepper = cls(trial or fun, t, z, tb, rtol=rtol, atol=atol, **extra)
+            trial = _TrialTimes(fun, 1)
+            hmax, h0 = _first_step(system, t, tb)
+            extra = {"max_step": hmax, "first_step": h0} if h0 > 0 else {}
+            if method == "bdf":
+                extra["jac"] = implicit_jac
+            stepper = _SCIPY[method](trial, t, z, tb, rtol=rtol, atol=atol, **extra)
             while stepper.status == "running":
                 if stats.steps >= settings.max_steps:
-                    raise _Stop(f"the maximum number of steps ({settings.max_steps}) was reached "
-                                f"at t = {stepper.t:.6g} s; raise max_steps or loosen the "
-                                f"tolerances")
+                    raise _Stop(f"the maximum number of steps ({settings.max_steps}) was "
+                                f"reached at t = {stepper.t:.6g} s; raise max_steps or loosen "
+                                f"the tolerances")
                 t_old = stepper.t
-                nfev_before = stepper.nfev
                 msg = stepper.step()
                 if stepper.status == "failed":
                     raise _Stop(f"{method} failed at t = {stepper.t:.6g} s: {msg}")
                 stats.steps += 1
-                if method == "dop853":
-                    stats.rejected += (stepper.nfev - nfev_before) // stepper.n_stages - 1
-                elif trial is not None:
-                    stats.rejected += trial.attempts_since(t_old) - 1
+                stats.rejected += trial.attempts_since(t_old) - 1
                 t_new = stepper.t
                 y_new = stepper.y
                 if not np.all(np.isfinite(y_new)):
                     raise _Stop(f"{method}: the state became non-finite at t = {t_new:.6g} s "
                                 f"(unstable step; try a smaller step or an implicit method)")
                 # samples in (t_old, t_new]
+                k_out = state["k_out"]
                 k_end = k_out
                 while k_end < grid.size and grid[k_end] <= t_new + 1e-12 * max(1.0, t_new):
                     k_end += 1
@@ -572,39 +615,22 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
                     ts = grid[k_out:k_end]
                     inside = ts < t_new - 1e-12 * max(1.0, t_new)
                     if np.any(inside):
-                        if method == "rk4":
-                            Y[k_out:k_end][inside] = stepper.dense(ts[inside]) + shift
-                        else:
-                            Y[k_out:k_end][inside] = stepper.dense_output()(ts[inside]).T + shift
+                        Y[k_out:k_end][inside] = stepper.dense_output()(ts[inside]).T + shift
                     Y[k_out:k_end][~inside] = y_new + shift
                     for k in range(k_out, k_end):
                         project_y(Y[k])
-                    k_out = k_end
-                if method == "rk4":
-                    project(stepper.y, stepper.f)
-                elif method == "dop853":
-                    project(stepper.y, stepper.f)
-                t = t_new
+                    state["k_out"] = k_end
+                state["t"] = t_new
                 if progress is not None:
-                    progress(t)
-            z = np.array(stepper.y, dtype=float)
-            if method != "rk4":
-                stats.jacobian_evaluations += int(getattr(stepper, "njev", 0) or 0)
-                stats.lu_decompositions += int(getattr(stepper, "nlu", 0) or 0)
-    except _Stop as exc:
-        complete, message = False, str(exc)
-    except KeyboardInterrupt:
-        complete, message = False, f"interrupted (Ctrl-C) at t = {t:.6g} s"
-    except FloatingPointError as exc:
-        complete, message = False, f"{method}: floating-point error at t = {t:.6g} s: {exc}"
-    system.set_segment(None)
-    if method != "rk4" and not complete and "stepper" in locals():
-        stats.jacobian_evaluations += int(getattr(stepper, "njev", 0) or 0)
-        stats.lu_decompositions += int(getattr(stepper, "nlu", 0) or 0)
-    stats.rhs_evaluations = system.nfev - nfev0
-    stats.wall_time = time.perf_counter() - wall0
-    return Run(t=grid[:k_out].copy(), y=Y[:k_out].copy(), complete=complete, message=message,
-               stats=stats, settings=settings, t_reached=t)
+                    progress(t_new)
+            z[:] = stepper.y
+            stats.jacobian_evaluations += int(getattr(stepper, "njev", 0) or 0)
+            stats.lu_decompositions += int(getattr(stepper, "nlu", 0) or 0)
+            stepper = None
+    finally:
+        if stepper is not None:
+            stats.jacobian_evaluations += int(getattr(stepper, "njev", 0) or 0)
+            stats.lu_decompositions += int(getattr(stepper, "nlu", 0) or 0)
 
 
 class _Stop(Exception):

@@ -32,9 +32,9 @@ class Profile:
     rhs_seconds: float
 
 
-FULL = Profile("full", ("rigid", "flexible", "damped"), reference_dt=1e-4, budget=15.0,
+FULL = Profile("full", ("rigid", "flexible", "damped"), reference_dt=5e-5, budget=15.0,
                rhs_seconds=0.5)
-QUICK = Profile("quick", ("rigid", "flexible"), reference_dt=2.5e-4, budget=3.0,
+QUICK = Profile("quick", ("rigid", "flexible"), reference_dt=1.25e-4, budget=3.0,
                 rhs_seconds=0.05)
 
 

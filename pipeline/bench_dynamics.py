@@ -37,11 +37,11 @@ __all__ = ["LADDERS", "QUICK_LADDERS", "Measurement", "classify", "settings_for"
 
 #: rk4: step dt [s]; the others: rtol (atol = 1e-3 rtol, on the motion from the start).
 LADDERS = {
-    "rk4": (4e-3, 2e-3, 1e-3, 5e-4),
+    "rk4": (4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4),
     "adams": (1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10),
     "bdf": (1e-4, 1e-5, 1e-6, 1e-7, 1e-8),
-    "radau": (1e-4, 1e-5, 1e-6, 1e-7, 1e-8),
-    "dop853": (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10),
+    "radau": (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10),
+    "dop853": (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11),
 }
 QUICK_LADDERS = {
     "rk4": (4e-3, 2e-3),

@@ -1,7 +1,7 @@
 """The benchmark's reference solution and the errors measured against it.
 
 Reference: the project's own fixed-step RK4 at a step far below any the
-ladders use — ``dt_max`` (1e-4 s by default), lowered to 1 / (the fastest
+ladders use — ``dt_max`` (5e-5 s by default), lowered to 1 / (the fastest
 rate of the bed's modes) so that the run with twice the step is still well
 inside RK4's stability interval (|hλ| ≤ 2 < 2.79) — then made a divisor of
 the output spacing. Its own error is estimated by Richardson extrapolation
@@ -97,14 +97,14 @@ class Reference:
         return self.wall_time / max(1, self.rhs_evaluations)
 
 
-def reference_step(system: System, output_dt: float, dt_max: float = 1e-4) -> float:
+def reference_step(system: System, output_dt: float, dt_max: float = 5e-5) -> float:
     """The reference's step [s] (see the module docstring)."""
     rate = fastest_rate(system)
     dt = dt_max if rate == 0.0 else min(dt_max, 1.0 / rate)
     return divisor_step(dt, output_dt)
 
 
-def compute_reference(case: Case, output_dt: float, dt_max: float = 1e-4,
+def compute_reference(case: Case, output_dt: float, dt_max: float = 5e-5,
                       log=lambda m: None) -> Reference:
     """RK4 runs with dt and 2·dt; the first is the reference, their
     difference / 15 its error estimate."""
