@@ -45,7 +45,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-__all__ = ["Compiled", "FIELDS", "KINDS", "pack", "unpack", "evaluate", "evaluate_packed", "flex_T", "flex_mass_body", "flex_forces_body",
+__all__ = ["Compiled", "FIELDS", "KINDS", "pack", "unpack", "evaluate", "evaluate_packed", "evaluate_many", "flex_T", "flex_mass_body", "flex_forces_body",
            "piecewise_value"]
 
 #: Fields of :class:`Compiled` (all NumPy arrays; shapes with nb bodies,
@@ -805,3 +805,11 @@ def pack(fields: dict):
 def evaluate_packed(t, seg_end, y, dy, F, I, meta):
     """:func:`evaluate` on packed storage (the cheap call from Python)."""
     evaluate(t, seg_end, y, dy, unpack(F, I, meta))
+
+
+@njit(cache=True)
+def evaluate_many(n, t, seg_end, y, dy, d):
+    """n calls of :func:`evaluate` in compiled code (the kernel's own cost,
+    as the compiled steppers see it, for the benchmark)."""
+    for _ in range(n):
+        evaluate(t, seg_end, y, dy, d)

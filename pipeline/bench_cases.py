@@ -12,6 +12,7 @@ number of modes, the first-order invariants).
 from __future__ import annotations
 
 import math
+import time
 import timeit
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -19,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from dynamics.integrate import Settings, integrate
+from dynamics.kernel import evaluate_many
 from dynamics.statics import solve_statics
 from dynamics.system import System
 
@@ -28,7 +30,7 @@ from .errors import NumericalError
 from .scene_file import SceneFile
 
 __all__ = ["CaseSpec", "Case", "CASES", "ModesStore", "build_case", "fastest_rate",
-           "probe_state", "rhs_cost_us", "rhs_cost", "divisor_step"]
+           "probe_state", "rhs_cost_us", "rhs_cost", "kernel_cost", "divisor_step"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -188,6 +190,27 @@ def rhs_cost(case: Case, seconds: float = 0.5, repeat: int = 5) -> float:
     one = rhs_cost_us(case.system, t, y, reps=20, repeat=1) * 1e-6
     reps = max(20, int(seconds / max(one, 1e-7)))
     return rhs_cost_us(case.system, t, y, reps=reps, repeat=repeat)
+
+
+def kernel_cost(case: Case, seconds: float = 0.5, repeat: int = 5) -> float:
+    """One evaluation of the compiled kernel inside compiled code, as the
+    compiled steppers call it, at the state of :func:`probe_state` [µs]: the
+    best of ``repeat`` timings of about ``seconds`` of calls each."""
+    t, y = probe_state(case)
+    y = np.ascontiguousarray(y, dtype=float)
+    dy = np.empty_like(y)
+    d = case.system.data
+    evaluate_many(1, t, math.inf, y, dy, d)              # compile or load, outside the timing
+    t0 = time.perf_counter()
+    evaluate_many(100, t, math.inf, y, dy, d)
+    one = max((time.perf_counter() - t0) / 100, 1e-8)
+    reps = max(100, int(seconds / one))
+    best = math.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        evaluate_many(reps, t, math.inf, y, dy, d)
+        best = min(best, time.perf_counter() - t0)
+    return best / reps * 1e6
 
 
 def divisor_step(dt_max: float, span: float) -> float:

@@ -111,7 +111,8 @@ def section_modes_auto(ctx: BenchContext) -> str:
     known = {r.name: r for r in counts["runs"]}
     run = known.get(str(n_auto))
     if run is None:
-        method, rtol = ("bdf", 1e-7) if ctx.quick else ("bdf", 1e-8)
+        from .bench_report import MODES_COUNT_SETTING, QUICK_MODES_COUNT_SETTING
+        method, rtol = QUICK_MODES_COUNT_SETTING if ctx.quick else MODES_COUNT_SETTING
         case = build_case(sf, CaseSpec(f"modes-{n_auto}", n_modes=n_auto, damped=True),
                           ctx.modes, ctx.t_end)
         run = solve(str(n_auto), case, method, rtol, ctx.output_dt, repeats=1,

@@ -100,7 +100,7 @@ def highest_frequency(case: Case) -> float:
 
 
 def modes_count_runs(sf: SceneFile, store: ModesStore, counts, reference_count: int, *,
-                     t_end: float, output_dt: float, method: str = "bdf", rtol: float = 1e-8,
+                     t_end: float, output_dt: float, method: str = "radau", rtol: float = 1e-8,
                      damped: bool = True, repeats: int = 1, rhs_seconds: float = 0.2,
                      log=lambda m: None) -> tuple[list[ModelRun], ModelRun]:
     """The bed keeping each of ``counts`` modes, and ``reference_count``

@@ -23,10 +23,12 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable
 
+import numba
 import numpy as np
 import scipy
 
-from .bench_cases import CASES, CaseSpec, rhs_cost
+from .bench_cases import CASES, CaseSpec, kernel_cost, rhs_cost
+from .bench_fastpath import section_linear, section_modes_auto
 from .bench_context import FULL, QUICK, BenchContext
 from .bench_dynamics import (LADDERS, QUICK_LADDERS, fastest_reaching, ladder_table,
                              observed_orders, run_ladders)
@@ -43,10 +45,12 @@ __all__ = ["Section", "SECTIONS", "AIMS", "write_report", "Report"]
 
 #: (position error [m], solve time [s]) the reference scene should reach
 AIMS = ((1e-6, 0.05), (1e-9, 0.2))
+#: the integrators that run compiled, calling the kernel from compiled code
+COMPILED_METHODS = ("rk4", "dop853", "radau")
 #: (integrator, rtol) of the modelling sections: accurate to far below the
 #: modelling errors they measure (see the integrator tables)
-MODES_COUNT_SETTING = ("bdf", 1e-8)
-QUICK_MODES_COUNT_SETTING = ("bdf", 1e-7)
+MODES_COUNT_SETTING = ("radau", 1e-8)
+QUICK_MODES_COUNT_SETTING = ("radau", 1e-7)
 INVARIANTS_SETTINGS = {"flexible": ("dop853", 1e-9), "damped": ("radau", 1e-8)}
 QUICK_INVARIANT_CASES = ("flexible",)
 
@@ -64,19 +68,27 @@ class Section:
 
 def section_rhs(ctx: BenchContext) -> str:
     """The cost of one right-hand side, rigid and flexible (2 and 6 modes)."""
-    rows, res = [], {}
+    rows, res, kernel = [], {}, {}
+    repeat = 3 if ctx.quick else 5
     for key in CASES:
         case = ctx.case(key)
         ctx.log(f"bench rhs: {key} ...")
-        us = rhs_cost(case, seconds=ctx.profile.rhs_seconds, repeat=3 if ctx.quick else 5)
-        res[key] = us
-        rows.append([case.label, str(case.system.ny), f"{us:.1f}"])
+        us = rhs_cost(case, seconds=ctx.profile.rhs_seconds, repeat=repeat)
+        kus = kernel_cost(case, seconds=ctx.profile.rhs_seconds, repeat=repeat)
+        res[key], kernel[key] = us, kus
+        rows.append([case.label, str(case.system.ny), f"{kus:.2f}", f"{us:.1f}"])
     ctx.results["rhs"] = res
+    ctx.results["kernel"] = kernel
     return "\n".join([
         "## One right-hand side", "",
-        "`System.rhs(t, y)` at a state in motion (0.1 s into the run), best of "
-        f"{3 if ctx.quick else 5} timings of about {ctx.profile.rhs_seconds:g} s of calls each.",
-        "", md_table(["case", "state size", "one evaluation [µs]"], rows, align="lrr")])
+        "At a state in motion (0.1 s into the run), best of "
+        f"{repeat} timings of about {ctx.profile.rhs_seconds:g} s of calls each. "
+        "Compiled: the kernel (`dynamics/kernel.py`, numba) called from compiled code, as "
+        "the compiled steppers (rk4, dop853, radau) call it; from Python: `System.rhs(t, y)`, "
+        "as statics, the linearisation and SciPy's steppers (adams, bdf) call it (the call "
+        "itself, argument checks and a new output array are the difference).",
+        "", md_table(["case", "state size", "compiled [µs]", "from Python [µs]"], rows,
+                     align="lrrr")])
 
 
 def _reference_text(ctx: BenchContext, key: str) -> str:
@@ -103,9 +115,11 @@ def section_integrators(ctx: BenchContext) -> str:
              "axes (`System.observe(t, y).f`). Wall time: the integration alone (stepping, "
              "dense output, projection, bookkeeping; not the statics), median of the runs "
              "(up to 5 for settings under 2 s). rtol acts on the motion from the start, "
-             "with atol = 1e-3·rtol. Rejected steps of adams, bdf and radau are counted from "
-             "the distinct trial times of their right-hand sides (SciPy does not report "
-             f"them). Settings predicted to take over {ctx.profile.budget:g} s are not run "
+             "with atol = 1e-3·rtol. rk4, dop853 and radau are the compiled steppers "
+             "(`dynamics/steppers.py`), adams and bdf SciPy's, driven from Python; rejected "
+             "steps of adams and bdf are counted from the distinct trial times of their "
+             "right-hand sides (SciPy does not report them). The radau rows' Jacobians are "
+             f"forward differences of the compiled kernel. Settings predicted to take over {ctx.profile.budget:g} s are not run "
              "(the table says why); \"stiff: refused\" is the integrator's own stiffness "
              "check.", ""]
     rows_by_case, refs = {}, {}
@@ -152,7 +166,8 @@ def section_aims(ctx: BenchContext) -> str:
         lines += [f"(This report's runs end at {ctx.t_end:g} s, not 3 s: not comparable "
                   "with the aims.)", ""]
     verdicts = {}
-    rhs_us = ctx.results.get("rhs", {})
+    py_us = ctx.results.get("rhs", {})
+    compiled_us = ctx.results.get("kernel", {})
     for key, rows in by_case.items():
         label = ctx.case(key).label
         for target, budget in AIMS:
@@ -163,10 +178,11 @@ def section_aims(ctx: BenchContext) -> str:
                 met = best.wall_time <= budget
                 text = (f"{best.method} ({best.setting}) in {best.wall_time:.3f} s, "
                         f"{best.rhs_evaluations} right-hand sides")
-                if key in rhs_us:
-                    text += (f" ({best.rhs_evaluations * rhs_us[key] * 1e-6:.3f} s of them; "
-                             f"{budget:g} s is {budget / (rhs_us[key] * 1e-6):.0f} at "
-                             f"{rhs_us[key]:.0f} µs each)")
+                us = (compiled_us if best.method in COMPILED_METHODS else py_us).get(key)
+                if us:
+                    text += (f" ({best.rhs_evaluations * us * 1e-6:.3f} s of them at "
+                             f"{us:.2g} µs each; {budget:g} s is "
+                             f"{budget / (us * 1e-6):.0f} of them)")
             verdicts[(key, target)] = (best, met)
             lines.append(f"- {label}: {target:g} m in ≤ {budget:g} s: {text} — "
                          f"**{'met' if met else 'not met'}**.")
@@ -284,6 +300,8 @@ SECTIONS: list[Section] = [
     Section("modes_count", section_modes_count),
     Section("mesh", section_mesh),
     Section("invariants", section_invariants),
+    Section("linear", section_linear),
+    Section("modes_auto", section_modes_auto),
 ]
 
 
@@ -326,7 +344,8 @@ def _blas() -> str:
 def _header(ctx: BenchContext, names: list[str], elapsed: float, load: str,
             command: str) -> str:
     versions = (f"Python {platform.python_version()}, NumPy {np.__version__}, "
-                f"SciPy {scipy.__version__}, flexbed {package_version()}")
+                f"SciPy {scipy.__version__}, numba {numba.__version__}, "
+                f"flexbed {package_version()}")
     return "\n".join([
         f"# Benchmarks: {ctx.scene.scene.name} ({ctx.profile.name})", "",
         f"Written by `{command}`; every number and figure below comes from that one run.",
