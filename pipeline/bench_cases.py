@@ -168,7 +168,7 @@ def probe_state(case: Case, t: float = 0.1) -> tuple[float, np.ndarray]:
     """A state in motion: (t [s], y (ny,)) after ``t`` seconds of an accurate
     implicit run (cheap on stiff cases too)."""
     t = min(t, case.t_end)
-    run = integrate(case.system, case.y0, Settings("bdf", t_end=t, rtol=1e-6, atol=1e-9,
+    run = integrate(case.system, case.y0, Settings("radau", t_end=t, rtol=1e-6, atol=1e-9,
                                                    output_dt=t))
     if not run.complete:
         raise NumericalError(f"{case.label}: probe run failed: {run.message}")
