@@ -102,7 +102,7 @@ from .steppers import (N_COUNTS, dop853_segment, radau_segment, radau_reset, rad
                        rk4_segment)
 from .system import System
 
-__all__ = ["Settings", "Stats", "Run", "integrate", "METHODS", "output_grid", "motion_eigenvalues",
+__all__ = ["Settings", "Stats", "Run", "integrate", "warm_up", "METHODS", "output_grid", "motion_eigenvalues",
            "stable_step", "stiff_message"]
 
 METHODS = ("rk4", "adams", "bdf", "radau", "dop853")
@@ -500,6 +500,16 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     k_out = state["k_out"]
     return Run(t=grid[:k_out].copy(), y=Y[:k_out].copy(), complete=complete, message=message,
                stats=stats, settings=settings, t_reached=state["t"])
+
+
+def warm_up(system: System, y0: np.ndarray) -> None:
+    """Compile (or load from numba's cache) the kernel and every compiled
+    stepper for this system's types, by a few short steps of each, so that
+    timings that follow measure the work, not the compilation (tens of
+    seconds the first time in a fresh install)."""
+    for method in _COMPILED:
+        integrate(system, y0, Settings(method, t_end=1e-6, dt=1e-6, output_dt=1e-6,
+                                       stiff_steps=0))
 
 
 #: Accepted steps per call of a compiled stepper: between calls the driver

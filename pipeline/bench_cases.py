@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from dynamics.integrate import Settings, integrate
+from dynamics.integrate import Settings, integrate, warm_up
 from dynamics.kernel import evaluate_many
 from dynamics.statics import solve_statics
 from dynamics.system import System
@@ -116,7 +116,7 @@ class ModesStore:
 
 def build_case(sf: SceneFile, spec: CaseSpec, modes: ModesStore | None = None,
                t_end: float | None = None) -> Case:
-    """Compile a case and solve its static equilibrium.
+    """Compile a case, solve its static equilibrium and warm up the compiled code.
 
     Parameters
     ----------
@@ -140,7 +140,9 @@ def build_case(sf: SceneFile, spec: CaseSpec, modes: ModesStore | None = None,
     eq = solve_statics(system, tol=sf.solver.static_tol, sag=sag)
     if not eq.success:
         raise NumericalError(f"{sf.source.name} ({label}): {eq.message}")
-    return Case(spec=spec, label=label, system=system, y0=np.array(eq.y, dtype=float),
+    y0 = np.array(eq.y, dtype=float)
+    warm_up(system, y0)                  # no numba compilation inside the timings that follow
+    return Case(spec=spec, label=label, system=system, y0=y0,
                 t_end=float(t_end if t_end is not None else sf.solver.t_end))
 
 
