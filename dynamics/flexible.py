@@ -108,6 +108,10 @@ class FlexibleBody:
     full : bool
         Keep every configuration-dependent term (True) or the first-order
         set only.
+    basis : (N, n) or None
+        What the modal coordinates are in terms of the N modes they were
+        made from, a = basis @ a' (None: the first n modes themselves);
+        carried for the outputs, not used by the equations.
     """
 
     mass: float
@@ -124,6 +128,7 @@ class FlexibleBody:
     points: np.ndarray
     point_shapes: np.ndarray
     full: bool = True
+    basis: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         where = "flexible body"
@@ -142,6 +147,11 @@ class FlexibleBody:
                             ("modal_stiffness", (n, n)), ("modal_damping", (n, n)),
                             ("points", (P, 3)), ("point_shapes", (P, 3, n))):
             object.__setattr__(self, name, _array(where, name, getattr(self, name), shape))
+        if self.basis is not None:
+            b = _array(where, "basis", self.basis, np.shape(self.basis))
+            if b.ndim != 2 or b.shape[1] != n or b.shape[0] < n:
+                raise SceneError(f"{where}: basis has shape {b.shape}, expected (N >= {n}, {n})")
+            object.__setattr__(self, "basis", b)
         J = self.inertia
         if not np.allclose(J, J.T, rtol=0, atol=1e-12 * np.abs(J).max()) or \
                 np.linalg.eigvalsh(J).min() <= 0:

@@ -17,7 +17,8 @@ from .errors import InputError
 
 _PLATE_KEYS = tuple(f.name for f in fields(PlateSpec))
 _KEYS = _PLATE_KEYS + ("body", "model", "modes", "fmax", "rayleigh", "damping_ratio",
-                       "modes_file", "static_sag", "invariants", "auto_factor")
+                       "modes_file", "static_sag", "invariants", "auto_factor",
+                       "static_correction", "correction_modes")
 DEFAULT_MODES = 2
 
 
@@ -55,6 +56,13 @@ class BedSection:
     invariants : str
         "full" (every configuration-dependent inertia term) or
         "first_order" (inertia linear in the modal coordinates, no I5/I9).
+    static_correction : bool
+        Add residual vectors: the static response at the bed's mount points
+        of the modes left out, up to ``correction_modes``
+        (:mod:`pipeline.residual_modes`).
+    correction_modes : int
+        The modes file's modes the static correction draws on (the modes
+        stage computes at least this many when the correction is on).
     """
 
     plate: PlateSpec = PlateSpec()
@@ -69,6 +77,8 @@ class BedSection:
     invariants: str = "full"
     auto: tuple | None = None
     auto_factor: float = 2.0
+    static_correction: bool = False
+    correction_modes: int = 40
 
     def __post_init__(self) -> None:
         if self.invariants not in ("full", "first_order"):
@@ -81,6 +91,10 @@ class BedSection:
             raise ValueError(f"modes = {self.modes!r} must be an integer >= 1")
         if self.fmax is not None and not (_is_number(self.fmax) and self.fmax > 0):
             raise ValueError(f"fmax = {self.fmax!r} must be a number > 0 [Hz]")
+        if (isinstance(self.correction_modes, bool) or not isinstance(self.correction_modes, int)
+                or self.correction_modes < 2):
+            raise ValueError(f"correction_modes = {self.correction_modes!r} must be an integer "
+                             ">= 2")
         if not (_is_number(self.auto_factor) and self.auto_factor >= 1.0):
             raise ValueError(f"auto_factor = {self.auto_factor!r} must be a number >= 1")
         if self.auto == ():
@@ -144,10 +158,13 @@ def read_bed(table: dict, where: str) -> BedSection:
             if not isinstance(table[key], str):
                 raise InputError(f"{where}: {key} = {table[key]!r} must be a string")
             args[key] = table[key]
-    if "static_sag" in table:
-        if not isinstance(table["static_sag"], bool):
-            raise InputError(f"{where}: static_sag = {table['static_sag']!r} must be true or false")
-        args["static_sag"] = table["static_sag"]
+    for key in ("static_sag", "static_correction"):
+        if key in table:
+            if not isinstance(table[key], bool):
+                raise InputError(f"{where}: {key} = {table[key]!r} must be true or false")
+            args[key] = table[key]
+    if "correction_modes" in table:
+        args["correction_modes"] = table["correction_modes"]
     if table.get("modes") == "auto":
         args["modes"] = None
         args["auto"] = ()

@@ -45,12 +45,16 @@ class CaseSpec:
         The scene's structural damping (False: α = β = 0).
     invariants : str or None
         "full" or "first_order"; None: the scene's choice.
+    static_correction : bool
+        Add the residual vectors of the modes left out
+        (:mod:`pipeline.residual_modes`).
     """
 
     key: str
     n_modes: int | None = None
     damped: bool = False
     invariants: str | None = None
+    static_correction: bool = False
 
     def label(self, sf: SceneFile) -> str:
         """A one-line description, with the damping actually applied."""
@@ -133,8 +137,10 @@ def build_case(sf: SceneFile, spec: CaseSpec, modes: ModesStore | None = None,
     else:
         inv = spec.invariants or sf.bed.invariants
         csf = replace(sf, bed=replace(sf.bed, model="flexible", modes=spec.n_modes, fmax=None,
-                                      invariants=inv))
-        system = compile_scene(csf, modes.ensure(spec.n_modes), damped=spec.damped)
+                                      invariants=inv, static_correction=spec.static_correction))
+        need = max(spec.n_modes, sf.bed.correction_modes) if spec.static_correction \
+            else spec.n_modes
+        system = compile_scene(csf, modes.ensure(need), damped=spec.damped)
         sag = sf.bed.static_sag
     label = spec.label(sf)
     eq = solve_statics(system, tol=sf.solver.static_tol, sag=sag)

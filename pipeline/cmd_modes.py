@@ -74,6 +74,8 @@ def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,
     """
     if n_modes is None and fmax is None:
         n_modes, fmax = sf.bed.modes, sf.bed.fmax
+    # the static correction draws on the modes above the kept ones
+    extra = sf.bed.correction_modes if sf.bed.static_correction else 0
     spec = sf.bed.plate
     if path.exists() and not force:
         try:
@@ -83,7 +85,7 @@ def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,
         else:
             if data.input_hash != spec.digest():
                 log(f"modes: {path} was made from other plate inputs; recomputing")
-            elif not data.covers(n_modes, fmax):
+            elif not data.covers(n_modes, fmax) or data.n_modes < extra:
                 log(f"modes: {path} holds {data.n_modes} modes, fewer than asked; recomputing")
             else:
                 return data, True
@@ -93,8 +95,12 @@ def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,
                 bed = compute_bed_modes(spec, fmax=fmax)
             except ModesError:
                 bed = compute_bed_modes(spec, n_modes=1)
+        elif n_modes is not None:
+            bed = compute_bed_modes(spec, n_modes=max(n_modes, extra))
         else:
-            bed = compute_bed_modes(spec, n_modes=n_modes, fmax=fmax)
+            bed = compute_bed_modes(spec, fmax=fmax)
+        if bed.modes.omega.size < extra:
+            bed = compute_bed_modes(spec, n_modes=extra)
     except ModesError as exc:
         raise InputError(f"{sf.source.name}: bed: {exc}") from None
     write_modes_file(path, bed)

@@ -98,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
                                                f"mount forces along u3 ({LABELS[case]})",
                                                curves, {}, "f3 [N]")]
         if case != "rigid":
-            pos, defl = bed_motion(r, data.nodes, data.translation)
+            pos, defl = bed_motion(r, data.nodes, r.translation)
             stride = max(1, int(round(FRAME_DT / float(np.mean(np.diff(r.t))))))
             frames = slice(None, None, stride)
             res["files"].append(write_motion_series(

@@ -15,6 +15,7 @@ from fem.shapes import GridShapes, OutsidePlateError
 
 from .errors import InputError
 from .modes_file import ModesData, read_modes_file
+from .residual_modes import change_of_modes, residual_basis
 from .scene_file import SceneFile
 
 
@@ -91,29 +92,67 @@ def flexible_body(sf: SceneFile, data: ModesData, *, n_modes: int | None = None,
         raise InputError(f"{sf.source.name}: point of interest on the bed: {exc}") from None
     inv = data.invariants
     k = slice(0, n)
-    K = inv.modal_stiffness[k, k]
-    I6 = inv.modal_mass[k, k]
+    omega = data.omega[:n]
+    arrays = {"I3": inv.phi_integral[:, k], "I4": inv.u_cross_phi[:, k],
+              "I5": inv.phi_cross_phi[k, :, k], "I6": inv.modal_mass[k, k],
+              "I8": inv.inertia_first_order[k], "I9": inv.inertia_second_order[k, k],
+              "K": inv.modal_stiffness[k, k], "shapes": trans}
+    basis = np.eye(data.n_modes, n)
+    if sf.bed.static_correction:
+        basis, arrays, omega = _corrected(sf, data, n, name, points)
+    K, I6 = arrays["K"], arrays["I6"]
+    n_coords = K.shape[0]
     if not damped:
-        C = np.zeros((n, n))
+        C = np.zeros((n_coords, n_coords))
     elif sf.bed.damping_ratio is not None:
         ratio = sf.bed.damping_ratio
-        if len(ratio) not in (1, n):
-            raise InputError(f"{where}: damping_ratio has {len(ratio)} values for {n} modes")
-        C = modal_damping(data.omega[:n], ratio if len(ratio) > 1 else ratio[0])
+        if len(ratio) not in (1, n_coords):
+            raise InputError(f"{where}: damping_ratio has {len(ratio)} values for {n_coords} "
+                             f"modal coordinates")
+        C = modal_damping(omega, ratio if len(ratio) > 1 else ratio[0])
     else:
         alpha, beta = sf.bed.rayleigh
         C = rayleigh_damping(I6, K, alpha, beta)
     try:
         return FlexibleBody(
             mass=inv.mass, first_moment=inv.first_moment, inertia=inv.inertia,
-            phi_integral=inv.phi_integral[:, k], u_cross_phi=inv.u_cross_phi[:, k],
-            phi_cross_phi=inv.phi_cross_phi[k, :, k], modal_mass=I6,
-            inertia_first_order=inv.inertia_first_order[k],
-            inertia_second_order=inv.inertia_second_order[k, k],
-            modal_stiffness=K, modal_damping=C, points=points,
-            point_shapes=np.transpose(trans, (1, 2, 0)), full=full)
+            phi_integral=arrays["I3"], u_cross_phi=arrays["I4"], phi_cross_phi=arrays["I5"],
+            modal_mass=I6, inertia_first_order=arrays["I8"],
+            inertia_second_order=arrays["I9"], modal_stiffness=K, modal_damping=C,
+            points=points, point_shapes=np.transpose(arrays["shapes"], (1, 2, 0)), full=full,
+            basis=basis)
     except SceneError as exc:
         raise InputError(f"{where}: {exc}") from None
+
+
+def _corrected(sf: SceneFile, data: ModesData, n: int, name: str,
+               points: np.ndarray) -> tuple:
+    """The kept modes plus residual vectors (:mod:`pipeline.residual_modes`):
+    (basis (N, n + m), invariants and point shapes in those coordinates,
+    their circular frequencies (n + m,) [rad/s])."""
+    N = min(sf.bed.correction_modes, data.n_modes)
+    if N <= n:
+        raise InputError(f"{sf.source.name}: bed: static_correction needs modes beyond the "
+                         f"{n} kept, and correction_modes = {sf.bed.correction_modes} with "
+                         f"{data.path} holding {data.n_modes}; raise correction_modes")
+    shapes = GridShapes.from_nodes(data.nodes, data.translation[:N], data.rotation[:N],
+                                   data.twist[:N])
+    mounts = [m.point_i for m in sf.scene.mounts if m.body_i == name]
+    mounts += [m.point_j for m in sf.scene.mounts if m.body_j == name]
+    mount_pts = np.unique(np.array(mounts, dtype=float).reshape(-1, 3), axis=0)
+    at_mounts, _ = shapes.at(mount_pts)                                  # (N, P, 3)
+    inv = data.invariants
+    a = slice(0, N)
+    T, w = residual_basis(inv.modal_mass[a, a], inv.modal_stiffness[a, a],
+                          at_mounts.reshape(N, -1), n)
+    at_points, _ = shapes.at(points) if len(points) else (np.zeros((N, 0, 3)), None)
+    arrays = change_of_modes(
+        T, I3=inv.phi_integral[:, a], I4=inv.u_cross_phi[:, a], I5=inv.phi_cross_phi[a, :, a],
+        I6=inv.modal_mass[a, a], I8=inv.inertia_first_order[a],
+        I9=inv.inertia_second_order[a, a], K=inv.modal_stiffness[a, a], shapes=at_points)
+    basis = np.zeros((data.n_modes, T.shape[1]))
+    basis[:N] = T
+    return basis, arrays, np.concatenate([data.omega[:n], w])
 
 
 def with_flexible_bed(sf: SceneFile, data: ModesData, **kwargs) -> Scene:

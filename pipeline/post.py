@@ -104,6 +104,7 @@ class Run:
         self.bed_model = str(bed.get("model", "rigid"))
         self.bed_name = None
         self.shapes = None
+        self.translation = None
         if self.bed_model == "flexible":
             self._open_modes(c, bed)
 
@@ -126,9 +127,12 @@ class Run:
             raise InputError(f"{self.path}: modes file {path} was made for another bed than "
                              f"this run; re-run 'flexbed modes' and 'flexbed simulate'")
         n = int(bed.get("n_modes", 0))
-        if n > data.n_modes:
-            raise InputError(f"{self.path}: the run kept {n} modes, {path} holds "
-                             f"{data.n_modes}; re-run 'flexbed modes'")
+        basis = c.datasets.get("modal/basis")
+        basis = np.eye(n) if basis is None else np.asarray(basis, dtype=float)
+        if basis.shape[0] > data.n_modes or basis.shape[1] != n:
+            raise InputError(f"{self.path}: the run's {n} modal coordinates draw on "
+                             f"{basis.shape[0]} modes, {path} holds {data.n_modes}; re-run "
+                             f"'flexbed modes'")
         a = np.asarray(c.get("modal/coordinates"), dtype=float)
         self.a = a[:, :n]
         self.ad = np.asarray(c.get("modal/rates"), dtype=float)[:, :n]
@@ -138,8 +142,8 @@ class Run:
         self.add = np.asarray(add, dtype=float)[:, :n]
         toml = tomllib.loads(str(c.datasets.get("scene/toml", "")))
         self.bed_name = toml.get("bed", {}).get("body") or self.names[1]
-        self.shapes = GridShapes.from_nodes(data.nodes, data.translation[:n],
-                                            data.rotation[:n], data.twist[:n])
+        self.translation, rotation, twist = run_shapes(data, basis)
+        self.shapes = GridShapes.from_nodes(data.nodes, self.translation, rotation, twist)
 
     def body_index(self, name: str, what: str = "body") -> int:
         if name not in self.names:
@@ -246,6 +250,15 @@ def mount_csv(run: Run) -> str:
                                          for row in data]) + "\n"
 
 
+def run_shapes(data, basis: np.ndarray) -> tuple:
+    """The modes file's nodal shapes (translation (N, nodes, 3), rotation,
+    twist) in a run's modal coordinates, a_file = basis @ a (basis (N', n),
+    N' ≤ the file's modes): (n, nodes, 3) each."""
+    N = basis.shape[0]
+    return tuple(np.einsum("kn,k...->n...", basis, arr[:N])
+                 for arr in (data.translation, data.rotation, data.twist))
+
+
 def bed_motion(run: Run, nodes: np.ndarray, translation: np.ndarray):
     """Positions of the bed's nodes over the run.
 
@@ -254,8 +267,9 @@ def bed_motion(run: Run, nodes: np.ndarray, translation: np.ndarray):
     nodes : ndarray (N, 3)
         Nodes in the bed frame [m].
     translation : ndarray (n, N, 3)
-        Mode translations at the nodes (n ≥ the run's modes; zero modes for a
-        rigid bed).
+        Translations at the nodes per modal coordinate of the run
+        (``Run.translation``; n ≥ the run's coordinates; unused for a rigid
+        bed).
 
     Returns
     -------

@@ -221,6 +221,11 @@ def write_results(path, sf: SceneFile, system: System, run: Run, *, start: str,
         ds["modal/damping"] = Dataset(fb.modal_damping, "s^-1", "modal damping matrix C_aa")
         ds["modal/stiffness"] = Dataset(fb.modal_stiffness, "s^-2",
                                         "modal stiffness matrix K_aa")
+        if fb.basis is not None:
+            ds["modal/basis"] = Dataset(fb.basis, "1", "the modal coordinates in terms of the "
+                                        "modes file's modes: a_file = basis @ a (the kept "
+                                        "modes, then the static correction's residual "
+                                        "vectors)")
     if equilibrium is not None:
         eds, eattrs = _equilibrium_part(system, equilibrium, "equilibrium/")
         ds.update(eds)
