@@ -150,11 +150,13 @@ class Stats:
     """Solver statistics of one run.
 
     steps : accepted steps; rejected : rejected step attempts (rk4: none;
-    dop853: exact, from the evaluations per attempt; adams, bdf, radau:
+    dop853, radau: exact, counted by the compiled steppers; adams, bdf:
     counted from the distinct trial times of their right-hand-side calls,
     since SciPy does not report them); rhs_evaluations : every call of the
-    right-hand side, Jacobian differences included; jacobian_evaluations,
-    lu_decompositions : implicit methods (0 otherwise); segments : restarts
+    right-hand side, Jacobian differences and the stiffness check included;
+    jacobian_evaluations, lu_decompositions : implicit methods (0
+    otherwise; radau counts a real and a complex factorisation as one);
+    segments : restarts
     at breakpoints + 1; wall_time : [s]; rejected_source : how ``rejected``
     was counted.
     """

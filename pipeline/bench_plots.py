@@ -15,6 +15,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .plots import save_figure  # noqa: E402
+
 __all__ = ["Series", "Panel", "plot_loglog"]
 
 #: one colour and marker per integrator; other series cycle through matplotlib's colours
@@ -75,9 +77,4 @@ def plot_loglog(path: Path, title: str, xlabel: str, panels: list[Panel]) -> Pat
             ax.text(0.5, 0.5, "nothing finished", transform=ax.transAxes, ha="center")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp.png")
-    fig.savefig(tmp, dpi=120)
-    plt.close(fig)
-    tmp.replace(path)
-    return path
+    return save_figure(fig, path)

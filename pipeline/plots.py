@@ -15,7 +15,8 @@ STYLES = {"rigid": dict(color="k", lw=1.2), "flexible": dict(color="tab:blue", l
           "y": dict(color="tab:orange", lw=1.0), "z": dict(color="k", lw=1.2)}
 
 
-def _save(fig, path: Path) -> Path:
+def save_figure(fig, path: Path) -> Path:
+    """Write a figure as PNG atomically (temporary file, then rename) and close it."""
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.tmp.png")
     fig.savefig(tmp, dpi=120)
@@ -41,7 +42,7 @@ def plot_responses(path: Path, title: str, curves: dict[str, tuple[np.ndarray, n
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize=8)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_series(path: Path, title: str, t: np.ndarray, value: np.ndarray, ylabel: str) -> Path:
@@ -53,4 +54,4 @@ def plot_series(path: Path, title: str, t: np.ndarray, value: np.ndarray, ylabel
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dynamics.scene import Base, Body, Drive, Scene
+from dynamics.scene import Base, Drive, Scene
 from dynamics.shapes import Sinusoid, Triangle
 from dynamics.statics import solve_statics
 from dynamics.system import System
