@@ -402,17 +402,15 @@ class _Projector:
 
 
 class _TrialTimes:
-    """Counts step attempts of SciPy's multistep/implicit solvers.
+    """Counts step attempts of SciPy's LSODA and BDF.
 
     Those solvers do not report rejected steps. Every attempt evaluates the
-    right-hand side at its own trial time(s) beyond the step's start, so the
-    number of distinct such times (divided by the stage times per attempt)
-    counts the attempts.
+    right-hand side at its own trial time beyond the step's start, so the
+    number of distinct such times counts the attempts.
     """
 
-    def __init__(self, fun, per_attempt: int):
+    def __init__(self, fun):
         self.fun = fun
-        self.per_attempt = per_attempt
         self.seen = set()
 
     def __call__(self, t, y):
@@ -422,7 +420,7 @@ class _TrialTimes:
     def attempts_since(self, t_old: float) -> int:
         k = sum(1 for s in self.seen if s > t_old)
         self.seen.clear()
-        return max(1, int(round(k / self.per_attempt)))
+        return max(1, k)
 
 
 def integrate(system: System, y0: np.ndarray, settings: Settings, *,
@@ -596,7 +594,7 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
             stats.segments += 1
             project(z)
             system.set_segment(t, tb)
-            trial = _TrialTimes(fun, 1)
+            trial = _TrialTimes(fun)
             hmax, h0 = _first_step(system, t, tb)
             extra = {"max_step": hmax, "first_step": h0} if h0 > 0 else {}
             if method == "bdf":

@@ -139,8 +139,6 @@ class System:
         jv, jq = np.linalg.eigh(self.J) if n else (np.zeros((0, 3)), np.zeros((0, 3, 3)))
         self.J_eig = jv
         self.J_vec = jq
-        self.J_vecT = np.ascontiguousarray(np.swapaxes(jq, -1, -2))
-        self.weight_r = self.m_r * self.g            # (n, 3) [N]
         # base
         self.r0_base = np.array(bodies[0].position, dtype=float)
         self.m_base = float(bodies[0].mass)
@@ -162,8 +160,6 @@ class System:
                             else np.zeros(3))
         else:
             self.support = np.array(base.support, dtype=float)
-        self._has_drive = any(self._drives)
-        self._has_load = any(self._loads)
         # mounts
         M = len(scene.mounts)
         self.M = M
