@@ -1,8 +1,8 @@
 """The ``flexbed`` command: ``main(argv)`` builds the subcommands.
 
-Every subcommand lives in its own module ``pipeline.cmd_<name>`` with
+Every subcommand lives in its own module ``flexbed.commands.<name>`` with
 ``add_args(parser)`` and ``run(args) -> int``. Failures the user can act on
-come up as :class:`pipeline.errors.FlexbedError` and leave as one line on
+come up as :class:`flexbed.errors.FlexbedError` and leave as one line on
 stderr and an exit code: 0 success, 1 numerical failure, 2 bad input.
 """
 
@@ -12,8 +12,8 @@ import argparse
 import importlib
 import sys
 
-from .errors import EXIT_INPUT, FlexbedError
-from .store import package_version
+from flexbed.errors import EXIT_INPUT, FlexbedError
+from flexbed.files.store import package_version
 
 COMMANDS = {
     "scene": "print the built-in reference scene as TOML",
@@ -41,7 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"flexbed {package_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name, summary in COMMANDS.items():
-        module = importlib.import_module(f"pipeline.cmd_{name}")
+        module = importlib.import_module(f"flexbed.commands.{name}")
         p = sub.add_parser(name, help=summary)
         module.add_args(p)
         p.set_defaults(_run=module.run)

@@ -11,11 +11,11 @@ import math
 import numpy as np
 import pytest
 
-from dynamics.integrate import Run, Settings, Stats
-from pipeline.bench_dynamics import (Measurement, classify, fastest_reaching, observed_orders,
+from flexbed.dynamics.integrate import Run, Settings, Stats
+from flexbed.bench.dynamics import (Measurement, classify, fastest_reaching, observed_orders,
                                      run_ladders)
-from pipeline.bench_report import SECTIONS, write_report
-from pipeline.cli import main
+from flexbed.bench.report import SECTIONS, write_report
+from flexbed.cli import main
 
 T_END = 0.5
 PNG = b"\x89PNG\r\n\x1a\n"

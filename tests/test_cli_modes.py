@@ -5,9 +5,9 @@ import re
 
 import pytest
 
-from pipeline.cli import main
-from pipeline.modes_file import read_modes_file
-from pipeline.scene_file import builtin_scene_path
+from flexbed.cli import main
+from flexbed.files.modes import read_modes_file
+from flexbed.files.scene import builtin_scene_path
 
 
 def scene_with(tmp_path, old, new, name="s.toml"):
@@ -144,8 +144,8 @@ def test_run_writes_every_stage_into_the_folder(tmp_path, capsys):
     assert "5.084327544" in summary and "5.331875044" in summary
     # the summary's numbers are the results files' numbers
     import numpy as np
-    from pipeline.post import Point, Run, motion_table
-    from pipeline.results_file import read_results
+    from flexbed.analyses.points import Point, Run, motion_table
+    from flexbed.files.results import read_results
     for case in ("rigid", "flexible", "damped"):
         c = read_results(tmp_path / "out" / f"lee1999-{case}.h5")
         z = np.asarray(c.get("bodies/position"))[0, 2, 2]

@@ -5,8 +5,8 @@ import csv
 
 import pytest
 
-from pipeline.cli import main
-from pipeline.scene_file import builtin_scene_path
+from flexbed.cli import main
+from flexbed.files.scene import builtin_scene_path
 
 FLEX = ('model = "rigid"', 'model = "flexible"')
 

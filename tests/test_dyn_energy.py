@@ -3,11 +3,11 @@ closed balance in a scene where the paper's mount is not conservative."""
 
 import numpy as np
 
-from dynamics.history import history
-from dynamics.integrate import Settings, integrate
-from dynamics.laws import LinearLaw
-from dynamics.scene import Base, Body, Mount, Scene
-from dynamics.system import System
+from flexbed.dynamics.history import history
+from flexbed.dynamics.integrate import Settings, integrate
+from flexbed.dynamics.laws import LinearLaw
+from flexbed.dynamics.scene import Base, Body, Mount, Scene
+from flexbed.dynamics.system import System
 
 SIGNS = [(-1, -1), (-1, 1), (1, -1), (1, 1)]
 

@@ -8,14 +8,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from dynamics.flexible import FlexibleBody, rayleigh_damping
-from dynamics.integrate import Settings, integrate
-from dynamics.rotation import A as rotation_matrix
-from dynamics.scene import Base, Body, Scene
-from dynamics.system import System
-from fem.bed import compute_bed_modes
-from fem.spec import PlateSpec
-from pipeline.scene_file import load_scene
+from flexbed.dynamics.flexible import FlexibleBody, rayleigh_damping
+from flexbed.dynamics.integrate import Settings, integrate
+from flexbed.dynamics.rotation import A as rotation_matrix
+from flexbed.dynamics.scene import Base, Body, Scene
+from flexbed.dynamics.system import System
+from flexbed.fem.bed import compute_bed_modes
+from flexbed.fem.spec import PlateSpec
+from flexbed.files.scene import load_scene
 
 
 @pytest.fixture(scope="module")
@@ -166,7 +166,7 @@ def test_zero_modes_reproduce_the_rigid_bed():
     rigid = System(scene)
     flex = System(replace(scene, flexible=(("bed", fb),)))
     assert rigid.ny == flex.ny
-    from dynamics.statics import solve_statics
+    from flexbed.dynamics.statics import solve_statics
     eq_r, eq_f = solve_statics(rigid), solve_statics(flex)
     assert np.abs(eq_r.y - eq_f.y).max() < 1e-12
     s = Settings(method="rk4", t_end=0.5, dt=1e-3, output_dt=0.01)
@@ -179,7 +179,7 @@ def test_zero_modes_reproduce_the_rigid_bed():
 
 def test_modal_damping_ratio_gives_its_decay(bed):
     """Damping stated as a ratio per mode: c_kk = 2 ζ_k ω_k, decay ζω."""
-    from dynamics.flexible import modal_damping
+    from flexbed.dynamics.flexible import modal_damping
     fb0 = flexible(bed, 2)
     zeta = [0.02, 0.05]
     system = floating(replace(fb0, modal_damping=modal_damping(bed.modes.omega[:2], zeta)))

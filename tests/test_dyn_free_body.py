@@ -2,10 +2,10 @@
 
 import numpy as np
 
-from dynamics.integrate import Settings, integrate
-from dynamics.rotation import A, p_from_angles
-from dynamics.scene import Base, Body, Scene
-from dynamics.system import System
+from flexbed.dynamics.integrate import Settings, integrate
+from flexbed.dynamics.rotation import A, p_from_angles
+from flexbed.dynamics.scene import Base, Body, Scene
+from flexbed.dynamics.system import System
 
 
 def spinning(J, w0, p0=(1.0, 0.0, 0.0, 0.0), v0=(0.0, 0.0, 0.0)):

@@ -6,14 +6,14 @@ import math
 import numpy as np
 import pytest
 
-from dynamics.history import history
-from dynamics.integrate import Settings, integrate
-from dynamics.laws import CurveLaw, LinearLaw, PolynomialLaw
-from dynamics.rotation import A, p_from_angles
-from dynamics.scene import Base, Body, Drive, Load, Mount, Scene
-from dynamics.shapes import Curve, Sinusoid, Trapezoid, Triangle, sampled
-from dynamics.statics import solve_statics
-from dynamics.system import System
+from flexbed.dynamics.history import history
+from flexbed.dynamics.integrate import Settings, integrate
+from flexbed.dynamics.laws import CurveLaw, LinearLaw, PolynomialLaw
+from flexbed.dynamics.rotation import A, p_from_angles
+from flexbed.dynamics.scene import Base, Body, Drive, Load, Mount, Scene
+from flexbed.dynamics.shapes import Curve, Sinusoid, Trapezoid, Triangle, sampled
+from flexbed.dynamics.statics import solve_statics
+from flexbed.dynamics.system import System
 
 SIGNS = [(-1, -1), (-1, 1), (1, -1), (1, 1)]
 K_BED, K_EQ, C_EQ = 5.0e5, 1.0e5, 300.0

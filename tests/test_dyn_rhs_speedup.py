@@ -8,8 +8,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from dynamics.flexible import FlexibleBody, FlexibleEOM
-from dynamics.rotation import A as rotation_matrix
+from flexbed.dynamics.flexible import FlexibleBody, FlexibleEOM
+from flexbed.dynamics.rotation import A as rotation_matrix
 
 
 def skew(v):

@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from dynamics.integrate import Settings, integrate
-from dynamics.laws import LinearLaw
-from dynamics.scene import Base, Body, Drive, Mount, Scene
-from dynamics.shapes import Sinusoid
-from dynamics.system import System
+from flexbed.dynamics.integrate import Settings, integrate
+from flexbed.dynamics.laws import LinearLaw
+from flexbed.dynamics.scene import Base, Body, Drive, Mount, Scene
+from flexbed.dynamics.shapes import Sinusoid
+from flexbed.dynamics.system import System
 
 M_BODY = 50.0
 K = 2.0e4           # N/m
@@ -87,7 +87,7 @@ def test_sinusoidal_base_drive_matches_exact_response_and_transmissibility():
              + np.exp(-zeta * wn * t) * (C1 * np.cos(wd * t) + C2 * np.sin(wd * t)))
     assert np.max(np.abs(x - exact)) < 1e-9 * math.hypot(P, Q)
     # steady state: absolute acceleration amplitude / base amplitude = transmissibility
-    from dynamics.history import history
+    from flexbed.dynamics.history import history
     late = t > 4.0          # transient down by exp(-16)
     h = history(s, t[late], run.y[late])
     acc = h["acceleration"][:, 1, 2]

@@ -8,9 +8,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 from skfem import ElementQuadBFS, Basis, LinearForm
 
-from fem.element import ElementQuadBFSLocal
-from fem.plate import _bending, assemble_plate
-from fem.spec import PlateSpec
+from flexbed.fem.element import ElementQuadBFSLocal
+from flexbed.fem.plate import _bending, assemble_plate
+from flexbed.fem.spec import PlateSpec
 
 
 def simply_supported(model):

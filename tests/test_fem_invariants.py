@@ -5,11 +5,11 @@ deformed solid."""
 import numpy as np
 import pytest
 
-from fem.bed import compute_bed_modes
-from fem.invariants import second_moments
-from fem.plate import assemble_plate
-from fem.shapes import GridShapes
-from fem.spec import PlateSpec
+from flexbed.fem.bed import compute_bed_modes
+from flexbed.fem.invariants import second_moments
+from flexbed.fem.plate import assemble_plate
+from flexbed.fem.shapes import GridShapes
+from flexbed.fem.spec import PlateSpec
 
 N_MODES = 5
 
@@ -86,7 +86,7 @@ def test_configuration_dependent_inertia_against_brute_force(bed):
     in-plane inertia the bending model lacks (the solid's x, y extent) is in
     I7 exactly, so the comparison is to round-off."""
     model = assemble_plate(PlateSpec())
-    from fem.modes import free_free_modes
+    from flexbed.fem.modes import free_free_modes
     modes = free_free_modes(model, n_modes=N_MODES)
     inv = compute_bed_modes(PlateSpec(), n_modes=N_MODES).invariants
     a = np.array([3.0, -2.0, 1.5, 0.7, -1.1])        # sqrt(kg) m: deflections of ~0.1 m
@@ -103,7 +103,7 @@ def test_configuration_dependent_inertia_against_brute_force(bed):
 
 def test_second_moments_match_the_mass_matrix(bed):
     model = assemble_plate(PlateSpec())
-    from fem.modes import free_free_modes
+    from flexbed.fem.modes import free_free_modes
     phi = free_free_modes(model, n_modes=N_MODES).vectors
     S, Q, P = second_moments(model, phi)
     trace = np.trace(P, axis1=2, axis2=3)
@@ -114,7 +114,7 @@ def test_grid_shapes_reproduce_the_fe_field(bed):
     """Mode shapes from the modes-file data (nodal translation, rotation,
     twist) evaluated between nodes equal the FE field there."""
     model = assemble_plate(PlateSpec())
-    from fem.modes import free_free_modes
+    from flexbed.fem.modes import free_free_modes
     phi = free_free_modes(model, n_modes=N_MODES).vectors
     shapes = GridShapes.from_nodes(bed.nodes, bed.translation, bed.rotation, bed.twist)
     rng = np.random.default_rng(1)

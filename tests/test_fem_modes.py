@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 import scipy.linalg as la
 
-from fem.bed import compute_bed_modes
-from fem.modes import ModesError, free_free_modes
-from fem.plate import assemble_plate
-from fem.spec import PlateSpec, PlateSpecError
+from flexbed.fem.bed import compute_bed_modes
+from flexbed.fem.modes import ModesError, free_free_modes
+from flexbed.fem.plate import assemble_plate
+from flexbed.fem.spec import PlateSpec, PlateSpecError
 
 REFERENCE = PlateSpec()
 

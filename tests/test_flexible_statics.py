@@ -7,14 +7,14 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from dynamics.flexible import FlexibleBody
-from dynamics.laws import LinearLaw
-from dynamics.scene import Base, Body, Mount, Scene
-from dynamics.statics import solve_statics
-from dynamics.system import System
-from fem.bed import compute_bed_modes
-from fem.plate import assemble_plate
-from fem.spec import PlateSpec
+from flexbed.dynamics.flexible import FlexibleBody
+from flexbed.dynamics.laws import LinearLaw
+from flexbed.dynamics.scene import Base, Body, Mount, Scene
+from flexbed.dynamics.statics import solve_statics
+from flexbed.dynamics.system import System
+from flexbed.fem.bed import compute_bed_modes
+from flexbed.fem.plate import assemble_plate
+from flexbed.fem.spec import PlateSpec
 
 K_MOUNT = 5.0e5          # N/m, the reference scene's base-to-bed mounts
 G = 9.81

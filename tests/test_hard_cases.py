@@ -32,15 +32,15 @@ import numpy as np
 import pytest
 from scipy.special import ellipj, ellipk
 
-from dynamics.history import history
-from dynamics.integrate import Settings, integrate, motion_eigenvalues, stable_step, stiff_message
-from dynamics.rotation import A as rotation_matrix
-from dynamics.statics import solve_statics
-from pipeline.cli import main as flexbed
-from pipeline.cmd_modes import ensure_modes
-from pipeline.cmd_static import compile_scene
-from pipeline.results_file import read_results
-from pipeline.scene_file import load_scene
+from flexbed.dynamics.history import history
+from flexbed.dynamics.integrate import Settings, integrate, motion_eigenvalues, stable_step, stiff_message
+from flexbed.dynamics.rotation import A as rotation_matrix
+from flexbed.dynamics.statics import solve_statics
+from flexbed.cli import main as flexbed
+from flexbed.stages.modes import ensure_modes
+from flexbed.stages.system import compile_scene
+from flexbed.files.results import read_results
+from flexbed.files.scene import load_scene
 
 SCENES = Path(__file__).parent / "scenes"
 G = 9.81

@@ -11,13 +11,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dynamics.integrate import Settings, integrate
-from dynamics.linear import run_linear
-from dynamics.statics import solve_statics
-from pipeline.cmd_modes import ensure_modes
-from pipeline.cmd_static import compile_scene
-from pipeline.results_file import read_results
-from pipeline.scene_file import load_scene
+from flexbed.dynamics.integrate import Settings, integrate
+from flexbed.dynamics.linear import run_linear
+from flexbed.dynamics.statics import solve_statics
+from flexbed.stages.modes import ensure_modes
+from flexbed.stages.system import compile_scene
+from flexbed.files.results import read_results
+from flexbed.files.scene import load_scene
 
 SDOF = Path(__file__).parent / "scenes" / "linear_sdof.toml"
 
@@ -116,7 +116,7 @@ def test_error_estimate_matches_the_nonlinear_model():
 
 def _simulate(tmp_path, *args):
     out = tmp_path / "r.h5"
-    cp = subprocess.run([sys.executable, "-m", "pipeline.cli", "simulate", str(SDOF), "-o",
+    cp = subprocess.run([sys.executable, "-m", "flexbed.cli", "simulate", str(SDOF), "-o",
                          str(out), "--no-progress", *args], capture_output=True, text=True,
                         cwd=tmp_path)
     return cp, out

@@ -8,13 +8,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dynamics.scene import Base, Drive, Scene
-from dynamics.shapes import Sinusoid, Triangle
-from dynamics.statics import solve_statics
-from dynamics.system import System
-from pipeline.errors import InputError
-from pipeline.modes_auto import input_frequency, suspension_frequency
-from pipeline.scene_file import load_scene
+from flexbed.dynamics.scene import Base, Drive, Scene
+from flexbed.dynamics.shapes import Sinusoid, Triangle
+from flexbed.dynamics.statics import solve_statics
+from flexbed.dynamics.system import System
+from flexbed.errors import InputError
+from flexbed.stages.modes_auto import input_frequency, suspension_frequency
+from flexbed.files.scene import load_scene
 
 SDOF = Path(__file__).parent / "scenes" / "linear_sdof.toml"
 
@@ -81,8 +81,8 @@ def test_auto_bad_input(tmp_path, extra, words):
 
 
 def test_auto_keeps_at_least_one_mode(tmp_path):
-    from pipeline.cmd_modes import ensure_modes
-    from pipeline.flexible_bed import kept_modes
+    from flexbed.stages.modes import ensure_modes
+    from flexbed.stages.flexible_bed import kept_modes
     sf = load_scene(_auto_scene(tmp_path, ""))
     data, _ = ensure_modes(sf, tmp_path / "m.h5", log=lambda m: None)
     n = kept_modes(sf, data)

@@ -5,11 +5,11 @@ import h5py
 import numpy as np
 import pytest
 
-from fem.bed import compute_bed_modes
-from fem.spec import PlateSpec
-from pipeline import store
-from pipeline.errors import InputError
-from pipeline.modes_file import read_modes_file, write_modes_file
+from flexbed.fem.bed import compute_bed_modes
+from flexbed.fem.spec import PlateSpec
+from flexbed.files import store
+from flexbed.errors import InputError
+from flexbed.files.modes import read_modes_file, write_modes_file
 
 
 @pytest.fixture(scope="module")

@@ -5,11 +5,11 @@ import h5py
 import numpy as np
 import pytest
 
-from pipeline.cli import main
-from pipeline.modes_file import read_modes_file
-from pipeline.post import Point, Run
-from pipeline.results_file import read_results
-from pipeline.scene_file import builtin_scene_path
+from flexbed.cli import main
+from flexbed.files.modes import read_modes_file
+from flexbed.analyses.points import Point, Run
+from flexbed.files.results import read_results
+from flexbed.files.scene import builtin_scene_path
 
 
 @pytest.fixture(scope="module")

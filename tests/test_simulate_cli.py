@@ -4,9 +4,9 @@ interrupted runs, and bad input (one line, exit code 2, no output file)."""
 import numpy as np
 import pytest
 
-from pipeline.cli import main
-from pipeline.results_file import read_results
-from pipeline.scene_file import load_scene
+from flexbed.cli import main
+from flexbed.files.results import read_results
+from flexbed.files.scene import load_scene
 
 
 def flexbed(argv):
@@ -104,7 +104,7 @@ def test_start_from_initial_and_from_an_equilibrium_file(tmp_path, capsys):
 
 
 def test_an_interrupted_run_keeps_its_samples_marked_incomplete(tmp_path, monkeypatch, capsys):
-    from pipeline import cmd_simulate
+    from flexbed.commands import simulate as cmd_simulate
 
     def ctrl_c(self, t):
         if t > 0.1:

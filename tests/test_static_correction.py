@@ -12,14 +12,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from dynamics.integrate import Settings, integrate
-from dynamics.statics import solve_statics
-from pipeline.cli import main
-from pipeline.cmd_modes import ensure_modes
-from pipeline.cmd_static import compile_scene
-from pipeline.post import Point, Run
-from pipeline.scene_file import builtin_scene_path, load_scene
-from pipeline.residual_modes import change_of_modes, residual_basis
+from flexbed.dynamics.integrate import Settings, integrate
+from flexbed.dynamics.statics import solve_statics
+from flexbed.cli import main
+from flexbed.stages.modes import ensure_modes
+from flexbed.stages.system import compile_scene
+from flexbed.analyses.points import Point, Run
+from flexbed.files.scene import builtin_scene_path, load_scene
+from flexbed.stages.residual_modes import change_of_modes, residual_basis
 
 N_FILE = 20
 

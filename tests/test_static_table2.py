@@ -3,13 +3,13 @@
 
 import numpy as np
 
-from dynamics.laws import LinearLaw, PolynomialLaw
-from dynamics.rotation import angles_from_p
-from dynamics.scene import Base, Body, Mount, Scene
-from dynamics.statics import solve_statics
-from dynamics.system import System
-from pipeline.cli import main
-from pipeline.scene_file import load_scene
+from flexbed.dynamics.laws import LinearLaw, PolynomialLaw
+from flexbed.dynamics.rotation import angles_from_p
+from flexbed.dynamics.scene import Base, Body, Mount, Scene
+from flexbed.dynamics.statics import solve_statics
+from flexbed.dynamics.system import System
+from flexbed.cli import main
+from flexbed.files.scene import load_scene
 
 
 def flexbed(argv):
@@ -93,7 +93,7 @@ def test_static_command_prints_table2_and_writes_the_equilibrium(tmp_path, capsy
     assert "5.084327544" in text and "5.331875044" in text
     assert "iterations" in text and "residual" in text
     assert out.is_file()
-    from pipeline.results_file import read_equilibrium
+    from flexbed.files.results import read_equilibrium
     sf = load_scene()
     s = System(sf.scene)
     y = read_equilibrium(out, sf, s)

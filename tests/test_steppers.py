@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from dynamics import integrate as integrate_module
-from dynamics.integrate import Settings, integrate
-from dynamics.statics import solve_statics
-from dynamics.system import System
-from pipeline.cmd_static import compile_scene
-from pipeline.scene_file import load_scene
+from flexbed.dynamics import integrate as integrate_module
+from flexbed.dynamics.integrate import Settings, integrate
+from flexbed.dynamics.statics import solve_statics
+from flexbed.dynamics.system import System
+from flexbed.stages.system import compile_scene
+from flexbed.files.scene import load_scene
 from test_dyn_single_mount import K, M_BODY, Z0, free_vibration, one_mount
 
 AMP = 0.01

@@ -1,0 +1,193 @@
+"""Rigid, flexible and damped flexible bed on one scene (paper, section 5.2).
+
+Three runs of the same scene: the bed rigid; flexible without structural
+damping (α = β = 0); flexible with the scene's damping. Each from its own
+static equilibrium (the flexible ones with the bed's sag unless the scene
+says otherwise). Per piece of equipment (every body after the bed), the
+vertical motion relative to the base, d(t) = (z_e − z_base)(t) − (z_e −
+z_base)(0), is summarised by its peak, RMS, dominant frequency, its delay
+against the rigid case and its decay once the loads have ended.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from flexbed.dynamics.statics import solve_statics
+
+from flexbed.stages.system import compile_scene
+from flexbed.errors import NumericalError
+from flexbed.files.modes import ModesData
+from flexbed.stages.motion import solve_motion
+from flexbed.files.results import read_results, write_results
+from flexbed.files.scene import SceneFile
+
+CASES = ("rigid", "flexible", "damped")
+LABELS = {"rigid": "rigid bed", "flexible": "flexible bed (α = β = 0)",
+          "damped": "damped flexible bed"}
+
+
+@dataclass(frozen=True)
+class CaseRun:
+    """One of the three runs: the results file and what it holds."""
+
+    case: str
+    path: Path
+    t: np.ndarray
+    position: np.ndarray          # (k, nb, 3)
+    base_acceleration: np.ndarray  # (k, 3)
+    static_position: np.ndarray   # (nb, 3)
+    steps: int
+    rhs_evaluations: int
+    wall_time: float
+    load_end: float
+
+
+def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=print) -> CaseRun:
+    """Statics then simulation of one case; writes its results file."""
+    if case == "rigid":
+        csf = replace(sf, bed=replace(sf.bed, model="rigid"))
+        system = compile_scene(csf)
+    else:
+        csf = replace(sf, bed=replace(sf.bed, model="flexible"))
+        system = compile_scene(csf, data.path, damped=(case == "damped"))
+    sag = sf.bed.static_sag if case != "rigid" else True
+    eq = solve_statics(system, tol=sf.solver.static_tol, sag=sag)
+    if not eq.success:
+        raise NumericalError(f"{sf.source.name} ({LABELS[case]}): {eq.message}")
+    start = sf.solver.start
+    y0 = eq.y if start == "equilibrium" else system.initial_state()
+    motion = solve_motion(system, eq.y, y0, sf.solver.settings(), model=sf.solver.model,
+                          linear_tol=sf.solver.linear_tol)
+    result = motion.run
+    write_results(path, csf, system, result, start=start,
+                  equilibrium=eq if start == "equilibrium" else None,
+                  modes_path=data.path if case != "rigid" else None, model=motion.attrs())
+    if not result.complete:
+        raise NumericalError(f"{LABELS[case]}: {result.message}; the samples up to "
+                             f"t = {result.t_reached:.6g} s are in {path} (marked incomplete)")
+    stored = read_results(path)
+    pos = np.asarray(stored.get("bodies/position"))
+    acc = np.asarray(stored.get("bodies/acceleration"))[:, 0, :]
+    obs0 = system.observe(0.0, eq.y)
+    st = result.stats
+    how = f" (model {sf.solver.model}: {motion.reason})" if sf.solver.model != "nonlinear" else ""
+    log(f"  {LABELS[case]}: {st.method}, {st.steps} steps, {st.rhs_evaluations} right-hand "
+        f"sides, {st.wall_time:.2f} s{how} -> {path.name}")
+    return CaseRun(case=case, path=path, t=result.t, position=pos, base_acceleration=acc,
+                   static_position=obs0.r.copy(), steps=st.steps,
+                   rhs_evaluations=st.rhs_evaluations, wall_time=st.wall_time,
+                   load_end=max(system.breakpoints, default=0.0))
+
+
+def relative_vertical(run: CaseRun, body: int) -> np.ndarray:
+    """d(t): vertical motion of ``body`` relative to the base, from its start [m]."""
+    z = run.position[:, body, 2] - run.position[:, 0, 2]
+    return z - z[0]
+
+
+def dominant_frequency(t: np.ndarray, d: np.ndarray) -> float:
+    """Frequency of the largest spectral peak of d (Hann window, parabolic
+    refinement of the peak bin) [Hz]."""
+    if d.size < 8 or not np.any(d):
+        return 0.0
+    dt = float(np.mean(np.diff(t)))
+    x = (d - d.mean()) * np.hanning(d.size)
+    n = 8 * d.size
+    spec = np.abs(np.fft.rfft(x, n))
+    k = int(np.argmax(spec[1:])) + 1
+    if 1 <= k < spec.size - 1:
+        a, b, c = np.log(spec[k - 1:k + 2] + 1e-300)
+        k = k + 0.5 * (a - c) / (a - 2 * b + c)
+    return float(k / (n * dt))
+
+
+def delay(t: np.ndarray, d: np.ndarray, ref: np.ndarray, max_lag: float = 0.05) -> float:
+    """Time shift [s] of d against ref that best aligns them (positive: d
+    lags), from the cross-correlation with a parabolic refinement."""
+    dt = float(np.mean(np.diff(t)))
+    m = max(1, int(round(max_lag / dt)))
+    lags = np.arange(-m, m + 1)
+    cc = np.array([np.dot(d[max(0, L):d.size + min(0, L)], ref[max(0, -L):ref.size - max(0, L)])
+                   for L in lags])
+    i = int(np.argmax(cc))
+    shift = float(lags[i])
+    if 0 < i < cc.size - 1:
+        a, b, c = cc[i - 1:i + 2]
+        if a - 2 * b + c != 0:
+            shift += 0.5 * (a - c) / (a - 2 * b + c)
+    return shift * dt
+
+
+def decay(t: np.ndarray, d: np.ndarray, t_free: float) -> float:
+    """Peak |d| over the second half of the free vibration divided by the
+    peak over its first half (1: no decay) [–]; nan without free vibration."""
+    if not t_free < t[-1]:
+        return math.nan
+    mid = 0.5 * (t_free + t[-1])
+    first = np.abs(d[(t >= t_free) & (t < mid)])
+    second = np.abs(d[t >= mid])
+    if first.size == 0 or second.size == 0 or first.max() == 0:
+        return math.nan
+    return float(second.max() / first.max())
+
+
+def comparison_rows(runs: dict[str, CaseRun], names: list[str], bodies: list[int]) -> list[dict]:
+    """One row per (equipment, case) with the summary figures."""
+    rigid = runs["rigid"]
+    rows = []
+    for body in bodies:
+        ref = relative_vertical(rigid, body)
+        for case in CASES:
+            run = runs[case]
+            d = relative_vertical(run, body)
+            rows.append({
+                "equipment": names[body], "case": case,
+                "static_z": float(run.static_position[body, 2]),
+                "peak": float(np.abs(d).max()),
+                "rms": float(np.sqrt(np.mean(d * d))),
+                "frequency": dominant_frequency(run.t, d),
+                "delay": 0.0 if case == "rigid" else delay(run.t, d, ref),
+                "decay": decay(run.t, d, run.load_end),
+            })
+    return rows
+
+
+COLUMNS = (("equipment", "equipment", "{}"), ("case", "case", "{}"),
+           ("static_z", "static z [m]", "{:.6f}"), ("peak", "peak abs(d) [mm]", "{:.4f}"),
+           ("rms", "RMS d [mm]", "{:.4f}"), ("frequency", "dominant f [Hz]", "{:.3f}"),
+           ("delay", "delay vs rigid [ms]", "{:.3f}"), ("decay", "decay (2nd/1st half)", "{:.3f}"))
+
+
+def _cell(key: str, fmt: str, value) -> str:
+    if key in ("peak", "rms"):
+        value = 1e3 * value
+    if key == "delay":
+        value = 1e3 * value
+    if isinstance(value, float) and math.isnan(value):
+        return "n/a"
+    return fmt.format(value)
+
+
+def markdown_table(rows: list[dict]) -> str:
+    """The comparison as a Markdown table."""
+    head = "| " + " | ".join(title for _, title, _ in COLUMNS) + " |"
+    rule = "|" + "---|" * len(COLUMNS)
+    body = ["| " + " | ".join(_cell(k, f, r[k]) for k, _, f in COLUMNS) + " |" for r in rows]
+    return "\n".join([head, rule] + body)
+
+
+def csv_table(rows: list[dict]) -> str:
+    """The comparison as CSV (SI units: m, Hz, s)."""
+    keys = [k for k, _, _ in COLUMNS]
+    units = {"static_z": "static_z_m", "peak": "peak_m", "rms": "rms_m",
+             "frequency": "frequency_Hz", "delay": "delay_s", "decay": "decay_ratio"}
+    lines = [",".join(units.get(k, k) for k in keys)]
+    for r in rows:
+        lines.append(",".join(f"{r[k]:.10g}" if isinstance(r[k], float) else str(r[k])
+                              for k in keys))
+    return "\n".join(lines) + "\n"

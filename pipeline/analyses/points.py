@@ -1,0 +1,290 @@
+"""Post-processing of a finished run (paper, section 4): the motion of any
+point of interest, absolute or relative to any body, and the mount forces,
+computed from the results file alone (plus the modes file for points on a
+flexible bed), without running again.
+
+Kinematics, for a point at ū(t) in the frame of body b (rigid: ū = s̄; the
+flexible bed: ū = s̄ + Φ(s̄) a(t), Φ including the normal's rotation ×
+offset for points off the mid-surface):
+
+    R = r + A ū
+    Ṙ = ṙ + A (ω × ū + Φ ȧ)
+    R̈ = r̈ + A (α × ū + ω × (ω × ū) + 2 ω × Φ ȧ + Φ ä)
+
+with ω, α the body-frame angular velocity and acceleration. Relative to a
+body B, in B's frame (ρ = A_Bᵀ (R − r_B)):
+
+    ρ̇ = A_Bᵀ (Ṙ − ṙ_B) − ω_B × ρ
+    ρ̈ = A_Bᵀ (R̈ − r̈_B) − α_B × ρ − 2 ω_B × ρ̇ − ω_B × (ω_B × ρ)
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from flexbed.dynamics.flexible import cross
+from flexbed.dynamics.rotation import A as rotation_matrix
+from flexbed.fem.shapes import GridShapes, OutsidePlateError
+
+from flexbed.errors import InputError
+from flexbed.files.modes import read_modes_file
+from flexbed.files.results import read_results
+
+
+@dataclass(frozen=True)
+class Point:
+    """A point of interest: ``position`` [m] in the frame of ``body``."""
+
+    name: str
+    body: str
+    position: np.ndarray
+    relative_to: str | None = None
+
+
+@dataclass(frozen=True)
+class PointMotion:
+    """Motion of one point over the run: (k, 3) arrays, inertial frame
+    (absolute) or the reference body's frame (relative) [m, m/s, m/s²]."""
+
+    point: Point
+    frame: str                 # "inertial" or the reference body's name
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+
+
+def parse_point(text: str) -> Point:
+    """``NAME=BODY:x,y,z`` → :class:`Point` (InputError on a malformed one)."""
+    try:
+        name, rest = text.split("=", 1)
+        body, coords = rest.rsplit(":", 1)
+        xyz = np.array([float(v) for v in coords.split(",")])
+    except ValueError:
+        raise InputError(f"--point {text!r}: expected NAME=BODY:x,y,z (metres, body frame)") \
+            from None
+    if not name or not body or xyz.shape != (3,) or not np.all(np.isfinite(xyz)):
+        raise InputError(f"--point {text!r}: expected NAME=BODY:x,y,z (metres, body frame)")
+    return Point(name=name, body=body, position=xyz)
+
+
+class Run:
+    """A results file opened for post-processing (and its modes file when
+    the bed was flexible)."""
+
+    def __init__(self, path: str | Path):
+        c = read_results(path)
+        self.path = c.path
+        if not c.attrs.get("", {}).get("complete", True):
+            self.incomplete = str(c.attrs[""].get("message", ""))
+        else:
+            self.incomplete = ""
+        self.t = np.asarray(c.get("time"), dtype=float)
+        self.names = [str(n) for n in c.get("bodies/names")]
+        self.r = np.asarray(c.get("bodies/position"), dtype=float)
+        self.p = np.asarray(c.get("bodies/euler_parameters"), dtype=float)
+        self.rd = np.asarray(c.get("bodies/velocity"), dtype=float)
+        self.rdd = np.asarray(c.get("bodies/acceleration"), dtype=float)
+        self.w = np.asarray(c.get("bodies/angular_velocity"), dtype=float)
+        self.wd = np.asarray(c.get("bodies/angular_acceleration"), dtype=float)
+        self.A = rotation_matrix(self.p)                                  # (k, nb, 3, 3)
+        self.mount_names = [str(n) for n in np.atleast_1d(c.datasets.get("mounts/names", []))]
+        self.mounts = {key: np.asarray(c.datasets[f"mounts/{key}"])
+                       for key in ("deflection", "rate", "force", "force_i", "force_j")
+                       if f"mounts/{key}" in c.datasets}
+        text = str(c.datasets.get("scene/toml", ""))
+        try:
+            self.scene_points = tuple(self._scene_points(tomllib.loads(text)))
+        except tomllib.TOMLDecodeError:
+            raise InputError(f"{self.path}: dataset 'scene/toml' is not valid TOML") from None
+        bed = c.attrs.get("bed", {})
+        self.bed_model = str(bed.get("model", "rigid"))
+        self.bed_name = None
+        self.shapes = None
+        self.translation = None
+        if self.bed_model == "flexible":
+            self._open_modes(c, bed)
+
+    def _scene_points(self, data: dict):
+        for i, p in enumerate(data.get("point", [])):
+            try:
+                pos = np.array(p["position"], dtype=float)
+                yield Point(name=str(p["name"]), body=str(p["body"]), position=pos,
+                            relative_to=p.get("relative_to"))
+            except (KeyError, TypeError, ValueError):
+                raise InputError(f"{self.path}: scene point {i + 1} is malformed") from None
+
+    def _open_modes(self, c, bed: dict) -> None:
+        path = Path(str(bed.get("modes_file", "")))
+        if not str(path) or not path.exists():
+            raise InputError(f"{self.path}: the flexible bed's modes file {str(path)!r} is "
+                             f"missing; re-run 'flexbed modes' (and the simulation)")
+        data = read_modes_file(path)
+        if data.input_hash != str(bed.get("plate_input_hash", "")):
+            raise InputError(f"{self.path}: modes file {path} was made for another bed than "
+                             f"this run; re-run 'flexbed modes' and 'flexbed simulate'")
+        n = int(bed.get("n_modes", 0))
+        basis = c.datasets.get("modal/basis")
+        basis = np.eye(n) if basis is None else np.asarray(basis, dtype=float)
+        if basis.shape[0] > data.n_modes or basis.shape[1] != n:
+            raise InputError(f"{self.path}: the run's {n} modal coordinates draw on "
+                             f"{basis.shape[0]} modes, {path} holds {data.n_modes}; re-run "
+                             f"'flexbed modes'")
+        a = np.asarray(c.get("modal/coordinates"), dtype=float)
+        self.a = a[:, :n]
+        self.ad = np.asarray(c.get("modal/rates"), dtype=float)[:, :n]
+        add = c.datasets.get("modal/accelerations")
+        if add is None:
+            raise InputError(f"{self.path}: dataset 'modal/accelerations' is missing")
+        self.add = np.asarray(add, dtype=float)[:, :n]
+        toml = tomllib.loads(str(c.datasets.get("scene/toml", "")))
+        self.bed_name = toml.get("bed", {}).get("body") or self.names[1]
+        self.translation, rotation, twist = run_shapes(data, basis)
+        self.shapes = GridShapes.from_nodes(data.nodes, self.translation, rotation, twist)
+
+    def body_index(self, name: str, what: str = "body") -> int:
+        if name not in self.names:
+            raise InputError(f"{self.path}: {what} {name!r} is not a body of this run "
+                             f"(bodies: {', '.join(self.names)})")
+        return self.names.index(name)
+
+    def absolute(self, point: Point) -> PointMotion:
+        """Inertial position, velocity and acceleration of a point."""
+        b = self.body_index(point.body, f"point '{point.name}': body")
+        s = np.asarray(point.position, dtype=float)
+        k = self.t.size
+        u = np.broadcast_to(s, (k, 3)).copy()
+        ud = np.zeros((k, 3))
+        udd = np.zeros((k, 3))
+        if self.shapes is not None and self.names[b] == self.bed_name:
+            try:
+                trans, _ = self.shapes.at(s[None, :])
+            except OutsidePlateError as exc:
+                raise InputError(f"point '{point.name}': {exc}") from None
+            phi = trans[:, 0, :].T                                       # (3, n)
+            u += self.a @ phi.T
+            ud = self.ad @ phi.T
+            udd = self.add @ phi.T
+        A = self.A[:, b]
+        w, wd = self.w[:, b], self.wd[:, b]
+        R = self.r[:, b] + np.einsum("kij,kj->ki", A, u)
+        V = self.rd[:, b] + np.einsum("kij,kj->ki", A, cross(w, u) + ud)
+        acc_body = cross(wd, u) + cross(w, cross(w, u)) + 2.0 * cross(w, ud) + udd
+        Acc = self.rdd[:, b] + np.einsum("kij,kj->ki", A, acc_body)
+        return PointMotion(point, "inertial", R, V, Acc)
+
+    def relative(self, point: Point, body: str) -> PointMotion:
+        """Motion of a point relative to ``body``, in that body's frame."""
+        m = self.absolute(point)
+        B = self.body_index(body, "--relative-to body")
+        AB = self.A[:, B]
+        wB, wdB = self.w[:, B], self.wd[:, B]
+        rho = np.einsum("kji,kj->ki", AB, m.position - self.r[:, B])
+        rhod = np.einsum("kji,kj->ki", AB, m.velocity - self.rd[:, B]) - cross(wB, rho)
+        rhodd = (np.einsum("kji,kj->ki", AB, m.acceleration - self.rdd[:, B])
+                 - cross(wdB, rho) - 2.0 * cross(wB, rhod) - cross(wB, cross(wB, rho)))
+        return PointMotion(point, body, rho, rhod, rhodd)
+
+
+def motion_table(motions: list[PointMotion]) -> str:
+    """Peaks of each point's motion: displacement from t = 0, speed, acceleration."""
+    head = ("| point | body | frame | peak displacement x, y, z [mm] | peak |v| [m/s] "
+            "| peak |a| [m/s²] |").replace("|v|", "speed").replace("|a|", "acceleration")
+    lines = [head, "|---|---|---|---|---|---|"]
+    for m in motions:
+        d = m.position - m.position[0]
+        peak = np.abs(d).max(axis=0) * 1e3
+        lines.append(f"| {m.point.name} | {m.point.body} | {m.frame} | "
+                     f"{peak[0]:.4f}, {peak[1]:.4f}, {peak[2]:.4f} | "
+                     f"{np.linalg.norm(m.velocity, axis=1).max():.5g} | "
+                     f"{np.linalg.norm(m.acceleration, axis=1).max():.5g} |")
+    return "\n".join(lines)
+
+
+def motion_csv(t: np.ndarray, m: PointMotion) -> str:
+    """Time series of one point as CSV (SI units)."""
+    cols = ["t_s"] + [f"{q}_{c}_{u}" for q, u in (("position", "m"), ("velocity", "m/s"),
+                                                  ("acceleration", "m/s2"))
+                      for c in "xyz"]
+    data = np.column_stack([t, m.position, m.velocity, m.acceleration])
+    lines = [",".join(cols)] + [",".join(f"{v:.12g}" for v in row) for row in data]
+    return "\n".join(lines) + "\n"
+
+
+def mount_table(run: Run) -> str:
+    """Peak deflection and force per mount and direction."""
+    if "deflection" not in run.mounts:
+        return "(no mounts)"
+    dx = np.abs(run.mounts["deflection"]).max(axis=0) * 1e3
+    f = np.abs(run.mounts["force"]).max(axis=0)
+    lines = ["| mount | peak Δx1, Δx2, Δx3 [mm] | peak f1, f2, f3 [N] |", "|---|---|---|"]
+    for i, name in enumerate(run.mount_names):
+        lines.append(f"| {name} | {dx[i, 0]:.4f}, {dx[i, 1]:.4f}, {dx[i, 2]:.4f} | "
+                     f"{f[i, 0]:.6g}, {f[i, 1]:.6g}, {f[i, 2]:.6g} |")
+    return "\n".join(lines)
+
+
+def mount_peaks_csv(run: Run) -> str:
+    """Peak |deflection| and |force| per mount and direction as CSV (m, N)."""
+    dx = np.abs(run.mounts["deflection"]).max(axis=0)
+    f = np.abs(run.mounts["force"]).max(axis=0)
+    lines = ["mount,peak_dx1_m,peak_dx2_m,peak_dx3_m,peak_f1_N,peak_f2_N,peak_f3_N"]
+    for i, name in enumerate(run.mount_names):
+        lines.append(",".join([name] + [f"{v:.10g}" for v in (*dx[i], *f[i])]))
+    return "\n".join(lines) + "\n"
+
+
+def mount_csv(run: Run) -> str:
+    """Mount deflections and forces over time as CSV (SI units)."""
+    cols = ["t_s"]
+    blocks = [run.t[:, None]]
+    for i, name in enumerate(run.mount_names):
+        for key, unit in (("deflection", "m"), ("force", "N")):
+            cols += [f"{name}_{key}{k + 1}_{unit}" for k in range(3)]
+            blocks.append(run.mounts[key][:, i, :])
+    data = np.hstack(blocks)
+    return "\n".join([",".join(cols)] + [",".join(f"{v:.12g}" for v in row)
+                                         for row in data]) + "\n"
+
+
+def run_shapes(data, basis: np.ndarray) -> tuple:
+    """The modes file's nodal shapes (translation (N, nodes, 3), rotation,
+    twist) in a run's modal coordinates, a_file = basis @ a (basis (N', n),
+    N' ≤ the file's modes): (n, nodes, 3) each."""
+    N = basis.shape[0]
+    return tuple(np.einsum("kn,k...->n...", basis, arr[:N])
+                 for arr in (data.translation, data.rotation, data.twist))
+
+
+def bed_motion(run: Run, nodes: np.ndarray, translation: np.ndarray):
+    """Positions of the bed's nodes over the run.
+
+    Parameters
+    ----------
+    nodes : ndarray (N, 3)
+        Nodes in the bed frame [m].
+    translation : ndarray (n, N, 3)
+        Translations at the nodes per modal coordinate of the run
+        (``Run.translation``; n ≥ the run's coordinates; unused for a rigid
+        bed).
+
+    Returns
+    -------
+    position : ndarray (k, N, 3)
+        Inertial positions [m].
+    deflection : ndarray (k, N)
+        Elastic deflection along the bed's normal [m].
+    """
+    b = run.names.index(run.bed_name) if run.bed_name else 1
+    u = np.broadcast_to(nodes, (run.t.size,) + nodes.shape).copy()
+    deflection = np.zeros((run.t.size, nodes.shape[0]))
+    if run.shapes is not None:
+        n = run.a.shape[1]
+        d = np.einsum("kn,nNj->kNj", run.a, translation[:n])
+        u += d
+        deflection = d[..., 2]
+    position = run.r[:, b, None, :] + np.einsum("kij,kNj->kNi", run.A[:, b], u)
+    return position, deflection

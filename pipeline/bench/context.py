@@ -1,0 +1,109 @@
+"""What the benchmark report's sections share: the scene, the options, the
+cases and references (built once, on first use), the results other
+sections read, and the figures written."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+from flexbed.bench.cases import CASES, Case, ModesStore, build_case
+from flexbed.bench.reference import Reference, compute_reference
+from flexbed.files.scene import SceneFile
+
+__all__ = ["BenchContext", "FULL", "QUICK"]
+
+
+@dataclass(frozen=True)
+class Profile:
+    """How thorough a report is.
+
+    cases : integrator cases (keys of :data:`flexbed.bench.cases.CASES`);
+    reference_dt : the reference's largest RK4 step [s]; budget : the
+    longest predicted wall time of one setting that is still run [s];
+    rhs_seconds : length of one timing of the right-hand side [s].
+    """
+
+    name: str
+    cases: tuple
+    reference_dt: float
+    budget: float
+    rhs_seconds: float
+
+
+FULL = Profile("full", ("rigid", "flexible", "damped"), reference_dt=5e-5, budget=15.0,
+               rhs_seconds=0.5)
+QUICK = Profile("quick", ("rigid", "flexible"), reference_dt=1.25e-4, budget=3.0,
+                rhs_seconds=0.05)
+
+
+@dataclass
+class BenchContext:
+    """Shared state of one report.
+
+    Parameters
+    ----------
+    scene : SceneFile
+    out_dir : Path
+        Where the report and its PNGs go.
+    workdir : Path
+        A scratch folder (modes files).
+    profile : Profile
+    t_end : float
+        End of every run [s] (the scene's unless a shorter one is asked).
+    output_dt : float
+        Spacing of the samples the errors are measured on [s].
+    log : callable(str)
+        Progress lines.
+
+    Attributes
+    ----------
+    results : dict
+        Structured results by section name (tests and later sections read them).
+    figures : list of Path
+        PNGs written so far.
+    """
+
+    scene: SceneFile
+    out_dir: Path
+    workdir: Path
+    profile: Profile
+    t_end: float
+    output_dt: float = 0.01
+    log: Callable[[str], None] = lambda m: None
+    results: dict[str, Any] = field(default_factory=dict)
+    figures: list[Path] = field(default_factory=list)
+    _cases: dict = field(default_factory=dict, repr=False)
+    _refs: dict = field(default_factory=dict, repr=False)
+    _modes: ModesStore | None = field(default=None, repr=False)
+
+    @property
+    def quick(self) -> bool:
+        return self.profile.name == "quick"
+
+    @property
+    def modes(self) -> ModesStore:
+        """The modes file shared by every flexible case."""
+        if self._modes is None:
+            self._modes = ModesStore(self.scene, self.workdir)
+        return self._modes
+
+    def case(self, key: str) -> Case:
+        """One of :data:`flexbed.bench.cases.CASES`, compiled at its equilibrium."""
+        if key not in self._cases:
+            self._cases[key] = build_case(self.scene, CASES[key], self.modes, self.t_end)
+        return self._cases[key]
+
+    def reference(self, key: str) -> Reference:
+        """The case's RK4 reference (computed on first use)."""
+        if key not in self._refs:
+            self._refs[key] = compute_reference(self.case(key), self.output_dt,
+                                                self.profile.reference_dt, log=self.log)
+        return self._refs[key]
+
+    def figure(self, name: str) -> Path:
+        """Path of a PNG of the report (``bench-<name>.png`` in ``out_dir``), recorded."""
+        path = self.out_dir / f"bench-{name}.png"
+        self.figures.append(path)
+        return path

@@ -1,0 +1,105 @@
+"""``flexbed modes [SCENE] [-o FILE] [--modes N | --fmax HZ] [--vtu DIR] [--force]``.
+
+Computes the common bed's free–free modes and modal invariants and writes
+the modes file, or reuses it when it was made from the same plate inputs
+(hash match) and holds the modes asked for.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from flexbed.fem.export import write_modes_vtu
+
+from flexbed.errors import InputError
+from flexbed.files.modes import ModesData, read_modes_file
+from flexbed.files.scene import load_scene
+from flexbed.stages.modes import default_modes_path, ensure_modes
+
+
+def add_args(parser: argparse.ArgumentParser) -> None:
+    parser.description = ("Free-free modes and modal invariants of the common bed "
+                          "(scikit-fem Kirchhoff plate), written to the modes file.")
+    parser.add_argument("scene", nargs="?", default=None,
+                        help="scene file (TOML); default: the built-in reference scene")
+    parser.add_argument("-o", "--output", default=None,
+                        help="modes file to write (default: the scene's modes_file, "
+                             "else <scene name>-modes.h5 in the current folder)")
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--modes", type=int, default=None, metavar="N",
+                       help="number of elastic modes to keep (default: the scene's)")
+    group.add_argument("--fmax", type=float, default=None, metavar="HZ",
+                       help="keep every elastic mode below this frequency [Hz]")
+    parser.add_argument("--vtu", default=None, metavar="DIR",
+                        help="also write the mode shapes as DIR/<name>-modes.vtu for ParaView")
+    parser.add_argument("--force", action="store_true",
+                        help="recompute even when the file matches the inputs")
+    parser.add_argument("--show", default=None, metavar="FILE",
+                        help="only read and check an existing modes file and print its table")
+
+
+def auto_line(bed) -> str:
+    """One line saying how ``modes = "auto"`` chose its cut-off."""
+    f_cut, f_in, f_sus = bed.auto
+    return (f"modes = \"auto\": inputs up to {f_in:.3g} Hz, suspension up to {f_sus:.3g} Hz; "
+            f"keeping the modes below {bed.auto_factor:g} x {max(f_in, f_sus):.3g} = "
+            f"{f_cut:.3g} Hz (at least one)")
+
+
+def modes_table(data: ModesData) -> str:
+    """The frequency table printed by the command."""
+    lines = [f"{'mode':>4}  {'f [Hz]':>10}  {'shape':<16}  sym",
+             f"{'-' * 4}  {'-' * 10}  {'-' * 16}  ---"]
+    for k, (f, label, sym) in enumerate(zip(data.frequency, data.labels, data.symmetry)):
+        lines.append(f"{k + 1:>4}  {f:>10.4f}  {label:<16}  {sym}")
+    return "\n".join(lines)
+
+
+def print_summary(data: ModesData) -> None:
+    """Print the plate, its solid mass properties and the frequency table."""
+    p = data.plate
+    print(f"bed: {p.length_x:g} x {p.length_y:g} x {p.thickness:g} m, E = {p.young:g} Pa, "
+          f"nu = {p.poisson:g}, rho = {p.density:g} kg/m^3, {p.nx} x {p.ny} elements "
+          f"({data.nodes.shape[0]} nodes)")
+    inv = data.invariants
+    print(f"mass {inv.mass:.6g} kg; inertia Jxx, Jyy, Jzz = {inv.inertia[0, 0]:.6g}, "
+          f"{inv.inertia[1, 1]:.6g}, {inv.inertia[2, 2]:.6g} kg m^2 (solid plate)")
+    print(modes_table(data))
+    if data.n_modes and abs(data.next_frequency - data.frequency[-1]) <= 1e-6 * data.next_frequency:
+        print(f"warning: mode {data.n_modes} and the first mode left out share the frequency "
+              f"{data.next_frequency:.4f} Hz; keep one more mode so the pair stays whole",
+              file=sys.stderr)
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.modes is not None and args.modes < 1:
+        raise InputError(f"--modes {args.modes}: at least one elastic mode is needed")
+    if args.fmax is not None and not args.fmax > 0:
+        raise InputError(f"--fmax {args.fmax}: must be > 0 Hz")
+    if args.show:
+        data = read_modes_file(args.show)
+        print_summary(data)
+        print(f"{data.path}: {data.n_modes} elastic modes; made by {data.creator} "
+              f"on {data.created}; input hash {data.input_hash[:12]}")
+        return 0
+    sf = load_scene(args.scene)
+    path = Path(args.output) if args.output else default_modes_path(sf)
+    t0 = time.perf_counter()
+    data, reused = ensure_modes(sf, path, n_modes=args.modes, fmax=args.fmax, force=args.force,
+                                log=lambda m: print(m, file=sys.stderr))
+    elapsed = time.perf_counter() - t0
+    print_summary(data)
+    if sf.bed.auto and args.modes is None and args.fmax is None:
+        print(auto_line(sf.bed))
+    asked = (f"{args.modes} asked" if args.modes else
+             f"all below {args.fmax:g} Hz asked" if args.fmax else "")
+    held = f"{data.n_modes} elastic modes" + (f", {asked}" if asked else "")
+    print(f"{'reused' if reused else 'wrote'} {path} ({held}; {elapsed:.2f} s)")
+    if args.vtu:
+        vtu = write_modes_vtu(Path(args.vtu) / f"{sf.scene.name}-modes.vtu", data.nodes,
+                              data.cells, data.translation, data.rotation, data.frequency)
+        print(f"wrote {vtu}")
+    return 0

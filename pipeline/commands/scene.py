@@ -1,0 +1,29 @@
+"""``flexbed scene [-o FILE]``: print (or write) the built-in reference scene
+as TOML, a starting point for a scene of your own."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from flexbed.errors import InputError
+from flexbed.files.scene import builtin_scene_path
+
+
+def add_args(parser: argparse.ArgumentParser) -> None:
+    parser.description = "Print the built-in reference scene (Lee, Kim & Jeong 1999) as TOML."
+    parser.add_argument("-o", "--output", default=None, metavar="FILE",
+                        help="write it to FILE instead of printing it (refuses to overwrite)")
+
+
+def run(args: argparse.Namespace) -> int:
+    text = builtin_scene_path().read_text()
+    if args.output is None:
+        print(text, end="")
+        return 0
+    path = Path(args.output)
+    if path.exists():
+        raise InputError(f"{path}: already exists; choose another name")
+    path.write_text(text)
+    print(f"wrote {path}")
+    return 0

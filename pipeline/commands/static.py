@@ -1,0 +1,96 @@
+"""``flexbed static [SCENE] [-o FILE]``: the static equilibrium (paper Table 2).
+
+Prints positions and roll/pitch/yaw per body, the Newton–Raphson iterations
+and residual, and writes the equilibrium file that ``flexbed simulate
+--equilibrium FILE`` reads.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from flexbed.dynamics.rotation import angles_from_p
+from flexbed.dynamics.statics import solve_statics
+from flexbed.dynamics.system import System
+
+from flexbed.errors import InputError, NumericalError
+from flexbed.stages.system import compile_scene
+from flexbed.files.results import write_equilibrium
+from flexbed.files.scene import load_scene
+
+__all__ = ["add_args", "run", "equilibrium_table"]
+
+
+def add_args(parser: argparse.ArgumentParser) -> None:
+    parser.description = ("Static equilibrium of the mount system by Newton–Raphson "
+                          "(base held), printed as the paper's Table 2 and written to a file.")
+    parser.add_argument("scene", nargs="?", default=None,
+                        help="scene file (TOML); default: the built-in reference scene")
+    parser.add_argument("-o", "--output", default=None,
+                        help="equilibrium file to write (default: <scene name>-equilibrium.h5)")
+    parser.add_argument("--tol", type=float, default=None,
+                        help="Newton–Raphson tolerance (default: the scene's static_tol)")
+    add_modes_file_arg(parser)
+
+
+def add_modes_file_arg(parser: argparse.ArgumentParser) -> None:
+    """The option that says where a flexible bed's modes file is."""
+    parser.add_argument("--modes-file", default=None, metavar="FILE",
+                        help="modes file of a flexible bed (default: where 'flexbed modes' "
+                             "writes it for this scene)")
+
+
+def equilibrium_table(system: System, y: np.ndarray) -> str:
+    """Table 2: x, y, z [m], roll, pitch, yaw [deg] per body."""
+    parts = system.layout.split(y)
+    pos = np.array(system.initial_r, dtype=float)
+    pos[1:] = parts["r"]
+    if parts["r_base"] is not None:
+        pos[0] = parts["r_base"]
+    p = np.array(system.initial_p, dtype=float)
+    p[1:] = parts["p"]
+    ang = np.degrees(angles_from_p(p))
+    names = [b.name for b in system.scene.bodies]
+    w = max(4, max(len(n) for n in names))
+    lines = [f"{'body':>4}  {'name':<{w}}  {'x [m]':>14}  {'y [m]':>14}  {'z [m]':>14}  "
+             f"{'roll [deg]':>11}  {'pitch [deg]':>11}  {'yaw [deg]':>11}"]
+    for i, n in enumerate(names):
+        x, yy, z = (float(v) + 0.0 for v in np.round(pos[i], 12))
+        r, pi, ya = (float(v) + 0.0 for v in np.round(ang[i], 9))
+        lines.append(f"{i + 1:>4}  {n:<{w}}  {x:>14.9f}  {yy:>14.9f}  {z:>14.9f}  "
+                     f"{r:>11.6f}  {pi:>11.6f}  {ya:>11.6f}")
+    return "\n".join(lines)
+
+
+def equilibrium_csv(system: System, y: np.ndarray) -> str:
+    """Table 2 as CSV: body, name, x, y, z [m], roll, pitch, yaw [deg]."""
+    lines = ["body,name,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg"]
+    for row in equilibrium_table(system, y).splitlines()[1:]:
+        parts = row.split()
+        body, rest = parts[0], parts[1:]
+        name = " ".join(rest[:-6])
+        lines.append(",".join([body, name] + rest[-6:]))
+    return "\n".join(lines) + "\n"
+
+
+def run(args: argparse.Namespace) -> int:
+    sf = load_scene(args.scene)
+    system = compile_scene(sf, args.modes_file)
+    tol = sf.solver.static_tol if args.tol is None else args.tol
+    if not (tol > 0):
+        raise InputError(f"--tol = {tol!r} must be > 0")
+    eq = solve_statics(system, tol=tol, sag=sf.bed.static_sag)
+    if not eq.success:
+        raise NumericalError(f"{sf.source.name}: {eq.message}")
+    out = Path(args.output) if args.output else Path(f"{sf.scene.name}-equilibrium.h5")
+    print(f"Static equilibrium of '{sf.scene.name}' (Newton–Raphson, tolerance {tol:g}, "
+          f"base held)")
+    print(equilibrium_table(system, eq.y))
+    print(f"iterations: {eq.iterations}   residual: {eq.residual:.3e} (scaled by weight)   "
+          f"last step: {eq.step:.3e}   right-hand sides: {eq.rhs_evaluations}")
+    write_equilibrium(out, sf, system, eq)
+    print(f"wrote {out}")
+    return 0

@@ -1,0 +1,189 @@
+"""The scene file's ``[bed]`` table: the plate, the modes kept, damping.
+
+Read into a frozen :class:`BedSection`; the plate's own inputs become a
+:class:`flexbed.fem.spec.PlateSpec`, whose range checks are reused here so that the
+scene file and the modes stage agree on what a valid plate is.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import Any
+
+from flexbed.fem.spec import PlateSpec, PlateSpecError
+
+from flexbed.errors import InputError
+
+_PLATE_KEYS = tuple(f.name for f in fields(PlateSpec))
+_KEYS = _PLATE_KEYS + ("body", "model", "modes", "fmax", "rayleigh", "damping_ratio",
+                       "modes_file", "static_sag", "invariants", "auto_factor",
+                       "static_correction", "correction_modes")
+DEFAULT_MODES = 2
+
+
+@dataclass(frozen=True, slots=True)
+class BedSection:
+    """The common bed as the scene describes it.
+
+    Parameters
+    ----------
+    plate : PlateSpec
+        Geometry, material and mesh of the plate.
+    body : str or None
+        Name of the bed's body (None: the second body).
+    model : str
+        "rigid" or "flexible".
+    modes : int or None
+        Number of elastic modes kept (lowest first); None when ``fmax`` is set.
+    fmax : float or None
+        Keep every elastic mode below this frequency [Hz].
+    auto : tuple of float or None
+        ``modes = "auto"`` in the scene: (f_cut, f_input, f_suspension) [Hz]
+        as :mod:`flexbed.stages.modes_auto` resolved them (then ``fmax = f_cut``);
+        before resolution ``()``.
+    auto_factor : float
+        f_cut = auto_factor × max(f_input, f_suspension) [-].
+    rayleigh : tuple of float
+        (α [1/s], β [s]) of c_aa = α M_aa + β K_aa.
+    damping_ratio : tuple of float or None
+        Modal damping ratios (one for all, or one per kept mode) [-],
+        instead of ``rayleigh``.
+    modes_file : str or None
+        Path of the modes file as written in the scene (relative to it).
+    static_sag : bool
+        Include the elastic sag in the static equilibrium.
+    invariants : str
+        "full" (every configuration-dependent inertia term) or
+        "first_order" (inertia linear in the modal coordinates, no I5/I9).
+    static_correction : bool
+        Add residual vectors: the static response at the bed's mount points
+        of the modes left out, up to ``correction_modes``
+        (:mod:`flexbed.stages.residual_modes`).
+    correction_modes : int
+        The modes file's modes the static correction draws on (the modes
+        stage computes at least this many when the correction is on).
+    """
+
+    plate: PlateSpec = PlateSpec()
+    body: str | None = None
+    model: str = "rigid"
+    modes: int | None = DEFAULT_MODES
+    fmax: float | None = None
+    rayleigh: tuple[float, float] = (0.0, 0.0)
+    damping_ratio: tuple[float, ...] | None = None
+    modes_file: str | None = None
+    static_sag: bool = True
+    invariants: str = "full"
+    auto: tuple | None = None
+    auto_factor: float = 2.0
+    static_correction: bool = False
+    correction_modes: int = 40
+
+    def __post_init__(self) -> None:
+        if self.invariants not in ("full", "first_order"):
+            raise ValueError(f"invariants = {self.invariants!r} must be \"full\" or "
+                             "\"first_order\"")
+        if self.model not in ("rigid", "flexible"):
+            raise ValueError(f"model = {self.model!r} must be \"rigid\" or \"flexible\"")
+        if self.modes is not None and (isinstance(self.modes, bool)
+                                       or not isinstance(self.modes, int) or self.modes < 1):
+            raise ValueError(f"modes = {self.modes!r} must be an integer >= 1")
+        if self.fmax is not None and not (_is_number(self.fmax) and self.fmax > 0):
+            raise ValueError(f"fmax = {self.fmax!r} must be a number > 0 [Hz]")
+        if (isinstance(self.correction_modes, bool) or not isinstance(self.correction_modes, int)
+                or self.correction_modes < 2):
+            raise ValueError(f"correction_modes = {self.correction_modes!r} must be an integer "
+                             ">= 2")
+        if not (_is_number(self.auto_factor) and self.auto_factor >= 1.0):
+            raise ValueError(f"auto_factor = {self.auto_factor!r} must be a number >= 1")
+        if self.auto == ():
+            if self.fmax is not None:
+                raise ValueError("give either modes = \"auto\" or fmax, not both")
+        elif (self.modes is None) == (self.fmax is None):
+            raise ValueError("give either modes or fmax, not both")
+        if (len(self.rayleigh) != 2 or not all(_is_number(v) for v in self.rayleigh)):
+            raise ValueError(f"rayleigh = {list(self.rayleigh)!r} must be two numbers [alpha, beta]")
+        for name, v in zip(("alpha", "beta"), self.rayleigh):
+            if v < 0:
+                raise ValueError(f"rayleigh {name} = {v!r} must be >= 0")
+        if self.damping_ratio is not None:
+            if not self.damping_ratio or not all(_is_number(v) and v >= 0
+                                                 for v in self.damping_ratio):
+                raise ValueError(f"damping_ratio = {list(self.damping_ratio)!r} "
+                                 "must be numbers >= 0")
+            if any(v != 0 for v in self.rayleigh):
+                raise ValueError("give either rayleigh or damping_ratio, not both")
+
+    @property
+    def flexible(self) -> bool:
+        """True when the bed is a floating-frame flexible body."""
+        return self.model == "flexible"
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def read_bed(table: dict, where: str) -> BedSection:
+    """Build a :class:`BedSection` from a parsed ``[bed]`` table.
+
+    Parameters
+    ----------
+    table : dict
+        The table as ``tomllib`` parsed it.
+    where : str
+        Prefix for messages, e.g. ``"lee.toml: bed"``.
+
+    Raises
+    ------
+    InputError
+        An unknown key or a value out of range, in one line naming the key.
+    """
+    if not isinstance(table, dict):
+        raise InputError(f"{where}: must be a table")
+    for key in table:
+        if key not in _KEYS:
+            raise InputError(f"{where}: unknown key '{key}' (known: {', '.join(_KEYS)})")
+    plate_args = {k: table[k] for k in _PLATE_KEYS if k in table}
+    try:
+        plate = PlateSpec(**plate_args)
+    except PlateSpecError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    except TypeError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    args: dict[str, Any] = {"plate": plate}
+    for key in ("body", "model", "modes_file", "invariants"):
+        if key in table:
+            if not isinstance(table[key], str):
+                raise InputError(f"{where}: {key} = {table[key]!r} must be a string")
+            args[key] = table[key]
+    for key in ("static_sag", "static_correction"):
+        if key in table:
+            if not isinstance(table[key], bool):
+                raise InputError(f"{where}: {key} = {table[key]!r} must be true or false")
+            args[key] = table[key]
+    if "correction_modes" in table:
+        args["correction_modes"] = table["correction_modes"]
+    if table.get("modes") == "auto":
+        args["modes"] = None
+        args["auto"] = ()
+        if "fmax" in table:
+            args["fmax"] = table["fmax"]
+    elif "fmax" in table:
+        args["fmax"] = table["fmax"]
+        args["modes"] = table.get("modes")
+    elif "modes" in table:
+        args["modes"] = table["modes"]
+    if "auto_factor" in table:
+        args["auto_factor"] = table["auto_factor"]
+    if "rayleigh" in table:
+        value = table["rayleigh"]
+        args["rayleigh"] = tuple(value) if isinstance(value, list) else (value,)
+    if "damping_ratio" in table:
+        value = table["damping_ratio"]
+        args["damping_ratio"] = tuple(value) if isinstance(value, list) else (value,)
+    try:
+        return BedSection(**args)
+    except ValueError as exc:
+        raise InputError(f"{where}: {exc}") from None

@@ -1,0 +1,234 @@
+"""The modes file: what the bed-modes stage hands to the dynamics stage.
+
+Schema ``flexbed.modes``, version 1.0. Layout (every dataset has ``units``):
+
+=================================  ==============  =====================  =========
+dataset                            shape           units                  from
+=================================  ==============  =====================  =========
+``plate/<input>`` (attributes)     –               as in the scene     inputs  
+``mesh/nodes``                     (N, 3)          m                      mesh
+``mesh/cells``                     (ne, 4)         1                      mesh
+``modes/frequency``                (n,)            Hz                     FE
+``modes/omega``                    (n,)            rad/s                  FE
+``modes/label``                    (n,)            –                      FE
+``modes/symmetry``                 (n,)            –                      FE
+``modes/translation``              (n, N, 3)       kg^-1/2                FE
+``modes/rotation``                 (n, N, 3)       rad kg^-1/2 m^-1       FE
+``modes/twist``                    (n, N)          kg^-1/2 m^-2           FE
+``modes/rigid_omega``              (3,)            rad/s                  FE
+``invariants/mass``                ()              kg                     solid
+``invariants/first_moment``        (3,)            kg m                   solid
+``invariants/inertia``             (3, 3)          kg m^2                 solid
+``invariants/phi_integral``        (3, n)          kg^1/2                 FE
+``invariants/u_cross_phi``         (3, n)          kg^1/2 m               FE
+``invariants/phi_cross_phi``       (n, 3, n)       1                      FE
+``invariants/modal_mass``          (n, n)          1                      FE
+``invariants/inertia_first_order`` (n, 3, 3)       kg^1/2 m               FE
+``invariants/inertia_second_order`` (n, n, 3, 3)   1                      FE
+``invariants/modal_stiffness``     (n, n)          s^-2                   FE
+=================================  ==============  =====================  =========
+
+Root attributes: ``schema``, ``schema_version``, ``creator``, ``created``,
+``input_hash`` (SHA-256 of the plate inputs), ``n_modes``,
+``next_frequency`` (Hz of the first elastic mode not stored: the file holds
+every mode below it). Each invariant has a ``source`` attribute saying
+where it comes from.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from flexbed.fem.bed import BedModes
+from flexbed.fem.invariants import Invariants
+from flexbed.fem.spec import PlateSpec
+
+from flexbed.errors import InputError
+from flexbed.files.store import Dataset, read_file, write_file
+
+SCHEMA = "flexbed.modes"
+VERSION = "1.0"
+MAJOR = 1
+
+_INVARIANT_UNITS = {
+    "mass": "kg", "first_moment": "kg m", "inertia": "kg m^2",
+    "phi_integral": "kg^1/2", "u_cross_phi": "kg^1/2 m", "phi_cross_phi": "1",
+    "modal_mass": "1", "inertia_first_order": "kg^1/2 m", "inertia_second_order": "1",
+    "modal_stiffness": "s^-2",
+}
+_INVARIANT_DESCRIPTIONS = {
+    "mass": "I1 = integral of rho dV", "first_moment": "I2 = integral of rho u0 dV",
+    "inertia": "I7 = integral of rho u0~T u0~ dV (inertia tensor about the centre of mass)",
+    "phi_integral": "I3 = integral of rho Phi dV, (3, n)",
+    "u_cross_phi": "I4 = integral of rho u0~ Phi dV, (3, n)",
+    "phi_cross_phi": "I5[k, :, l] = integral of rho Phi_k~ Phi_l dV",
+    "modal_mass": "I6 = integral of rho Phi^T Phi dV (generalized mass)",
+    "inertia_first_order": "I8[k] = integral of rho u0~T Phi_k~ dV",
+    "inertia_second_order": "I9[k, l] = integral of rho Phi_k~T Phi_l~ dV",
+    "modal_stiffness": "Phi^T K Phi (generalized stiffness)",
+}
+REQUIRED = ("mesh/nodes", "mesh/cells", "modes/frequency", "modes/omega", "modes/translation",
+            "modes/rotation", "modes/twist") + tuple(f"invariants/{k}" for k in _INVARIANT_UNITS)
+
+
+@dataclass(frozen=True)
+class ModesData:
+    """A modes file read back: plain arrays, no FE objects.
+
+    Attributes
+    ----------
+    path : Path
+    plate : PlateSpec
+        The inputs the file was computed from.
+    input_hash : str
+    frequency, omega : ndarray (n,)
+    labels, symmetry : tuple of str
+    nodes : ndarray (N, 3)
+    cells : ndarray (ne, 4)
+    translation, rotation : ndarray (n, N, 3)
+    twist : ndarray (n, N)
+    rigid_omega : ndarray (3,)
+    invariants : Invariants
+    next_frequency : float
+        The file holds every elastic mode below this frequency [Hz].
+    created, creator : str
+    """
+
+    path: Path
+    plate: PlateSpec
+    input_hash: str
+    frequency: np.ndarray
+    omega: np.ndarray
+    labels: tuple[str, ...]
+    symmetry: tuple[str, ...]
+    nodes: np.ndarray
+    cells: np.ndarray
+    translation: np.ndarray
+    rotation: np.ndarray
+    twist: np.ndarray
+    rigid_omega: np.ndarray
+    invariants: Invariants
+    next_frequency: float
+    created: str
+    creator: str
+
+    @property
+    def n_modes(self) -> int:
+        """Number of elastic modes stored."""
+        return int(self.frequency.size)
+
+    def covers(self, n_modes: int | None = None, fmax: float | None = None) -> bool:
+        """True when the file holds the modes asked for (a number, or all
+        below ``fmax`` Hz)."""
+        if n_modes is not None:
+            return n_modes <= self.n_modes
+        return fmax is not None and fmax <= self.next_frequency
+
+
+def write_modes_file(path: str | Path, bed: BedModes) -> Path:
+    """Write the modes file atomically.
+
+    Parameters
+    ----------
+    path : path-like
+    bed : BedModes
+        Output of :func:`flexbed.fem.bed.compute_bed_modes`.
+    """
+    m = bed.modes
+    d: dict[str, Dataset] = {
+        "mesh/nodes": Dataset(bed.nodes, "m", "node coordinates in the bed frame"),
+        "mesh/cells": Dataset(bed.cells.astype(np.int64), "1", "node indices of each quad"),
+        "modes/frequency": Dataset(m.frequency, "Hz", "elastic free-free frequencies"),
+        "modes/omega": Dataset(m.omega, "rad/s", "circular frequencies"),
+        "modes/label": Dataset(np.array(m.labels, dtype=object), "",
+                               "shape of each mode by its bending energy"),
+        "modes/symmetry": Dataset(np.array(m.symmetry, dtype=object), "",
+                                  "S/A under x -> -x, then y -> -y"),
+        "modes/translation": Dataset(bed.translation, "kg^-1/2",
+                                     "mass-normalised nodal translations (mode, node, xyz)"),
+        "modes/rotation": Dataset(bed.rotation, "rad kg^-1/2 m^-1",
+                                  "nodal rotations (dw/dy, -dw/dx, 0)"),
+        "modes/twist": Dataset(bed.twist, "kg^-1/2 m^-2",
+                               "nodal d2w/dxdy (Hermite data for points between nodes)"),
+        "modes/rigid_omega": Dataset(m.rigid_omega, "rad/s",
+                                     "solver frequencies of the vectors identified as rigid"),
+    }
+    inv = bed.invariants
+    for key, unit in _INVARIANT_UNITS.items():
+        d[f"invariants/{key}"] = Dataset(np.asarray(getattr(inv, key), dtype=float), unit,
+                                         _INVARIANT_DESCRIPTIONS[key],
+                                         attrs={"source": Invariants.SOURCES[key]})
+    attrs: dict[str, Mapping[str, Any]] = {
+        "": {"input_hash": bed.spec.digest(), "n_modes": int(m.omega.size),
+             "next_frequency": (m.omega_next / (2 * math.pi)
+                                if math.isfinite(m.omega_next) else math.inf),
+             "description": "free-free modes and modal invariants of the common bed"},
+        "plate": bed.spec.as_dict(),
+        "invariants": {"solid": "mass, first_moment, inertia: exact solid plate geometry",
+                       "fe": "all terms with Phi: FE mass forms with the kept modes"},
+    }
+    return write_file(path, schema=SCHEMA, version=VERSION, datasets=d, attrs=attrs)
+
+
+def read_modes_file(path: str | Path) -> ModesData:
+    """Read and check a modes file.
+
+    Raises
+    ------
+    InputError
+        Not a modes file, another version, damaged, or inconsistent shapes;
+        the message names the file and the dataset.
+    """
+    c = read_file(path, schema=SCHEMA, major=MAJOR, required=REQUIRED)
+    root = c.attrs.get("", {})
+    try:
+        plate = PlateSpec(**{f.name: c.attrs["plate"][f.name] for f in fields(PlateSpec)})
+    except (KeyError, ValueError, TypeError) as exc:
+        raise InputError(f"{c.path}: group 'plate' does not hold valid plate inputs ({exc})") \
+            from None
+    input_hash = str(root.get("input_hash", ""))
+    if input_hash != plate.digest():
+        raise InputError(f"{c.path}: input_hash does not match the plate inputs stored "
+                         "with it (file edited or damaged); re-run 'flexbed modes --force'")
+    freq = np.asarray(c.get("modes/frequency"), dtype=float)
+    n = freq.size
+    nodes = np.asarray(c.get("mesh/nodes"), dtype=float)
+    N = nodes.shape[0]
+    expect = {"modes/omega": (n,), "modes/translation": (n, N, 3), "modes/rotation": (n, N, 3),
+              "modes/twist": (n, N), "invariants/phi_integral": (3, n),
+              "invariants/u_cross_phi": (3, n), "invariants/phi_cross_phi": (n, 3, n),
+              "invariants/modal_mass": (n, n), "invariants/inertia_first_order": (n, 3, 3),
+              "invariants/inertia_second_order": (n, n, 3, 3),
+              "invariants/modal_stiffness": (n, n), "invariants/inertia": (3, 3),
+              "invariants/first_moment": (3,), "invariants/mass": ()}
+    for name, shape in expect.items():
+        got = np.shape(c.get(name))
+        if got != shape:
+            raise InputError(f"{c.path}: dataset '{name}' has shape {got}, expected {shape}")
+    if nodes.ndim != 2 or nodes.shape[1] != 3 or (plate.nx + 1) * (plate.ny + 1) != N:
+        raise InputError(f"{c.path}: dataset 'mesh/nodes' does not match the "
+                         f"{plate.nx} x {plate.ny} mesh of the plate inputs")
+    inv = Invariants(**{key: (float(c.get(f"invariants/{key}")) if key == "mass"
+                              else np.asarray(c.get(f"invariants/{key}"), dtype=float))
+                        for key in _INVARIANT_UNITS})
+
+    def strings(name: str) -> tuple[str, ...]:
+        value = c.datasets.get(name)
+        return tuple(str(v) for v in value) if value is not None else ("",) * n
+
+    return ModesData(
+        path=c.path, plate=plate, input_hash=input_hash, frequency=freq,
+        omega=np.asarray(c.get("modes/omega"), dtype=float),
+        labels=strings("modes/label"), symmetry=strings("modes/symmetry"),
+        nodes=nodes, cells=np.asarray(c.get("mesh/cells")),
+        translation=np.asarray(c.get("modes/translation"), dtype=float),
+        rotation=np.asarray(c.get("modes/rotation"), dtype=float),
+        twist=np.asarray(c.get("modes/twist"), dtype=float),
+        rigid_omega=np.asarray(c.datasets.get("modes/rigid_omega", np.zeros(3)), dtype=float),
+        invariants=inv, next_frequency=float(root.get("next_frequency", math.inf)),
+        created=str(root.get("created", "")), creator=str(root.get("creator", "")))

@@ -1,0 +1,233 @@
+"""Self-describing HDF5 files: the only module that imports h5py.
+
+Every file written here carries, at its root, the attributes ``schema``,
+``schema_version`` ("MAJOR.MINOR"), ``creator`` ("flexbed X.Y.Z") and
+``created`` (ISO 8601, UTC); every dataset carries a ``units`` attribute.
+Files are written atomically: to a temporary file in the same folder, then
+renamed, so a reader never sees half a file.
+
+A file is described as a flat mapping from dataset paths ("group/name") to
+:class:`Dataset` values, plus a mapping from group paths ("" for the root)
+to attribute dictionaries. Attribute values are str, int, float, bool or
+1-D arrays.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from importlib import metadata
+from pathlib import Path
+from typing import Any, Mapping
+
+import h5py
+import numpy as np
+
+from flexbed.errors import InputError
+
+
+def package_version() -> str:
+    """Version string of the installed flexbed distribution."""
+    try:
+        return metadata.version("flexbed")
+    except metadata.PackageNotFoundError:  # running from a source tree
+        return "0+unknown"
+
+
+@dataclass(frozen=True, slots=True)
+class Dataset:
+    """One array and its unit.
+
+    Parameters
+    ----------
+    data : array_like
+        Numeric array (any shape) or a string.
+    units : str
+        SI unit ("m", "kg m^2", "1" for dimensionless, "" for labels).
+    description : str
+        One line saying what it is (stored as the ``description`` attribute).
+    attrs : mapping, optional
+        Further attributes of the dataset.
+    """
+
+    data: Any
+    units: str
+    description: str = ""
+    attrs: Mapping[str, Any] | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Contents:
+    """What :func:`read_file` found: datasets, their units, group attributes."""
+
+    path: Path
+    datasets: Mapping[str, Any]
+    units: Mapping[str, str]
+    attrs: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+
+    def get(self, name: str) -> Any:
+        """Return dataset ``name``, or raise :class:`InputError` naming it."""
+        try:
+            return self.datasets[name]
+        except KeyError:
+            raise InputError(f"{self.path}: dataset '{name}' is missing") from None
+
+
+def write_file(path: str | os.PathLike, *, schema: str, version: str,
+               datasets: Mapping[str, Dataset],
+               attrs: Mapping[str, Mapping[str, Any]] | None = None) -> Path:
+    """Write an HDF5 file atomically.
+
+    Parameters
+    ----------
+    path : path-like
+        Destination; its folder is created if needed.
+    schema : str
+        Schema name, e.g. "flexbed.modes".
+    version : str
+        Schema version "MAJOR.MINOR".
+    datasets : mapping str -> Dataset
+        Dataset paths ("group/sub/name") and their values.
+    attrs : mapping str -> dict, optional
+        Attributes per group path ("" is the root).
+
+    Returns
+    -------
+    Path
+        The path written.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        with h5py.File(tmp, "w") as f:
+            f.attrs["schema"] = schema
+            f.attrs["schema_version"] = version
+            f.attrs["creator"] = f"flexbed {package_version()}"
+            f.attrs["created"] = datetime.now(timezone.utc).isoformat(timespec="seconds")
+            for name, ds in datasets.items():
+                data = ds.data
+                if isinstance(data, str):
+                    d = f.create_dataset(name, data=data, dtype=h5py.string_dtype())
+                else:
+                    arr = np.asarray(data)
+                    if arr.dtype.kind in "US":
+                        d = f.create_dataset(name, data=arr.astype(object),
+                                             dtype=h5py.string_dtype())
+                    else:
+                        d = f.create_dataset(name, data=arr)
+                d.attrs["units"] = ds.units
+                if ds.description:
+                    d.attrs["description"] = ds.description
+                for key, value in (ds.attrs or {}).items():
+                    d.attrs[key] = value
+            for group, values in (attrs or {}).items():
+                g = f.require_group(group) if group else f
+                for key, value in values.items():
+                    g.attrs[key] = value
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)     # mkstemp makes it private; use the usual mode
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def _decode(value: Any) -> Any:
+    if isinstance(value, bytes):
+        return value.decode()
+    if isinstance(value, np.ndarray) and value.dtype.kind == "O":
+        return np.array([v.decode() if isinstance(v, bytes) else v for v in value.ravel()],
+                        dtype=object).reshape(value.shape)
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def read_file(path: str | os.PathLike, *, schema: str, major: int,
+              required: tuple[str, ...] = ()) -> Contents:
+    """Read a file written by :func:`write_file`, checking what it is.
+
+    Parameters
+    ----------
+    path : path-like
+        File to read.
+    schema : str
+        Expected schema name.
+    major : int
+        Expected major schema version; a newer minor version is accepted.
+    required : tuple of str
+        Dataset paths that must be present.
+
+    Raises
+    ------
+    InputError
+        Missing, unreadable, truncated or corrupt file; another schema or
+        version; a required dataset missing or without units. The message
+        names the file and, where it applies, the dataset.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such file")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as exc:
+        raise InputError(f"{path}: not a readable HDF5 file (truncated or corrupt?): "
+                         f"{str(exc).splitlines()[0]}") from None
+    datasets: dict[str, Any] = {}
+    units: dict[str, str] = {}
+    attrs: dict[str, dict[str, Any]] = {}
+    current = None
+    try:
+        with f:
+            found = _decode(f.attrs.get("schema", ""))
+            if found != schema:
+                raise InputError(f"{path}: schema is '{found or 'none'}', expected '{schema}'")
+            ver = str(_decode(f.attrs.get("schema_version", "")))
+            try:
+                got_major = int(ver.split(".")[0])
+            except ValueError:
+                raise InputError(f"{path}: schema_version '{ver}' is not MAJOR.MINOR") from None
+            if got_major != major:
+                how = ("written by a newer flexbed: upgrade flexbed"
+                       if got_major > major else
+                       "written by an older flexbed: re-run the stage that made it")
+                raise InputError(f"{path}: {schema} version {ver} is not supported "
+                                 f"(this flexbed reads {major}.x; {how})")
+
+            def visit(name: str, obj: Any) -> None:
+                nonlocal current
+                current = name
+                if isinstance(obj, h5py.Dataset):
+                    if obj.dtype.kind == "O" or h5py.check_string_dtype(obj.dtype):
+                        value = obj.asstr()[()]
+                        if isinstance(value, np.ndarray):
+                            value = value.astype(object)
+                    else:
+                        value = obj[()]
+                    datasets[name] = value
+                    units[name] = _decode(obj.attrs.get("units", None))
+                else:
+                    attrs[name] = {k: _decode(v) for k, v in obj.attrs.items()}
+
+            attrs[""] = {k: _decode(v) for k, v in f.attrs.items()}
+            f.visititems(visit)
+    except InputError:
+        raise
+    except Exception as exc:  # h5py raises OSError/KeyError/RuntimeError on damage
+        where = f" at dataset '{current}'" if current else ""
+        raise InputError(f"{path}: corrupt HDF5 file{where}: "
+                         f"{str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") from None
+    for name in required:
+        if name not in datasets:
+            raise InputError(f"{path}: dataset '{name}' is missing")
+    for name, unit in units.items():
+        if unit is None:
+            raise InputError(f"{path}: dataset '{name}' has no 'units' attribute")
+    return Contents(path=path, datasets=datasets, units=units, attrs=attrs)

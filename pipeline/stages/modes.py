@@ -1,0 +1,79 @@
+"""The bed-modes stage: the modes file of a scene's bed, reused when it was
+made from the same plate inputs and holds the modes asked for, else computed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from flexbed.errors import InputError
+from flexbed.fem.bed import compute_bed_modes
+from flexbed.fem.modes import ModesError
+from flexbed.files.modes import ModesData, read_modes_file, write_modes_file
+from flexbed.files.scene import SceneFile
+
+__all__ = ["default_modes_path", "ensure_modes"]
+
+
+def default_modes_path(sf: SceneFile) -> Path:
+    """Where a scene's modes file goes when no ``-o`` is given."""
+    if sf.bed.modes_file:
+        return sf.source.parent / sf.bed.modes_file
+    return Path.cwd() / f"{sf.scene.name}-modes.h5"
+
+
+def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,
+                 fmax: float | None = None, force: bool = False,
+                 log=print) -> tuple[ModesData, bool]:
+    """Return the modes file for the scene's bed, computing it if needed.
+
+    Parameters
+    ----------
+    sf : SceneFile
+    path : Path
+        Modes file.
+    n_modes, fmax : optional
+        Request (default: the scene's ``[bed]`` modes / fmax).
+    force : bool
+        Recompute whatever the file holds.
+    log : callable
+        Receives one-line progress messages.
+
+    Returns
+    -------
+    data : ModesData
+    reused : bool
+        True when the existing file was used.
+    """
+    if n_modes is None and fmax is None:
+        n_modes, fmax = sf.bed.modes, sf.bed.fmax
+    # the static correction draws on the modes above the kept ones
+    extra = sf.bed.correction_modes if sf.bed.static_correction else 0
+    spec = sf.bed.plate
+    if path.exists() and not force:
+        try:
+            data = read_modes_file(path)
+        except InputError as exc:
+            log(f"modes: {exc}; recomputing")
+        else:
+            if data.input_hash != spec.digest():
+                log(f"modes: {path} was made from other plate inputs; recomputing")
+            elif not data.covers(n_modes, fmax) or data.n_modes < extra:
+                log(f"modes: {path} holds {data.n_modes} modes, fewer than asked; recomputing")
+            else:
+                return data, True
+    try:
+        if sf.bed.auto and fmax is not None and n_modes is None:
+            try:                       # modes = "auto" keeps at least one mode
+                bed = compute_bed_modes(spec, fmax=fmax)
+            except ModesError:
+                bed = compute_bed_modes(spec, n_modes=1)
+        elif n_modes is not None:
+            bed = compute_bed_modes(spec, n_modes=max(n_modes, extra))
+        else:
+            bed = compute_bed_modes(spec, fmax=fmax)
+        if bed.modes.omega.size < extra:
+            bed = compute_bed_modes(spec, n_modes=extra)
+    except ModesError as exc:
+        raise InputError(f"{sf.source.name}: bed: {exc}") from None
+    write_modes_file(path, bed)
+    return read_modes_file(path), False
