@@ -19,8 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import SceneError
-from .piecewise import PiecewisePolynomial, spline_with_tails
-from .shapes import MIN_CURVE_POINTS
+from .piecewise import PiecewisePolynomial
+from .shapes import MIN_CURVE_POINTS, SplineEnds
 
 __all__ = ["LinearLaw", "PolynomialLaw", "CurveLaw", "LawBank", "MAX_DEGREE"]
 
@@ -85,19 +85,28 @@ class PolynomialLaw:
 class CurveLaw:
     """Force against deflection (and, optionally, against rate) as curve data.
 
-    Not-a-knot cubic splines; outside the data, linear extrapolation with the
-    end slopes. spring : (deflection [m], force [N]); damper : (rate [m/s],
-    force [N]) or None for no damping force. At least 4 points, abscissae
-    strictly increasing, everything finite.
+    Cubic splines with the end conditions ``spring_ends`` and
+    ``damper_ends`` (default not-a-knot; clamped slopes in N/m and N s/m);
+    outside the data, linear extrapolation with the end slopes (for
+    "clamped" the given ones, so the force is C¹ there; for "natural" the
+    extrapolation also continues the zero curvature, C²). spring :
+    (deflection [m], force [N]); damper : (rate [m/s], force [N]) or None
+    for no damping force. At least 4 points, abscissae strictly
+    increasing, everything finite.
     """
 
     spring: tuple[np.ndarray, np.ndarray]
     damper: tuple[np.ndarray, np.ndarray] | None = None
+    spring_ends: SplineEnds = SplineEnds()
+    damper_ends: SplineEnds = SplineEnds()
 
     def __post_init__(self):
         object.__setattr__(self, "spring", _curve("spring_curve", ("deflection", "force"), self.spring))
         if self.damper is not None:
             object.__setattr__(self, "damper", _curve("damper_curve", ("rate", "force"), self.damper))
+        for key in ("spring_ends", "damper_ends"):
+            if not isinstance(getattr(self, key), SplineEnds):
+                raise SceneError(f"{key} = {getattr(self, key)!r} is not a SplineEnds")
 
 
 def _curve(name: str, keys: tuple[str, str], data) -> tuple[np.ndarray, np.ndarray]:
@@ -198,13 +207,13 @@ class LawBank:
         springs, dampers, self._spring_pot = [], [], []
         for i in curve:
             law = laws[i]
-            fs = spline_with_tails(*law.spring, left="linear", right="linear")
+            fs = law.spring_ends.spline(*law.spring, left="linear", right="linear")
             springs.append(fs)
             self._spring_pot.append(fs.antiderivative(x_ref=0.0))
             if law.damper is None:
                 dampers.append(PiecewisePolynomial([0.0], [[0.0], [0.0]]))
             else:
-                dampers.append(spline_with_tails(*law.damper, left="linear", right="linear"))
+                dampers.append(law.damper_ends.spline(*law.damper, left="linear", right="linear"))
         self.curve_springs = tuple(springs)      # per curve law, in ``curve`` order
         self.curve_dampers = tuple(dampers)
         self._pot_stack = _CurveStack(self._spring_pot) if curve else None

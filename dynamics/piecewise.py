@@ -18,7 +18,9 @@ from bisect import bisect_left, bisect_right
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-__all__ = ["PiecewisePolynomial", "spline_with_tails"]
+__all__ = ["PiecewisePolynomial", "spline_with_tails", "END_CONDITIONS"]
+
+END_CONDITIONS = ("not-a-knot", "natural", "clamped")
 
 
 class PiecewisePolynomial:
@@ -120,8 +122,9 @@ class PiecewisePolynomial:
         return f
 
 
-def spline_with_tails(x, y, *, left: str, right: str) -> PiecewisePolynomial:
-    """Not-a-knot cubic spline through (x, y) with chosen tails.
+def spline_with_tails(x, y, *, left: str, right: str, end: str = "not-a-knot",
+                      slopes=(0.0, 0.0)) -> PiecewisePolynomial:
+    """Cubic spline through (x, y) with chosen end conditions and tails.
 
     Parameters
     ----------
@@ -129,21 +132,39 @@ def spline_with_tails(x, y, *, left: str, right: str) -> PiecewisePolynomial:
         Samples, x strictly increasing, n >= 4.
     left, right : {"zero", "hold", "linear"}
         Tail rule: zero; the end value held; linear with the end slope.
+    end : {"not-a-knot", "natural", "clamped"}
+        The spline's end conditions: third derivative continuous at the
+        second and last-but-one samples; zero second derivative at both
+        ends; the first derivative at the ends given by ``slopes``.
+    slopes : (float, float)
+        End slopes (dy/dx at x[0] and x[-1]) of ``"clamped"`` [unit of y per
+        unit of x]; ignored otherwise.
     """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
-    cs = CubicSpline(x, y, bc_type="not-a-knot")
+    if end == "clamped":
+        bc = ((1, float(slopes[0])), (1, float(slopes[1])))
+    elif end in END_CONDITIONS:
+        bc = end
+    else:
+        raise ValueError(f"unknown end condition {end!r}")
+    cs = CubicSpline(x, y, bc_type=bc)
     interior = cs.c[::-1].T                          # (n - 1, 4) ascending
-    d1 = cs.derivative()
+    if end == "clamped":
+        end_slope = (float(slopes[0]), float(slopes[1]))
+    else:
+        d1 = cs.derivative()
+        end_slope = (float(d1(x[0])), float(d1(x[-1])))
 
-    def tail(rule: str, at: float, value: float) -> list[float]:
+    def tail(rule: str, slope: float, value: float) -> list[float]:
         if rule == "zero":
             return [0.0, 0.0, 0.0, 0.0]
         if rule == "hold":
             return [value, 0.0, 0.0, 0.0]
         if rule == "linear":
-            return [value, float(d1(at)), 0.0, 0.0]
+            return [value, slope, 0.0, 0.0]
         raise ValueError(f"unknown tail rule {rule!r}")
 
-    coeffs = np.vstack([tail(left, x[0], y[0]), interior, tail(right, x[-1], y[-1])])
+    coeffs = np.vstack([tail(left, end_slope[0], y[0]), interior,
+                        tail(right, end_slope[1], y[-1])])
     return PiecewisePolynomial(x, coeffs)

@@ -15,12 +15,12 @@ import numpy as np
 from .errors import SceneError
 from .flexible import FlexibleBody
 from .laws import CurveLaw, LinearLaw, PolynomialLaw
-from .shapes import Curve, Sinusoid, Trapezoid, Triangle
+from .shapes import Curve, Sawtooth, Sinusoid, Trapezoid, Triangle
 
 __all__ = ["Body", "Drive", "Load", "Base", "Mount", "Scene", "DIRECTIONS"]
 
 DIRECTIONS = ("x", "y", "z")
-_SHAPES = (Sinusoid, Triangle, Trapezoid, Curve)
+_SHAPES = (Sinusoid, Triangle, Trapezoid, Sawtooth, Curve)
 _LAWS = (LinearLaw, PolynomialLaw, CurveLaw)
 
 
@@ -63,6 +63,12 @@ class Body:
         Initial position of the centre of mass (the body-frame origin) [m].
     orientation : array_like, shape (4,)
         Initial Euler parameters (scalar first); normalised here.
+    velocity : array_like, shape (3,)
+        Initial velocity of the centre of mass (the body-frame origin) in
+        the inertial frame [m/s]. The base: only when it is free.
+    angular_velocity : array_like, shape (3,)
+        Initial angular velocity in the body frame [rad/s] (ω̄, as the
+        state holds it). Zero for the base (its orientation is locked).
     """
 
     name: str
@@ -70,6 +76,8 @@ class Body:
     inertia: np.ndarray
     position: np.ndarray
     orientation: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0, 0.0]))
+    velocity: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    angular_velocity: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     def __post_init__(self):
         where = f"body {self.name!r}"
@@ -108,6 +116,9 @@ class Body:
         p = p / norm
         p.setflags(write=False)
         object.__setattr__(self, "orientation", p)
+        object.__setattr__(self, "velocity", _vector(where, "velocity", self.velocity, (3,)))
+        object.__setattr__(self, "angular_velocity",
+                           _vector(where, "angular_velocity", self.angular_velocity, (3,)))
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,7 +126,7 @@ class Drive:
     """Prescribed translational acceleration of the base along one inertial axis.
 
     direction : int (0, 1, 2 = X, Y, Z); shape : Sinusoid | Triangle |
-    Trapezoid | Curve, values in m/s².
+    Trapezoid | Sawtooth | Curve, values in m/s².
     """
 
     direction: int
@@ -283,6 +294,15 @@ class Scene:
                                  f"and {i + 1})")
         if not isinstance(self.base, Base):
             raise SceneError(f"base = {self.base!r} is not a Base")
+        base = bodies[0]
+        if np.any(base.velocity != 0.0) and self.base.motion != "free":
+            raise SceneError(f"body {base.name!r}: velocity = {base.velocity.tolist()} needs "
+                             f"base motion = 'free' (a {self.base.motion} base moves as its "
+                             f"motion prescribes, from rest)")
+        if np.any(base.angular_velocity != 0.0):
+            raise SceneError(f"body {base.name!r}: angular_velocity = "
+                             f"{base.angular_velocity.tolist()} must be zero: the base's "
+                             f"orientation is locked")
         mounts = tuple(self.mounts)
         mnames = []
         for i, m in enumerate(mounts):
@@ -308,11 +328,12 @@ class Scene:
             body = bodies[names.index(name)]
             if abs(fb.mass - body.mass) > 1e-4 * body.mass:
                 raise SceneError(f"body {name!r}: mass = {body.mass!r} kg differs from the "
-                                 f"flexible model's {fb.mass!r} kg")
+                                 f"flexible model's {fb.mass:.6g} kg")
             J = body.inertia
             if np.abs(fb.inertia - J).max() > 1e-4 * np.abs(J).max():
                 raise SceneError(f"body {name!r}: inertia {np.diag(J).tolist()} differs from "
-                                 f"the flexible model's {np.diag(fb.inertia).tolist()} kg m^2")
+                                 f"the flexible model's "
+                                 f"[{', '.join(f'{v:.6g}' for v in np.diag(fb.inertia))}] kg m^2")
             for m in mounts:
                 for key, point in (("body_i", m.point_i), ("body_j", m.point_j)):
                     if getattr(m, key) == name:

@@ -14,6 +14,11 @@ period for a sinusoid, 20 sample spacings for curve data; pulses need none
 
 Before ``start`` every shape is zero. After its end a pulse is zero, a
 sinusoid with a duration is zero, and curve data hold their last value.
+The sawtooth drops from its peak to zero instantaneously: its end is a
+breakpoint where the value jumps (its integrals stay continuous).
+
+Curve data are cubic splines whose end conditions (:class:`SplineEnds`)
+are "not-a-knot" (the default), "natural" or "clamped".
 """
 
 from __future__ import annotations
@@ -24,9 +29,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import SceneError
-from .piecewise import PiecewisePolynomial, spline_with_tails
+from .piecewise import END_CONDITIONS, PiecewisePolynomial, spline_with_tails
 
-__all__ = ["Sinusoid", "Triangle", "Trapezoid", "Curve", "TimeFunction", "MIN_CURVE_POINTS"]
+__all__ = ["Sinusoid", "Triangle", "Trapezoid", "Sawtooth", "Curve", "SplineEnds",
+           "TimeFunction", "MIN_CURVE_POINTS", "END_CONDITIONS"]
 
 MIN_CURVE_POINTS = 4
 CURVE_SAMPLES_PER_STEP = 20     # adaptive steps span at most this many sample spacings
@@ -244,15 +250,97 @@ class Trapezoid:
 
 
 @dataclass(frozen=True, slots=True)
+class Sawtooth:
+    """Terminal-peak sawtooth (shock standards): 0 at ``start``, rising
+    linearly to ``peak`` after ``rise`` [s], then dropping to 0 at once.
+
+    The drop at ``start + rise`` is a breakpoint: the integrators stop on it
+    and see the peak from the left, zero from the right. Velocity and
+    displacement are the exact integrals: peak·rise/2 and
+    peak·rise²/6 at the drop.
+    """
+
+    peak: float
+    rise: float
+    start: float = 0.0
+
+    def __post_init__(self):
+        _finite("peak", self.peak)
+        _positive("rise", self.rise)
+        _non_negative("start", self.start)
+
+    @property
+    def end(self) -> float:
+        return self.start + self.rise
+
+    def compile(self) -> TimeFunction:
+        peak, s, rise = float(self.peak), float(self.start), float(self.rise)
+        breaks = [s, s + rise]
+        rows = [[0.0, 0.0], [0.0, peak / rise], [0.0, 0.0]]
+        return TimeFunction.from_piecewise(PiecewisePolynomial(breaks, rows), breaks)
+
+    def sample_times(self, dt: float) -> np.ndarray:
+        raise SceneError("sample does not apply to shape = 'sawtooth': a cubic spline through "
+                         "samples of its instantaneous drop overshoots (by 5 % of the peak "
+                         "however fine the samples); the sawtooth is used exactly, the "
+                         "integrators stop at the drop")
+
+
+@dataclass(frozen=True, slots=True)
+class SplineEnds:
+    """End conditions of a cubic spline through curve data.
+
+    condition : {"not-a-knot", "natural", "clamped"}
+        "not-a-knot": third derivative continuous at the second and the
+        last-but-one sample (a cubic's samples give back that cubic);
+        "natural": zero second derivative at both ends; "clamped": the
+        first derivative at both ends is ``slopes``.
+    slopes : (float, float)
+        dy/dx at the first and the last sample for "clamped" [unit of the
+        value per unit of the abscissa]; (0, 0) otherwise.
+    """
+
+    condition: str = "not-a-knot"
+    slopes: tuple = (0.0, 0.0)
+
+    def __post_init__(self):
+        if self.condition not in END_CONDITIONS:
+            raise SceneError(f"end_condition = {self.condition!r} must be one of "
+                             f"{', '.join(map(repr, END_CONDITIONS))}")
+        try:
+            slopes = tuple(float(v) for v in self.slopes)
+        except (TypeError, ValueError):
+            raise SceneError(f"end_slopes = {self.slopes!r} must be two numbers") from None
+        if len(slopes) != 2:
+            raise SceneError(f"end_slopes = {list(slopes)!r} must be two numbers "
+                             f"(at the first and at the last sample)")
+        for i, v in enumerate(slopes):
+            _finite(f"end_slopes[{i}]", v)
+        if self.condition != "clamped" and any(v != 0.0 for v in slopes):
+            raise SceneError(f"end_slopes = {list(slopes)!r} apply to end_condition = "
+                             f"'clamped', not {self.condition!r}")
+        object.__setattr__(self, "slopes", slopes)
+
+    def spline(self, x, y, *, left: str, right: str) -> PiecewisePolynomial:
+        """The spline through (x, y) with these ends and the given tails
+        (see :func:`~dynamics.piecewise.spline_with_tails`)."""
+        return spline_with_tails(x, y, left=left, right=right, end=self.condition,
+                                 slopes=self.slopes)
+
+
+@dataclass(frozen=True, slots=True)
 class Curve:
-    """Curve data: samples (time [s], value), not-a-knot cubic spline.
+    """Curve data: samples (time [s], value), a cubic spline through them.
 
     Zero before the first sample, the last value held after the last one.
-    At least 4 samples, times strictly increasing, all finite.
+    At least 4 samples, times strictly increasing, all finite. ``ends``:
+    the spline's end conditions (default not-a-knot); with "clamped" the
+    slopes are [unit of the value per s].
     """
 
     time: np.ndarray
     value: np.ndarray
+    ends: SplineEnds = SplineEnds()
 
     def __post_init__(self):
         t = _curve_array("time", self.time)
@@ -264,6 +352,8 @@ class Curve:
             raise SceneError(f"time[0] = {float(t[0])!r} must be >= 0")
         object.__setattr__(self, "time", t)
         object.__setattr__(self, "value", v)
+        if not isinstance(self.ends, SplineEnds):
+            raise SceneError(f"ends = {self.ends!r} is not a SplineEnds")
 
     @property
     def start(self) -> float:
@@ -274,7 +364,7 @@ class Curve:
         return float(self.time[-1])
 
     def compile(self) -> TimeFunction:
-        f = spline_with_tails(self.time, self.value, left="zero", right="hold")
+        f = self.ends.spline(self.time, self.value, left="zero", right="hold")
         return TimeFunction.from_piecewise(f, [self.time[0], self.time[-1]],
                                            max_step=CURVE_SAMPLES_PER_STEP * float(np.min(np.diff(self.time))))
 

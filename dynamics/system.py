@@ -357,15 +357,42 @@ class System:
         return dy
 
     # ------------------------------------------------------------ the outputs
-    def initial_state(self) -> np.ndarray:
-        """The scene's initial positions, at rest, zero work."""
-        y = np.zeros(self.ny)
+    def initial_state(self, positions: np.ndarray | None = None) -> np.ndarray:
+        """The state at t = 0: positions, the scene's velocities, zero work.
+
+        Parameters
+        ----------
+        positions : (ny,) array, optional
+            A state whose coordinates (q: positions, Euler parameters,
+            modal coordinates) are kept, e.g. the static equilibrium; its
+            velocities and work are replaced. Default: the scene's initial
+            positions and orientations, modal coordinates zero.
+
+        Returns
+        -------
+        (ny,) array
+            Velocities from the scene's bodies: ``velocity`` [m/s, inertial]
+            and ``angular_velocity`` [rad/s, body frame] of bodies 2… (a
+            flexible body's frame), ``velocity`` of a free base; modal rates
+            zero; the work quadratures zero.
+        """
         lay = self.layout
+        bodies = self.scene.bodies
+        y = np.zeros(self.ny)
+        if positions is None:
+            if lay.base_free:
+                y[lay.q_base] = self.r0_base
+            qr = y[lay.q_rigid].reshape(self.n_rigid, 7)
+            qr[:, :3] = self.initial_r[1:]
+            qr[:, 3:] = self.initial_p[1:]
+        else:
+            y[:lay.nq] = np.asarray(positions, dtype=float)[:lay.nq]
         if lay.base_free:
-            y[lay.q_base] = self.r0_base
-        qr = y[lay.q_rigid].reshape(self.n_rigid, 7)
-        qr[:, :3] = self.initial_r[1:]
-        qr[:, 3:] = self.initial_p[1:]
+            y[lay.v_base] = bodies[0].velocity
+        if self.n_rigid:
+            vr = y[lay.v_rigid].reshape(self.n_rigid, 6)
+            vr[:, :3] = [b.velocity for b in bodies[1:]]
+            vr[:, 3:] = [b.angular_velocity for b in bodies[1:]]
         return y
 
     def observe(self, t: float, y: np.ndarray) -> Observation:

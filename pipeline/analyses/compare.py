@@ -60,7 +60,7 @@ def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=p
     if not eq.success:
         raise NumericalError(f"{sf.source.name} ({LABELS[case]}): {eq.message}")
     start = sf.solver.start
-    y0 = eq.y if start == "equilibrium" else system.initial_state()
+    y0 = system.initial_state(eq.y if start == "equilibrium" else None)
     motion = solve_motion(system, eq.y, y0, sf.solver.settings(), model=sf.solver.model,
                           linear_tol=sf.solver.linear_tol)
     result = motion.run

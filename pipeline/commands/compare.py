@@ -28,7 +28,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 def compare_scene(sf: SceneFile, out: Path, *, force: bool = False, log=print) -> dict:
     """Run the three cases into ``out``; return the rows and the files written."""
     out.mkdir(parents=True, exist_ok=True)
-    name = sf.scene.name
+    name = sf.output_name
     data, reused = ensure_modes(sf, out / f"{name}-modes.h5", force=force,
                                 log=lambda m: log(f"  {m}"))
     log(f"  modes: {'reused' if reused else 'computed'} {data.path.name}")

@@ -27,7 +27,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                         help="scene file (TOML); default: the built-in reference scene")
     parser.add_argument("-o", "--output", default=None,
                         help="modes file to write (default: the scene's modes_file, "
-                             "else <scene name>-modes.h5 in the current folder)")
+                             "else <scene file stem>-modes.h5 in the current folder)")
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--modes", type=int, default=None, metavar="N",
                        help="number of elastic modes to keep (default: the scene's)")
@@ -99,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
     held = f"{data.n_modes} elastic modes" + (f", {asked}" if asked else "")
     print(f"{'reused' if reused else 'wrote'} {path} ({held}; {elapsed:.2f} s)")
     if args.vtu:
-        vtu = write_modes_vtu(Path(args.vtu) / f"{sf.scene.name}-modes.vtu", data.nodes,
+        vtu = write_modes_vtu(Path(args.vtu) / f"{sf.output_name}-modes.vtu", data.nodes,
                               data.cells, data.translation, data.rotation, data.frequency)
         print(f"wrote {vtu}")
     return 0

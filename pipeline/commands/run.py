@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     sf = load_scene(args.scene)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
-    name = sf.scene.name
+    name = sf.output_name
     print(f"scene '{name}' ({sf.source}) -> {out}/")
 
     t0 = time.perf_counter()

@@ -7,17 +7,18 @@ import argparse
 from pathlib import Path
 
 from flexbed.errors import InputError
-from flexbed.files.scene import builtin_scene_path
+from flexbed.files.scene import builtin_scene_text
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = "Print the built-in reference scene (Lee, Kim & Jeong 1999) as TOML."
     parser.add_argument("-o", "--output", default=None, metavar="FILE",
-                        help="write it to FILE instead of printing it (refuses to overwrite)")
+                        help="write it to FILE, with [scene] name = FILE's stem, instead of "
+                             "printing it (refuses to overwrite)")
 
 
 def run(args: argparse.Namespace) -> int:
-    text = builtin_scene_path().read_text()
+    text = builtin_scene_text(None if args.output is None else Path(args.output).stem)
     if args.output is None:
         print(text, end="")
         return 0

@@ -29,7 +29,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scene", nargs="?", default=None,
                         help="scene file (TOML); default: the built-in reference scene")
     parser.add_argument("-o", "--output", default=None,
-                        help="results file (default: <scene name>-results.h5)")
+                        help="results file (default: <scene file stem>-results.h5)")
     parser.add_argument("--integrator", choices=METHODS, default=None,
                         help="time integrator (default: the scene's)")
     parser.add_argument("--dt", type=float, default=None, help="rk4 step [s]")
@@ -102,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
     linear_tol = solver.linear_tol if args.linear_tol is None else args.linear_tol
     if not (np.isfinite(linear_tol) and linear_tol > 0):
         raise InputError(f"option: --linear-tol = {linear_tol!r} must be > 0")
-    out = Path(args.output) if args.output else Path(f"{sf.scene.name}-results.h5")
+    out = Path(args.output) if args.output else Path(f"{sf.output_name}-results.h5")
     eq = None
     y_eq = None
     if start == "equilibrium":
@@ -128,6 +128,7 @@ def run(args: argparse.Namespace) -> int:
             y_eq = eq_lin.y
         else:
             y_eq = y0
+    y0 = system.initial_state(y0)      # the scene's initial velocities, at these positions
     progress = _Progress(settings.t_end, enabled=not args.no_progress)
     try:
         motion = solve_motion(system, y_eq, y0, settings, model=model, linear_tol=linear_tol,

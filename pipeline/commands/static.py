@@ -30,7 +30,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scene", nargs="?", default=None,
                         help="scene file (TOML); default: the built-in reference scene")
     parser.add_argument("-o", "--output", default=None,
-                        help="equilibrium file to write (default: <scene name>-equilibrium.h5)")
+                        help="equilibrium file to write (default: <scene file stem>-equilibrium.h5)")
     parser.add_argument("--tol", type=float, default=None,
                         help="Newton–Raphson tolerance (default: the scene's static_tol)")
     add_modes_file_arg(parser)
@@ -85,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
     eq = solve_statics(system, tol=tol, sag=sf.bed.static_sag)
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")
-    out = Path(args.output) if args.output else Path(f"{sf.scene.name}-equilibrium.h5")
+    out = Path(args.output) if args.output else Path(f"{sf.output_name}-equilibrium.h5")
     print(f"Static equilibrium of '{sf.scene.name}' (Newton–Raphson, tolerance {tol:g}, "
           f"base held)")
     print(equilibrium_table(system, eq.y))

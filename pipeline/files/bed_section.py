@@ -11,6 +11,8 @@ import math
 from dataclasses import dataclass, fields
 from typing import Any
 
+import numpy as np
+
 from flexbed.fem.spec import PlateSpec, PlateSpecError
 
 from flexbed.errors import InputError
@@ -20,6 +22,7 @@ _KEYS = _PLATE_KEYS + ("body", "model", "modes", "fmax", "rayleigh", "damping_ra
                        "modes_file", "static_sag", "invariants", "auto_factor",
                        "static_correction", "correction_modes")
 DEFAULT_MODES = 2
+PLATE_BODY_TOL = 1e-4    # a flexible bed body's given mass and inertia against the plate's
 
 
 @dataclass(frozen=True, slots=True)
@@ -123,6 +126,41 @@ class BedSection:
 
 def _is_number(v: Any) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def plate_mismatch(plate: PlateSpec, mass: float | None = None, inertia=None) -> str | None:
+    """Why a flexible bed body's given mass or inertia disagree with the plate's.
+
+    The plate's are the solid plate's (:attr:`PlateSpec.mass`,
+    :attr:`PlateSpec.inertia`), the values the modes file's invariants
+    carry; they agree within ``PLATE_BODY_TOL`` of the given value (the
+    rounding of published figures).
+
+    Parameters
+    ----------
+    plate : PlateSpec
+    mass : float, optional
+        The given mass [kg] (None: not given).
+    inertia : list, optional
+        The given inertia [kg m²]: 3 numbers (the diagonal) or 3 × 3.
+
+    Returns
+    -------
+    str or None
+        One line with both values (the plate's to 6 significant digits)
+        saying that the key can be omitted; None when they agree.
+    """
+    if mass is not None and abs(plate.mass - mass) > PLATE_BODY_TOL * mass:
+        return (f"mass = {mass!r} kg differs from the plate's {plate.mass:.6g} kg "
+                f"(density × length_x × length_y × thickness); omit mass to take the plate's")
+    if inertia is not None:
+        J = np.array(inertia, dtype=float)
+        J = np.diag(J) if J.shape == (3,) else J
+        if np.abs(np.diag(plate.inertia) - J).max() > PLATE_BODY_TOL * np.abs(J).max():
+            shown = ", ".join(f"{v:.6g}" for v in plate.inertia)
+            return (f"inertia = {inertia!r} kg m^2 differs from the plate's [{shown}] kg m^2 "
+                    f"(the solid plate about its centre); omit inertia to take the plate's")
+    return None
 
 
 def read_bed(table: dict, where: str) -> BedSection:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
+import re
 import tomllib
 from dataclasses import dataclass, replace
 from importlib import resources
@@ -29,28 +29,23 @@ from flexbed.dynamics.laws import CurveLaw, LinearLaw, PolynomialLaw
 from flexbed.dynamics.rotation import A as rotation_matrix
 from flexbed.dynamics.rotation import p_from_angles
 from flexbed.dynamics.scene import DIRECTIONS, Base, Body, Drive, Load, Mount, Scene
-from flexbed.dynamics.shapes import Curve, Sinusoid, Trapezoid, Triangle, sampled
+from flexbed.dynamics.shapes import SplineEnds
 
-from flexbed.files.bed_section import BedSection, read_bed
+from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
+from flexbed.files.shapes import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
 
 __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "builtin_scene_path",
-           "BUILTIN"]
+           "builtin_scene_text", "BUILTIN"]
 
 BUILTIN = "lee1999.toml"
 
 _TOP = ("scene", "body", "base", "bed", "mount", "solver", "point")
 _SCENE_KEYS = ("name", "description", "gravity")
-_BODY_KEYS = ("name", "mass", "inertia", "position", "orientation_deg")
+_BODY_KEYS = ("name", "mass", "inertia", "position", "orientation_deg", "velocity",
+              "angular_velocity")
+_VELOCITY_KEYS = ("velocity", "angular_velocity")
 _BASE_KEYS = ("motion", "support", "drive", "force")
-_SHAPE_KEYS = {
-    "sinusoid": ("amplitude", "frequency", "phase_deg", "start", "duration"),
-    "triangle": ("peak", "start", "rise", "fall"),
-    "trapezoid": ("peak", "start", "rise", "flat", "fall"),
-    "curve": ("time", "value", "file"),
-}
-_ALL_SHAPE_KEYS = ("direction", "shape", "sample") + tuple(
-    sorted({k for v in _SHAPE_KEYS.values() for k in v}))
 _MOUNT_KEYS = ("name", "body_i", "body_j", "point_i", "point_j", "axes_deg", "axes", "law",
                "k", "c", "stiffness", "damping", "spring_curve", "damper_curve")
 _LAW_KEYS = {"linear": ("k", "c"), "polynomial": ("stiffness", "damping"),
@@ -115,10 +110,30 @@ class SceneFile:
     digest: str
     statics_digest: str
 
+    @property
+    def output_name(self) -> str:
+        """Stem of every default output file name (``<output_name>-modes.h5``,
+        ``-equilibrium.h5``, ``-results.h5``, ...): the scene file's stem,
+        which no two scene files in one folder share (the built-in scene's
+        is ``lee1999``). ``[scene] name`` is only a label."""
+        return self.source.stem
+
 
 def builtin_scene_path() -> Path:
     """Path of the built-in reference scene."""
     return Path(str(resources.files("flexbed") / "scenes" / BUILTIN))
+
+
+def builtin_scene_text(name: str | None = None) -> str:
+    """The built-in reference scene as TOML, with ``[scene] name`` set to
+    ``name`` (e.g. the stem of the file it is written to) when given."""
+    text = builtin_scene_path().read_text(encoding="utf-8")
+    if name is None:
+        return text
+    new, n = re.subn(r'^name = "lee1999"$', lambda _: f"name = {json.dumps(name)}", text,
+                     count=1, flags=re.M)
+    assert n == 1, "the built-in scene has no [scene] name line"
+    return new
 
 
 def load_scene(path: str | Path | None = None) -> SceneFile:
@@ -140,68 +155,7 @@ def load_scene(path: str | Path | None = None) -> SceneFile:
     return reader.read(data, path, text)
 
 
-# ----------------------------------------------------------------- helpers
-def _is_number(v: Any) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
-
-
-class _Reader:
-    def __init__(self, label: str, folder: Path):
-        self.label = label
-        self.folder = folder
-        self.csv: dict[str, str] = {}
-
-    # errors ------------------------------------------------------------
-    def fail(self, where: str, msg: str):
-        raise InputError(f"{self.label}: {where}: {msg}" if where else f"{self.label}: {msg}")
-
-    def keys(self, where: str, table: Any, allowed: tuple, required: tuple = ()) -> dict:
-        if not isinstance(table, dict):
-            self.fail(where, f"must be a table, got {table!r}")
-        for key in table:
-            if key not in allowed:
-                self.fail(where, f"unknown key '{key}' (known: {', '.join(allowed)})")
-        for key in required:
-            if key not in table:
-                self.fail(where, f"'{key}' is required")
-        return table
-
-    # values ------------------------------------------------------------
-    def number(self, where, key, value, *, positive=False, non_negative=False) -> float:
-        if not _is_number(value):
-            self.fail(where, f"{key} = {value!r} must be a number")
-        v = float(value)
-        if not math.isfinite(v):
-            self.fail(where, f"{key} = {v!r} must be finite")
-        if positive and not v > 0:
-            self.fail(where, f"{key} = {v!r} must be > 0")
-        if non_negative and v < 0:
-            self.fail(where, f"{key} = {v!r} must be >= 0")
-        return v
-
-    def numbers(self, where, key, value, n=None, *, positive=False, non_negative=False,
-                min_len=1) -> list[float]:
-        if not isinstance(value, list):
-            self.fail(where, f"{key} = {value!r} must be a list of numbers")
-        if n is not None and len(value) != n:
-            self.fail(where, f"{key} = {value!r} must have {n} numbers, has {len(value)}")
-        if len(value) < min_len:
-            self.fail(where, f"{key} has {len(value)} numbers, needs at least {min_len}")
-        return [self.number(where, f"{key}[{i}]", v, positive=positive, non_negative=non_negative)
-                for i, v in enumerate(value)]
-
-    def string(self, where, key, value, choices=None) -> str:
-        if not isinstance(value, str):
-            self.fail(where, f"{key} = {value!r} must be a string")
-        if choices is not None and value not in choices:
-            self.fail(where, f"{key} = {value!r} must be one of {', '.join(map(repr, choices))}")
-        return value
-
-    def tables(self, where, value) -> list:
-        if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
-            self.fail("", f"{where} must be an array of tables ([[{where}]])")
-        return value
-
+class _Reader(ShapeReader):
     # sections ----------------------------------------------------------
     def read(self, data: dict, path: Path, text: str) -> SceneFile:
         self.keys("", data, _TOP)
@@ -214,11 +168,12 @@ class _Reader:
         bodies_raw = self.tables("body", data.get("body", []))
         if not bodies_raw:
             self.fail("", "no [[body]] tables: body 1, the base, is required")
-        bodies = [self.body(i, b) for i, b in enumerate(bodies_raw)]
+        bed = read_bed(data.get("bed", {}), f"{self.label}: bed")
+        at = _bed_index(bodies_raw, bed) if "bed" in data else None
+        bodies = [self.body(i, b, bed if i == at else None) for i, b in enumerate(bodies_raw)]
         names = [b.name for b in bodies]
         base = self.base(data.get("base", {}))
         mounts = [self.mount(i, m, names) for i, m in enumerate(self.tables("mount", data.get("mount", [])))]
-        bed = read_bed(data.get("bed", {}), f"{self.label}: bed")
         if bed.body is not None and bed.body not in names:
             self.fail("bed", f"body = {bed.body!r} is not a body (bodies: {', '.join(names)})")
         solver = self.solver(data.get("solver", {}))
@@ -230,7 +185,8 @@ class _Reader:
         if bed.auto == ():
             bed = self.resolve_auto_modes(scene, bed, solver)
         digest = _digest(data, self.csv)
-        statics = {"gravity": gravity, "body": data.get("body"), "mount": data.get("mount", []),
+        at_rest = [{k: v for k, v in b.items() if k not in _VELOCITY_KEYS} for b in bodies_raw]
+        statics = {"gravity": gravity, "body": at_rest, "mount": data.get("mount", []),
                    "bed": data.get("bed", {}), "static_tol": solver.static_tol}
         return SceneFile(scene=scene, bed=bed, solver=solver, points=tuple(points),
                          source=path, text=text, digest=digest,
@@ -246,107 +202,43 @@ class _Reader:
                              f"bed: {exc}")
         return replace(bed, fmax=float(f_cut), auto=(float(f_cut), f_in, f_sus))
 
-    def body(self, i: int, t: dict) -> Body:
+    def body(self, i: int, t: dict, bed: BedSection | None = None) -> Body:
+        """A ``[[body]]``; ``bed``: the scene's [bed] when this is the bed's body
+        (its mass and inertia may then be omitted: they come from the plate)."""
         where = f"body {t['name']!r}" if isinstance(t, dict) and isinstance(t.get("name"), str) \
             else f"body {i + 1}"
-        self.keys(where, t, _BODY_KEYS, ("name", "mass", "inertia", "position"))
+        required = ("name", "position") if bed else ("name", "mass", "inertia", "position")
+        self.keys(where, t, _BODY_KEYS, required)
         name = self.string(where, "name", t["name"])
-        mass = self.number(where, "mass", t["mass"], positive=True)
-        inertia = t["inertia"]
-        if isinstance(inertia, list) and inertia and all(isinstance(r, list) for r in inertia):
-            if len(inertia) != 3:
-                self.fail(where, f"inertia must be 3 numbers or 3 × 3, has {len(inertia)} rows")
-            J = [self.numbers(where, f"inertia[{r}]", row, 3) for r, row in enumerate(inertia)]
+        if "mass" in t:
+            mass = self.number(where, "mass", t["mass"], positive=True)
         else:
-            J = self.numbers(where, "inertia", inertia, 3)
+            mass = bed.plate.mass
+        if "inertia" not in t:
+            J = np.diag(bed.plate.inertia).tolist()
+        elif isinstance(t["inertia"], list) and t["inertia"] and all(isinstance(r, list)
+                                                                    for r in t["inertia"]):
+            if len(t["inertia"]) != 3:
+                self.fail(where, f"inertia must be 3 numbers or 3 × 3, has "
+                                 f"{len(t['inertia'])} rows")
+            J = [self.numbers(where, f"inertia[{r}]", row, 3) for r, row in enumerate(t["inertia"])]
+        else:
+            J = self.numbers(where, "inertia", t["inertia"], 3)
+        if bed and bed.flexible:
+            why = plate_mismatch(bed.plate, mass if "mass" in t else None,
+                                 J if "inertia" in t else None)
+            if why:
+                self.fail(where, why)
         position = self.numbers(where, "position", t["position"], 3)
         ang = self.numbers(where, "orientation_deg", t.get("orientation_deg", [0, 0, 0]), 3)
         p = p_from_angles(*np.radians(ang))
+        v = self.numbers(where, "velocity", t.get("velocity", [0, 0, 0]), 3)
+        w = self.numbers(where, "angular_velocity", t.get("angular_velocity", [0, 0, 0]), 3)
         try:
-            return Body(name, mass, np.array(J, dtype=float), np.array(position), p)
+            return Body(name, mass, np.array(J, dtype=float), np.array(position), p,
+                        np.array(v), np.array(w))
         except SceneError as exc:
             self.fail("", str(exc))
-
-    def shape(self, where: str, t: dict, *, is_force: bool):
-        kind = self.string(where, "shape", t["shape"], tuple(_SHAPE_KEYS))
-        allowed = ("direction", "shape", "sample") + _SHAPE_KEYS[kind]
-        for key in t:
-            if key not in allowed:
-                self.fail(where, f"key '{key}' does not apply to shape = {kind!r} "
-                                 f"(known: {', '.join(allowed)})")
-        try:
-            if kind == "sinusoid":
-                for key in ("amplitude", "frequency"):
-                    if key not in t:
-                        self.fail(where, f"'{key}' is required for shape = 'sinusoid'")
-                dur = t.get("duration", math.inf)
-                shape = Sinusoid(
-                    self.number(where, "amplitude", t["amplitude"]),
-                    self.number(where, "frequency", t["frequency"], positive=True),
-                    math.radians(self.number(where, "phase_deg", t.get("phase_deg", 0.0))),
-                    self.number(where, "start", t.get("start", 0.0), non_negative=True),
-                    dur if dur == math.inf else self.number(where, "duration", dur, positive=True))
-            elif kind in ("triangle", "trapezoid"):
-                need = ("peak", "rise", "fall") + (("flat",) if kind == "trapezoid" else ())
-                for key in need:
-                    if key not in t:
-                        self.fail(where, f"'{key}' is required for shape = {kind!r}")
-                peak = self.number(where, "peak", t["peak"])
-                start = self.number(where, "start", t.get("start", 0.0), non_negative=True)
-                rise = self.number(where, "rise", t["rise"], positive=True)
-                fall = self.number(where, "fall", t["fall"], positive=True)
-                if kind == "triangle":
-                    shape = Triangle(peak, rise, fall, start)
-                else:
-                    flat = self.number(where, "flat", t["flat"], non_negative=True)
-                    shape = Trapezoid(peak, rise, flat, fall, start)
-            else:
-                if "file" in t:
-                    if "time" in t or "value" in t:
-                        self.fail(where, "give either 'file' or 'time'/'value', not both")
-                    times, values = self.csv_file(where, self.string(where, "file", t["file"]))
-                else:
-                    for key in ("time", "value"):
-                        if key not in t:
-                            self.fail(where, f"'{key}' is required for shape = 'curve' "
-                                             f"(or give 'file')")
-                    times = self.numbers(where, "time", t["time"])
-                    values = self.numbers(where, "value", t["value"])
-                shape = Curve(np.array(times), np.array(values))
-            if "sample" in t:
-                if kind == "curve":
-                    self.fail(where, "sample applies to sinusoid, triangle and trapezoid "
-                                     "(curve data are already samples)")
-                shape = sampled(shape, self.number(where, "sample", t["sample"], positive=True))
-        except SceneError as exc:
-            self.fail(where, str(exc))
-        return shape
-
-    def csv_file(self, where: str, name: str):
-        p = (self.folder / name)
-        try:
-            text = p.read_text(encoding="utf-8")
-        except OSError as exc:
-            self.fail(where, f"file = {name!r}: cannot read it ({exc.strerror or exc})")
-        self.csv[name] = text
-        times, values = [], []
-        for lineno, line in enumerate(text.splitlines(), 1):
-            s = line.strip()
-            if not s or s.startswith("#"):
-                continue
-            cells = [c.strip() for c in s.split(",")]
-            try:
-                nums = [float(c) for c in cells]
-            except ValueError:
-                if not times:      # a header line
-                    continue
-                self.fail(where, f"file = {name!r}: line {lineno}: {s!r} is not two numbers")
-            if len(nums) != 2:
-                self.fail(where, f"file = {name!r}: line {lineno}: {len(nums)} columns, "
-                                 f"expected 2 (time, value)")
-            times.append(nums[0])
-            values.append(nums[1])
-        return times, values
 
     def base(self, t: dict) -> Base:
         where = "base"
@@ -362,9 +254,9 @@ class _Reader:
         for kind, out, cls in (("drive", drives, Drive), ("force", loads, Load)):
             for i, d in enumerate(self.tables(f"base.{kind}", t.get(kind, []))):
                 w = f"base.{kind} {i + 1}"
-                self.keys(w, d, _ALL_SHAPE_KEYS, ("direction", "shape"))
+                self.keys(w, d, ALL_SHAPE_KEYS, ("direction", "shape"))
                 direction = self.string(w, "direction", d["direction"], DIRECTIONS)
-                shape = self.shape(w, d, is_force=kind == "force")
+                shape = self.shape(w, d)
                 out.append(cls(DIRECTIONS.index(direction), shape))
         try:
             return Base(motion, tuple(drives), tuple(loads), support)
@@ -428,8 +320,10 @@ class _Reader:
                        if "damper_curve" in t else [None] * 3)
             out = []
             for d in range(3):
+                fs, fd = springs[d], dampers[d]
                 try:
-                    out.append(CurveLaw(springs[d], dampers[d]))
+                    out.append(CurveLaw(fs[:2], fd[:2] if fd else None, fs[2],
+                                        fd[2] if fd else SplineEnds()))
                 except SceneError as exc:
                     self.fail(where, f"direction {d + 1}: {exc}")
             return tuple(out)
@@ -445,19 +339,6 @@ class _Reader:
                 self.fail(where, f"{key}[{d}] has degree {len(row) - 1} ({len(row)} coefficients), "
                                  f"at most 8 allowed")
             out.append(self.numbers(where, f"{key}[{d}]", row))
-        return out
-
-    def curve_tables(self, where, key, value, xkey) -> list:
-        if not isinstance(value, list) or len(value) != 3 or not all(isinstance(v, dict) for v in value):
-            self.fail(where, f"{key} must be 3 tables {{{xkey} = [...], force = [...]}} "
-                             f"(one per direction)")
-        out = []
-        for d, tab in enumerate(value):
-            w = f"{where}: {key}[{d}]"
-            self.keys(w, tab, (xkey, "force"), (xkey, "force"))
-            x = self.numbers(w, xkey, tab[xkey])
-            f = self.numbers(w, "force", tab["force"])
-            out.append((np.array(x), np.array(f)))
         return out
 
     def solver(self, t: dict) -> SolverSection:
@@ -497,6 +378,17 @@ class _Reader:
             pos = tuple(self.numbers(where, "position", t["position"], 3))
             out.append(PointOfInterest(name, body, pos, rel))
         return out
+
+
+def _bed_index(bodies: list, bed: BedSection) -> int | None:
+    """Index of the bed's ``[[body]]`` table (``[bed] body``, default the
+    second), None when there is none or it would be the base."""
+    if bed.body is None:
+        return 1 if len(bodies) > 1 else None
+    for i, t in enumerate(bodies):
+        if isinstance(t, dict) and t.get("name") == bed.body:
+            return i if i > 0 else None
+    return None
 
 
 def _digest(data: Any, csv: dict[str, str]) -> str:

@@ -14,6 +14,7 @@ from flexbed.dynamics.scene import Scene
 from flexbed.fem.shapes import GridShapes, OutsidePlateError
 
 from flexbed.errors import InputError
+from flexbed.files.bed_section import plate_mismatch
 from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.stages.residual_modes import change_of_modes, residual_basis
 from flexbed.files.scene import SceneFile
@@ -156,7 +157,17 @@ def _corrected(sf: SceneFile, data: ModesData, n: int, name: str,
 
 
 def with_flexible_bed(sf: SceneFile, data: ModesData, **kwargs) -> Scene:
-    """The scene's dynamics model with its bed flexible (see :func:`flexible_body`)."""
+    """The scene's dynamics model with its bed flexible (see :func:`flexible_body`).
+
+    The bed body's mass and inertia must be the plate's (checked when the
+    scene file is read if it says ``model = "flexible"``, here again for a
+    scene read as rigid and made flexible, e.g. by ``compare``)."""
+    body = sf.scene.bodies[sf.scene.body_index(bed_name(sf))]
+    J = body.inertia
+    given = np.diag(J).tolist() if np.all(J == np.diag(np.diag(J))) else J.tolist()
+    why = plate_mismatch(sf.bed.plate, body.mass, given)
+    if why:
+        raise InputError(f"{sf.source.name}: body {body.name!r}: {why}")
     fb = flexible_body(sf, data, **kwargs)
     try:
         return replace(sf.scene, flexible=((bed_name(sf), fb),))

@@ -18,7 +18,7 @@ def default_modes_path(sf: SceneFile) -> Path:
     """Where a scene's modes file goes when no ``-o`` is given."""
     if sf.bed.modes_file:
         return sf.source.parent / sf.bed.modes_file
-    return Path.cwd() / f"{sf.scene.name}-modes.h5"
+    return Path.cwd() / f"{sf.output_name}-modes.h5"
 
 
 def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,

@@ -1,0 +1,153 @@
+"""The scene file's time shapes and curve data: ``[[base.drive]]`` and
+``[[base.force]]`` entries (sinusoid, triangle, trapezoid, sawtooth, curve
+data inline or from a CSV file) and the mount laws' curve tables, with the
+splines' end conditions.
+
+:class:`ShapeReader` adds these readers to :class:`TableReader`; the
+scene file's reader (:mod:`flexbed.files.scene`) builds on it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from flexbed.dynamics.errors import SceneError
+from flexbed.dynamics.shapes import (END_CONDITIONS, Curve, Sawtooth, Sinusoid, SplineEnds,
+                                     Trapezoid, Triangle, sampled)
+
+from flexbed.files.table_reader import TableReader
+
+__all__ = ["ShapeReader", "SHAPE_KEYS", "ALL_SHAPE_KEYS", "END_KEYS"]
+
+END_KEYS = ("end_condition", "end_slopes")
+SHAPE_KEYS = {
+    "sinusoid": ("amplitude", "frequency", "phase_deg", "start", "duration"),
+    "triangle": ("peak", "start", "rise", "fall"),
+    "trapezoid": ("peak", "start", "rise", "flat", "fall"),
+    "sawtooth": ("peak", "start", "rise"),
+    "curve": ("time", "value", "file") + END_KEYS,
+}
+ALL_SHAPE_KEYS = ("direction", "shape", "sample") + tuple(
+    sorted({k for v in SHAPE_KEYS.values() for k in v}))
+
+
+class ShapeReader(TableReader):
+    """Readers of time shapes and curve tables (see the module docstring)."""
+
+    def shape(self, where: str, t: dict):
+        """A drive or force shape from its table (keys other than
+        ``direction`` checked here)."""
+        kind = self.string(where, "shape", t["shape"], tuple(SHAPE_KEYS))
+        allowed = ("direction", "shape", "sample") + SHAPE_KEYS[kind]
+        for key in t:
+            if key not in allowed:
+                self.fail(where, f"key '{key}' does not apply to shape = {kind!r} "
+                                 f"(known: {', '.join(allowed)})")
+        try:
+            if kind == "sinusoid":
+                for key in ("amplitude", "frequency"):
+                    if key not in t:
+                        self.fail(where, f"'{key}' is required for shape = 'sinusoid'")
+                dur = t.get("duration", math.inf)
+                shape = Sinusoid(
+                    self.number(where, "amplitude", t["amplitude"]),
+                    self.number(where, "frequency", t["frequency"], positive=True),
+                    math.radians(self.number(where, "phase_deg", t.get("phase_deg", 0.0))),
+                    self.number(where, "start", t.get("start", 0.0), non_negative=True),
+                    dur if dur == math.inf else self.number(where, "duration", dur, positive=True))
+            elif kind in ("triangle", "trapezoid", "sawtooth"):
+                need = ("peak", "rise") + {"triangle": ("fall",), "trapezoid": ("flat", "fall"),
+                                           "sawtooth": ()}[kind]
+                for key in need:
+                    if key not in t:
+                        self.fail(where, f"'{key}' is required for shape = {kind!r}")
+                peak = self.number(where, "peak", t["peak"])
+                start = self.number(where, "start", t.get("start", 0.0), non_negative=True)
+                rise = self.number(where, "rise", t["rise"], positive=True)
+                if kind == "sawtooth":
+                    shape = Sawtooth(peak, rise, start)
+                elif kind == "triangle":
+                    shape = Triangle(peak, rise, self.number(where, "fall", t["fall"],
+                                                             positive=True), start)
+                else:
+                    flat = self.number(where, "flat", t["flat"], non_negative=True)
+                    fall = self.number(where, "fall", t["fall"], positive=True)
+                    shape = Trapezoid(peak, rise, flat, fall, start)
+            else:
+                if "file" in t:
+                    if "time" in t or "value" in t:
+                        self.fail(where, "give either 'file' or 'time'/'value', not both")
+                    times, values = self.csv_file(where, self.string(where, "file", t["file"]))
+                else:
+                    for key in ("time", "value"):
+                        if key not in t:
+                            self.fail(where, f"'{key}' is required for shape = 'curve' "
+                                             f"(or give 'file')")
+                    times = self.numbers(where, "time", t["time"])
+                    values = self.numbers(where, "value", t["value"])
+                shape = Curve(np.array(times), np.array(values), self.ends(where, t))
+            if "sample" in t:
+                if kind == "curve":
+                    self.fail(where, "sample applies to sinusoid, triangle and trapezoid "
+                                     "(curve data are already samples)")
+                shape = sampled(shape, self.number(where, "sample", t["sample"], positive=True))
+        except SceneError as exc:
+            self.fail(where, str(exc))
+        return shape
+
+    def ends(self, where: str, t: dict) -> SplineEnds:
+        """``end_condition`` and ``end_slopes`` of a curve's table."""
+        cond = self.string(where, "end_condition", t.get("end_condition", "not-a-knot"),
+                           END_CONDITIONS)
+        if "end_slopes" in t and cond != "clamped":
+            self.fail(where, f"end_slopes = {t['end_slopes']!r} applies to end_condition = "
+                             f"'clamped' only (end_condition is {cond!r})")
+        slopes = self.numbers(where, "end_slopes", t.get("end_slopes", [0.0, 0.0]), 2)
+        try:
+            return SplineEnds(cond, tuple(slopes))
+        except SceneError as exc:
+            self.fail(where, str(exc))
+
+    def csv_file(self, where: str, name: str):
+        """(times, values) of a two-column CSV file beside the scene file."""
+        p = (self.folder / name)
+        try:
+            text = p.read_text(encoding="utf-8")
+        except OSError as exc:
+            self.fail(where, f"file = {name!r}: cannot read it ({exc.strerror or exc})")
+        self.csv[name] = text
+        times, values = [], []
+        for lineno, line in enumerate(text.splitlines(), 1):
+            s = line.strip()
+            if not s or s.startswith("#"):
+                continue
+            cells = [c.strip() for c in s.split(",")]
+            try:
+                nums = [float(c) for c in cells]
+            except ValueError:
+                if not times:      # a header line
+                    continue
+                self.fail(where, f"file = {name!r}: line {lineno}: {s!r} is not two numbers")
+            if len(nums) != 2:
+                self.fail(where, f"file = {name!r}: line {lineno}: {len(nums)} columns, "
+                                 f"expected 2 (time, value)")
+            times.append(nums[0])
+            values.append(nums[1])
+        return times, values
+
+    def curve_tables(self, where, key, value, xkey) -> list:
+        """A mount law's 3 curve tables (one per direction):
+        [(x, force, SplineEnds)]."""
+        if not isinstance(value, list) or len(value) != 3 or not all(isinstance(v, dict) for v in value):
+            self.fail(where, f"{key} must be 3 tables {{{xkey} = [...], force = [...]}} "
+                             f"(one per direction)")
+        out = []
+        for d, tab in enumerate(value):
+            w = f"{where}: {key}[{d}]"
+            self.keys(w, tab, (xkey, "force") + END_KEYS, (xkey, "force"))
+            x = self.numbers(w, xkey, tab[xkey])
+            f = self.numbers(w, "force", tab["force"])
+            out.append((np.array(x), np.array(f), self.ends(w, tab)))
+        return out

@@ -1,0 +1,84 @@
+"""Checked reading of parsed TOML tables: the one place that turns a value a
+user typed into a number, a list or a choice, or into a one-line
+:class:`~flexbed.errors.InputError` naming the file, the entry and the value."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any, NoReturn
+
+from flexbed.errors import InputError
+
+__all__ = ["TableReader", "is_number"]
+
+
+def is_number(v: Any) -> bool:
+    """True for an int or float (not a bool)."""
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+class TableReader:
+    """Value checks for one file.
+
+    Parameters
+    ----------
+    label : str
+        The file's name as messages show it.
+    folder : Path
+        Where files the tables refer to (CSV data) are looked up.
+    """
+
+    def __init__(self, label: str, folder: Path):
+        self.label = label
+        self.folder = folder
+        self.csv: dict[str, str] = {}
+
+    def fail(self, where: str, msg: str) -> NoReturn:
+        raise InputError(f"{self.label}: {where}: {msg}" if where else f"{self.label}: {msg}")
+
+    def keys(self, where: str, table: Any, allowed: tuple, required: tuple = ()) -> dict:
+        if not isinstance(table, dict):
+            self.fail(where, f"must be a table, got {table!r}")
+        for key in table:
+            if key not in allowed:
+                self.fail(where, f"unknown key '{key}' (known: {', '.join(allowed)})")
+        for key in required:
+            if key not in table:
+                self.fail(where, f"'{key}' is required")
+        return table
+
+    def number(self, where, key, value, *, positive=False, non_negative=False) -> float:
+        if not is_number(value):
+            self.fail(where, f"{key} = {value!r} must be a number")
+        v = float(value)
+        if not math.isfinite(v):
+            self.fail(where, f"{key} = {v!r} must be finite")
+        if positive and not v > 0:
+            self.fail(where, f"{key} = {v!r} must be > 0")
+        if non_negative and v < 0:
+            self.fail(where, f"{key} = {v!r} must be >= 0")
+        return v
+
+    def numbers(self, where, key, value, n=None, *, positive=False, non_negative=False,
+                min_len=1) -> list[float]:
+        if not isinstance(value, list):
+            self.fail(where, f"{key} = {value!r} must be a list of numbers")
+        if n is not None and len(value) != n:
+            self.fail(where, f"{key} = {value!r} must have {n} numbers, has {len(value)}")
+        if len(value) < min_len:
+            self.fail(where, f"{key} has {len(value)} numbers, needs at least {min_len}")
+        return [self.number(where, f"{key}[{i}]", v, positive=positive, non_negative=non_negative)
+                for i, v in enumerate(value)]
+
+    def string(self, where, key, value, choices=None) -> str:
+        if not isinstance(value, str):
+            self.fail(where, f"{key} = {value!r} must be a string")
+        if choices is not None and value not in choices:
+            self.fail(where, f"{key} = {value!r} must be one of {', '.join(map(repr, choices))}")
+        return value
+
+    def tables(self, where, value) -> list:
+        if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+            self.fail("", f"{where} must be an array of tables ([[{where}]])")
+        return value
