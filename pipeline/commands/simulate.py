@@ -36,7 +36,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--rtol", type=float, default=None, help="relative tolerance (adaptive methods)")
     parser.add_argument("--atol", type=float, default=None, help="absolute tolerance (adaptive methods)")
     parser.add_argument("--from", dest="start", choices=("equilibrium", "initial"), default=None,
-                        help="start from the static equilibrium or the scene's positions")
+                        help="start from the static equilibrium or the scene's positions, with its velocities")
     parser.add_argument("--t-end", type=float, default=None, help="end time [s]")
     parser.add_argument("--output-dt", type=float, default=None, help="spacing of stored samples [s]")
     parser.add_argument("--equilibrium", default=None,
