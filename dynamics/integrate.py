@@ -41,32 +41,9 @@ they are projected at restarts only (the right-hand side uses p/|p|
 throughout, so |p| drift never enters the physics).
 
 Stiff scenes and the explicit methods: before ``rk4`` or ``dop853``
-starts, the eigenvalues λ of the Jacobian of the motion (the q and v
-blocks of ``System.rhs``, by forward differences at t = 0 and y0; about
-ny right-hand sides) give the longest step h for which every hλ lies in
-the method's stability region |R(hλ)| ≤ 1, R being the method's stability
-polynomial: |hλ| up to 2.79 along the negative real axis and 2.83 along
-the imaginary axis for RK4, 6.39 and 5.96 for DOP853 (a growing mode's
-real part is set to zero first: its growth is physics, not instability).
-
-- ``rk4`` stops before its first step when ``dt`` exceeds that bound: a
-  "stiff scene" pointing to the implicit methods when the stable step
-  would take more than ``Settings.stiff_steps`` steps over [0, t_end],
-  otherwise "rk4 step too long", asking for a shorter ``dt``.
-- ``dop853`` stops before its first step when the bound forces more than
-  ``Settings.stiff_steps`` steps (its step control would find the bound by
-  itself, at that cost).
-
-The run comes back incomplete (no step taken, the start state only) with
-one line, e.g. ``stiff scene: the fastest rate 3.6e+05 1/s limits dop853
-to steps below 1.8e-05 s (112483 steps for 2 s, more than stiff_steps =
-100000); use integrator = "radau" or "bdf"`` (a flexible bed with 20
-modes and β = 0.01); ``flexbed simulate`` prints it and exits with 1. The
-estimate is the linearisation at the start: a hardening mount that
-stiffens later is not seen, and a run that still goes unstable stops at
-the first non-finite state (below). ``stiff_steps = 0`` turns the check
-off. ``adams`` (LSODA switches to BDF by itself), ``bdf`` and ``radau``
-are not checked.
+starts, the stiffness check of :mod:`flexbed.dynamics.stiffness` may refuse
+the run (one line saying why and what to use; ``stiff_steps = 0`` turns it
+off).
 
 ``bdf`` and ``radau`` get their Jacobian from the same forward
 differences (over q and v, steps sqrt(eps)·max(1, |y_j|); the
@@ -96,18 +73,19 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import BDF, DOP853, LSODA
+from scipy.integrate import BDF, LSODA
 
 from .steppers import (N_COUNTS, dop853_segment, radau_segment, radau_reset, radau_workspace,
                        rk4_segment)
+from .stiffness import jacobian_columns, motion_eigenvalues, segments, stable_step, stiff_message
 from .system import System
 
-__all__ = ["Settings", "Stats", "Run", "integrate", "warm_up", "METHODS", "output_grid", "motion_eigenvalues",
-           "stable_step", "stiff_message"]
+__all__ = ["Settings", "Stats", "Run", "integrate", "warm_up", "METHODS", "output_grid",
+           "motion_eigenvalues", "stable_step", "stiff_message"]
+
 
 METHODS = ("rk4", "adams", "bdf", "radau", "dop853")
 _SCIPY = {"adams": LSODA, "bdf": BDF}
-_SQRT_EPS = math.sqrt(np.finfo(float).eps)
 
 
 @dataclass(frozen=True, slots=True)
@@ -190,6 +168,7 @@ class Run:
     t_reached: float
 
 
+
 def output_grid(t_end: float, output_dt: float) -> np.ndarray:
     """0, output_dt, … up to t_end, and t_end itself."""
     n = int(math.floor(t_end / output_dt + 1e-9))
@@ -199,179 +178,6 @@ def output_grid(t_end: float, output_dt: float) -> np.ndarray:
     else:
         t[-1] = t_end
     return t
-
-
-def _stability_polynomial(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Coefficients γ_0 … γ_s (rising powers) of the stability polynomial
-    R(z) = 1 + z bᵀ (I − z a)⁻¹ 𝟙 of an explicit Runge–Kutta method
-    (a : (s, s) strictly lower triangular, b : (s,))."""
-    g = [1.0]
-    v = np.ones(len(b))
-    for _ in range(len(b)):
-        g.append(float(b @ v))
-        v = a @ v
-    return np.array(g)
-
-
-# R(z) of the explicit methods, highest power first (for np.polyval)
-_STABILITY = {
-    "rk4": np.array([1.0 / math.factorial(k) for k in range(4, -1, -1)]),
-    "dop853": _stability_polynomial(DOP853.A, DOP853.B)[::-1].copy(),
-}
-
-
-def _jacobian_columns(fun, t: float, z: np.ndarray, n: int, size: np.ndarray) -> np.ndarray:
-    """Forward differences of fun(t, z) (→ (ny,)) over z[:n].
-
-    size : (ny,) magnitudes that set each step, sqrt(eps)·max(1, size_j).
-    Returns (ny, n).
-    """
-    z = np.array(z, dtype=float)
-    f0 = fun(t, z)
-    jac = np.empty((f0.size, n))
-    for j in range(n):
-        zj = z[j]
-        z[j] = zj + _SQRT_EPS * max(1.0, abs(size[j]))
-        jac[:, j] = (fun(t, z) - f0) / (z[j] - zj)
-        z[j] = zj
-    return jac
-
-
-def motion_eigenvalues(system: System, y: np.ndarray, t: float = 0.0) -> np.ndarray:
-    """Eigenvalues of the Jacobian of the motion at (t, y).
-
-    Forward differences of ``System.rhs`` over the coordinates and
-    velocities (q, v), steps of sqrt(eps)·max(1, |y_j|); the energy
-    quadratures are left out (nothing depends on them). Costs nq + nv + 1
-    right-hand sides (counted in ``system.nfev``).
-
-    Parameters
-    ----------
-    system : System
-    y : (ny,) array
-        State (see :mod:`dynamics.layout`).
-    t : float
-        Time [s].
-
-    Returns
-    -------
-    (nq + nv,) complex array [1/s]; all-NaN if the right-hand side is not
-    finite there.
-    """
-    lay = system.layout
-    n = lay.nq + lay.nv
-    y = np.asarray(y, dtype=float)
-    jac = _jacobian_columns(system.rhs, t, y, n, y)[:n]
-    if not np.all(np.isfinite(jac)):
-        return np.full(n, np.nan + 0j)
-    return np.linalg.eigvals(jac)
-
-
-def stable_step(method: str, eigenvalues: np.ndarray) -> tuple[float, float]:
-    """Longest step of an explicit method that keeps every hλ stable.
-
-    For each eigenvalue λ (a growing one's real part set to zero: its
-    growth is physics), the step h is bounded by the first radius along
-    λ's direction where |R(hλ)| exceeds 1 (R: the method's stability
-    polynomial; found on a grid of |hλ| up to 10, then by bisection).
-
-    Parameters
-    ----------
-    method : "rk4" or "dop853"
-    eigenvalues : (n,) complex array [1/s]
-
-    Returns
-    -------
-    h : float [s]
-        The longest stable step (inf if no eigenvalue limits it).
-    rate : float [1/s]
-        |λ| of the eigenvalue that sets h (0 if none).
-    """
-    poly = _STABILITY[method]
-    lam = np.asarray(eigenvalues, dtype=complex).ravel()
-    lam = lam[np.isfinite(lam)]
-    lam = np.minimum(lam.real, 0.0) + 1j * np.abs(lam.imag)
-    mag = np.abs(lam)
-    lam, mag = lam[mag > 0], mag[mag > 0]
-    if lam.size == 0:
-        return math.inf, 0.0
-    d = lam / mag                                          # directions, left half-plane
-
-    def unstable(r):                                       # r : (n,) or (n, k) radii |hλ|
-        z = r * (d if r.ndim == 1 else d[:, None])
-        return np.abs(np.polyval(poly, z)) > 1.0 + 1e-12
-
-    grid = np.linspace(0.0, 10.0, 1001)[1:]                # both regions lie within |z| < 7
-    first = np.argmax(unstable(np.broadcast_to(grid, (d.size, grid.size))), axis=1)
-    lo = np.where(first > 0, grid[first - 1], 0.0)
-    hi = grid[first]
-    for _ in range(40):
-        mid = 0.5 * (lo + hi)
-        bad = unstable(mid)
-        hi = np.where(bad, mid, hi)
-        lo = np.where(bad, lo, mid)
-    h = lo / mag
-    k = int(np.argmin(h))
-    return float(h[k]), float(mag[k])
-
-
-def _segments(system: System, t_end: float) -> list[tuple[float, float]]:
-    """The segments [t_a, t_b] between breakpoints that the integrators run through."""
-    bounds = [b for b in system.breakpoints if 0.0 < b < t_end] + [t_end]
-    return list(zip([0.0] + bounds[:-1], bounds))
-
-
-def _rk4_steps(t_a: float, t_b: float, dt: float) -> int:
-    """Number of equal rk4 steps on [t_a, t_b] (steps of at most dt)."""
-    return max(1, int(math.ceil((t_b - t_a) / dt - 1e-9)))
-
-
-def stiff_message(system: System, y0: np.ndarray, settings: Settings) -> str | None:
-    """Why an explicit method should not run this scene, or None.
-
-    ``rk4``: its step exceeds the stable step of the linearisation at
-    (0, y0); ``dop853``: the stable step forces more than
-    ``settings.stiff_steps`` steps over [0, t_end]. Other methods, or
-    ``stiff_steps = 0``: None without any evaluation.
-
-    Parameters
-    ----------
-    system : System
-    y0 : (ny,) array
-        Start state.
-    settings : Settings
-
-    Returns
-    -------
-    str or None
-        One line: the limiting rate [1/s], the stable step [s] and what to use.
-    """
-    method = settings.method
-    if method not in _STABILITY or settings.stiff_steps == 0:
-        return None
-    segments = _segments(system, settings.t_end)
-    system.set_segment(*segments[0])
-    try:
-        h, rate = stable_step(method, motion_eigenvalues(system, y0))
-    finally:
-        system.set_segment(None)
-    if not math.isfinite(h):
-        return None
-    use = 'use integrator = "radau" or "bdf"'
-    limit = f"the fastest rate {rate:.1e} 1/s limits {method} to steps below {h:.1e} s"
-    steps = math.ceil(settings.t_end / h)
-    stiff = steps > settings.stiff_steps
-    if method == "rk4":
-        h_rk4 = max((b - a) / _rk4_steps(a, b, settings.dt) for a, b in segments)
-        if h_rk4 <= h:
-            return None
-        if stiff:
-            return f"stiff scene: {limit} (dt = {settings.dt:g} s); {use}"
-        return f"rk4 step too long: {limit} (dt = {settings.dt:g} s); use dt below {h:.1e} s"
-    if not stiff:
-        return None
-    return (f"stiff scene: {limit} ({steps} steps for {settings.t_end:g} s, more than "
-            f"stiff_steps = {settings.stiff_steps}); {use}")
 
 
 class _Projector:
@@ -462,7 +268,7 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     shift[lay.q_rigid] = y[lay.q_rigid]
     project = _Projector(system, shift)
     z = y - shift
-    bounds = [b for _, b in _segments(system, t_end)]
+    bounds = [b for _, b in segments(system, t_end)]
     rtol = settings.rtol
     # the energy quadratures are outputs: kept out of the error control
     atol = np.full(y.size, settings.atol)
@@ -584,7 +390,7 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
 
     def implicit_jac(t, zz):
         out = np.zeros((zz.size, zz.size))
-        out[:, :n_motion] = _jacobian_columns(fun, t, zz, n_motion, zz + shift)
+        out[:, :n_motion] = jacobian_columns(fun, t, zz, n_motion, zz + shift)
         return out
 
     stepper = None

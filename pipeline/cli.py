@@ -13,6 +13,7 @@ import importlib
 import sys
 
 from flexbed.errors import EXIT_INPUT, FlexbedError
+from flexbed.threads import limited, pin_environment
 from flexbed.files.store import package_version
 
 COMMANDS = {
@@ -50,13 +51,15 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit code."""
+    pin_environment()
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "_run", None):
         parser.print_help()
         return EXIT_INPUT
     try:
-        return int(args._run(args) or 0)
+        with limited():
+            return int(args._run(args) or 0)
     except FlexbedError as exc:
         print(f"flexbed {args.command}: {exc}", file=sys.stderr)
         return exc.exit_code

@@ -1,4 +1,4 @@
-"""The compiled steppers (dynamics/steppers.py) against closed forms and
+"""The compiled steppers (dynamics/steppers/) against closed forms and
 against SciPy's own DOP853 and Radau on the same right-hand side: the same
 step control must take the same steps, and pausing a run in chunks must not
 change it."""

@@ -31,8 +31,9 @@ from flexbed.dynamics.rotation import A as rotation_matrix
 from flexbed.fem.shapes import GridShapes, OutsidePlateError
 
 from flexbed.errors import InputError
-from flexbed.files.modes import read_modes_file
+from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.files.results import read_results
+from flexbed.files.store import Contents
 
 
 @dataclass(frozen=True)
@@ -72,12 +73,14 @@ def parse_point(text: str) -> Point:
 
 
 class Run:
-    """A results file opened for post-processing (and its modes file when
-    the bed was flexible)."""
+    """A run opened for post-processing: a results file, or its contents in
+    memory (:class:`flexbed.files.store.Contents`), and the modes of a
+    flexible bed (``modes``: given, else the modes file the run records)."""
 
-    def __init__(self, path: str | Path):
-        c = read_results(path)
-        self.path = c.path
+    def __init__(self, source: str | Path | Contents, modes: ModesData | None = None):
+        c = source if isinstance(source, Contents) else read_results(source)
+        self.path = c.path if c.path is not None else "results"
+        self._modes = modes
         if not c.attrs.get("", {}).get("complete", True):
             self.incomplete = str(c.attrs[""].get("message", ""))
         else:
@@ -118,11 +121,19 @@ class Run:
                 raise InputError(f"{self.path}: scene point {i + 1} is malformed") from None
 
     def _open_modes(self, c, bed: dict) -> None:
-        path = Path(str(bed.get("modes_file", "")))
-        if not str(path) or not path.exists():
-            raise InputError(f"{self.path}: the flexible bed's modes file {str(path)!r} is "
-                             f"missing; re-run 'flexbed modes' (and the simulation)")
-        data = read_modes_file(path)
+        if self._modes is not None:
+            data = self._modes
+            path = data.path or "the modes given"
+        else:
+            raw = str(bed.get("modes_file", ""))
+            if not raw:
+                raise InputError(f"{self.path}: the run records no modes file (its modes were "
+                                 f"computed in memory); give the bed's modes")
+            path = Path(raw)
+            if not path.is_file():
+                raise InputError(f"{self.path}: the flexible bed's modes file {raw!r} "
+                                 f"is missing; re-run 'flexbed modes' (and the simulation)")
+            data = read_modes_file(path)
         if data.input_hash != str(bed.get("plate_input_hash", "")):
             raise InputError(f"{self.path}: modes file {path} was made for another bed than "
                              f"this run; re-run 'flexbed modes' and 'flexbed simulate'")

@@ -83,7 +83,7 @@ def section_rhs(ctx: BenchContext) -> str:
         "## One right-hand side", "",
         "At a state in motion (0.1 s into the run), best of "
         f"{repeat} timings of about {ctx.profile.rhs_seconds:g} s of calls each. "
-        "Compiled: the kernel (`dynamics/kernel.py`, numba) called from compiled code, as "
+        "Compiled: the kernel (`dynamics/kernel/`, numba) called from compiled code, as "
         "the compiled steppers (rk4, dop853, radau) call it; from Python: `System.rhs(t, y)`, "
         "as statics, the linearisation and SciPy's steppers (adams, bdf) call it (the call "
         "itself, argument checks and a new output array are the difference).",
@@ -116,7 +116,7 @@ def section_integrators(ctx: BenchContext) -> str:
              "dense output, projection, bookkeeping; not the statics), median of the runs "
              "(up to 5 for settings under 2 s). rtol acts on the motion from the start, "
              "with atol = 1e-3·rtol. rk4, dop853 and radau are the compiled steppers "
-             "(`dynamics/steppers.py`), adams and bdf SciPy's, driven from Python; rejected "
+             "(`dynamics/steppers/`), adams and bdf SciPy's, driven from Python; rejected "
              "steps of adams and bdf are counted from the distinct trial times of their "
              "right-hand sides (SciPy does not report them). The radau rows' Jacobians are "
              f"forward differences of the compiled kernel. Settings predicted to take over {ctx.profile.budget:g} s are not run "

@@ -82,7 +82,8 @@ class ModesData:
 
     Attributes
     ----------
-    path : Path
+    path : Path or None
+        The file it was read from (None: computed in memory).
     plate : PlateSpec
         The inputs the file was computed from.
     input_hash : str
@@ -99,7 +100,7 @@ class ModesData:
     created, creator : str
     """
 
-    path: Path
+    path: Path | None
     plate: PlateSpec
     input_hash: str
     frequency: np.ndarray
@@ -173,6 +174,23 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
                        "fe": "all terms with Phi: FE mass forms with the kept modes"},
     }
     return write_file(path, schema=SCHEMA, version=VERSION, datasets=d, attrs=attrs)
+
+
+def modes_data(bed: BedModes, path: Path | None = None) -> ModesData:
+    """The modes of :func:`flexbed.fem.bed.compute_bed_modes` as :class:`ModesData`
+    without a file (``path`` None), as :func:`read_modes_file` would give them."""
+    m = bed.modes
+    return ModesData(
+        path=path, plate=bed.spec, input_hash=bed.spec.digest(),
+        frequency=np.asarray(m.frequency, dtype=float), omega=np.asarray(m.omega, dtype=float),
+        labels=tuple(str(v) for v in m.labels), symmetry=tuple(str(v) for v in m.symmetry),
+        nodes=np.asarray(bed.nodes, dtype=float), cells=np.asarray(bed.cells, dtype=np.int64),
+        translation=np.asarray(bed.translation, dtype=float),
+        rotation=np.asarray(bed.rotation, dtype=float), twist=np.asarray(bed.twist, dtype=float),
+        rigid_omega=np.asarray(m.rigid_omega, dtype=float), invariants=bed.invariants,
+        next_frequency=(m.omega_next / (2 * math.pi) if math.isfinite(m.omega_next)
+                        else math.inf),
+        created="", creator="")
 
 
 def read_modes_file(path: str | Path) -> ModesData:

@@ -50,7 +50,7 @@ from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile
 from flexbed.files.store import Contents, Dataset, read_file, write_file
 
-__all__ = ["write_results", "read_results", "write_equilibrium", "read_equilibrium",
+__all__ = ["write_results", "read_results", "results_contents", "write_results_contents", "write_equilibrium", "read_equilibrium",
            "RESULTS_SCHEMA", "EQUILIBRIUM_SCHEMA"]
 
 RESULTS_SCHEMA = "flexbed.results"
@@ -129,6 +129,22 @@ def write_results(path, sf: SceneFile, system: System, run: Run, *, start: str,
     with the plate's input hash, which the modes file carries too).
     ``model``: the model's attributes (:meth:`flexbed.stages.motion.Motion.attrs`);
     default: the nonlinear model."""
+    ds, attrs = results_contents(sf, system, run, start=start, equilibrium=equilibrium,
+                                 modes_path=modes_path, model=model)
+    return write_results_contents(path, ds, attrs)
+
+
+def write_results_contents(path, datasets: dict, attrs: dict) -> Path:
+    """Write what :func:`results_contents` gave as a results file, atomically."""
+    return write_file(path, schema=RESULTS_SCHEMA, version=VERSION, datasets=datasets,
+                      attrs=attrs)
+
+
+def results_contents(sf: SceneFile, system: System, run: Run, *, start: str,
+                     equilibrium: Equilibrium | None = None, modes_path=None,
+                     model: dict | None = None) -> tuple[dict, dict]:
+    """The datasets and group attributes of a run's results file (the file's
+    layout above), in memory: (``{path: Dataset}``, ``{group: attrs}``)."""
     h = history(system, run.t, run.y)
     ds, sattrs = _scene_part(sf)
     sc = system.scene
@@ -230,7 +246,7 @@ def write_results(path, sf: SceneFile, system: System, run: Run, *, start: str,
         eds, eattrs = _equilibrium_part(system, equilibrium, "equilibrium/")
         ds.update(eds)
         attrs["equilibrium"] = eattrs
-    return write_file(path, schema=RESULTS_SCHEMA, version=VERSION, datasets=ds, attrs=attrs)
+    return ds, attrs
 
 
 def read_results(path) -> Contents:

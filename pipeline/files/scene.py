@@ -35,8 +35,8 @@ from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
 from flexbed.files.shapes import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
 
-__all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "builtin_scene_path",
-           "builtin_scene_text", "BUILTIN"]
+__all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse_scene",
+           "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
 
 BUILTIN = "lee1999.toml"
 
@@ -139,20 +139,26 @@ def builtin_scene_text(name: str | None = None) -> str:
 def load_scene(path: str | Path | None = None) -> SceneFile:
     """Read and check a scene file (the built-in reference scene if path is None)."""
     path = builtin_scene_path() if path is None else Path(path)
-    label = path.name
     try:
         raw = path.read_bytes()
     except OSError as exc:
         raise InputError(f"{path}: cannot read the scene file ({exc.strerror or exc})") from None
     try:
         text = raw.decode("utf-8")
-        data = tomllib.loads(text)
     except UnicodeDecodeError:
-        raise InputError(f"{label}: not a UTF-8 text file") from None
+        raise InputError(f"{path.name}: not a UTF-8 text file") from None
+    return parse_scene(text, path)
+
+
+def parse_scene(text: str, source: Path) -> SceneFile:
+    """Check a scene given as TOML text; ``source`` is the file it stands for
+    (named in messages; curve files are read relative to its folder)."""
+    source = Path(source)
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{label}: not valid TOML: {exc}") from None
-    reader = _Reader(label, path.parent)
-    return reader.read(data, path, text)
+        raise InputError(f"{source.name}: not valid TOML: {exc}") from None
+    return _Reader(source.name, source.parent).read(data, source, text)
 
 
 class _Reader(ShapeReader):

@@ -75,6 +75,15 @@ class Contents:
             raise InputError(f"{self.path}: dataset '{name}' is missing") from None
 
 
+def in_memory(datasets: Mapping[str, Dataset],
+              attrs: Mapping[str, Mapping[str, Any]] | None = None) -> Contents:
+    """What :func:`read_file` would give for a file written from these
+    datasets and attributes, without writing it (``path`` is None)."""
+    return Contents(path=None, datasets={k: ds.data for k, ds in datasets.items()},
+                    units={k: ds.units for k, ds in datasets.items()},
+                    attrs={k: dict(v) for k, v in (attrs or {}).items()})
+
+
 def write_file(path: str | os.PathLike, *, schema: str, version: str,
                datasets: Mapping[str, Dataset],
                attrs: Mapping[str, Mapping[str, Any]] | None = None) -> Path:

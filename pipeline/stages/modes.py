@@ -6,12 +6,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from flexbed.errors import InputError
-from flexbed.fem.bed import compute_bed_modes
+from flexbed.fem.bed import BedModes, compute_bed_modes
 from flexbed.fem.modes import ModesError
 from flexbed.files.modes import ModesData, read_modes_file, write_modes_file
 from flexbed.files.scene import SceneFile
 
-__all__ = ["default_modes_path", "ensure_modes"]
+__all__ = ["default_modes_path", "ensure_modes", "compute_modes"]
 
 
 def default_modes_path(sf: SceneFile) -> Path:
@@ -61,6 +61,30 @@ def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,
                 log(f"modes: {path} holds {data.n_modes} modes, fewer than asked; recomputing")
             else:
                 return data, True
+    bed = compute_modes(sf, n_modes=n_modes, fmax=fmax)
+    write_modes_file(path, bed)
+    return read_modes_file(path), False
+
+
+def compute_modes(sf: SceneFile, *, n_modes: int | None = None,
+                  fmax: float | None = None) -> BedModes:
+    """The scene's bed modes, computed (no file).
+
+    Parameters
+    ----------
+    sf : SceneFile
+    n_modes, fmax : optional
+        Request (default: the scene's ``[bed]`` modes / fmax); the static
+        correction's ``correction_modes`` are added when it is on.
+
+    Returns
+    -------
+    BedModes
+    """
+    if n_modes is None and fmax is None:
+        n_modes, fmax = sf.bed.modes, sf.bed.fmax
+    extra = sf.bed.correction_modes if sf.bed.static_correction else 0
+    spec = sf.bed.plate
     try:
         if sf.bed.auto and fmax is not None and n_modes is None:
             try:                       # modes = "auto" keeps at least one mode
@@ -75,5 +99,4 @@ def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,
             bed = compute_bed_modes(spec, n_modes=extra)
     except ModesError as exc:
         raise InputError(f"{sf.source.name}: bed: {exc}") from None
-    write_modes_file(path, bed)
-    return read_modes_file(path), False
+    return bed

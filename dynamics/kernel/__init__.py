@@ -1,0 +1,52 @@
+"""The right-hand side of the equations of motion, compiled (numba).
+
+:func:`evaluate` is the one implementation of the physics of a scene at a
+time t and state y (layout: :mod:`dynamics.layout`). It reads a scene
+compiled into flat arrays (:class:`Compiled`, built by
+:class:`dynamics.system.System`) and does arithmetic only, in this order:
+
+1. the base: prescribed position, velocity and acceleration from the
+   drives (their exact integrals), or the state of a free base and its
+   external loads (piecewise polynomials or windowed sinusoids);
+2. every body: ``A = Q(p)/|p|²`` (so a slightly non-unit p still gives a
+   rotation) and ``ṗ = ½ p ⊗ (0, ω̄)``;
+3. every mount end e on body b at body-frame point ū_e = s̄_e (+ Φ_e a on a
+   flexible body): ``P = r + A ū``, ``Ṗ = ṙ + A (ω̄ × ū + Φ_e ȧ)``;
+4. every mount (paper eq. 2–4): ``l = P_j − P_i``, ``Δx = U (A_iᵀ l) − d0``,
+   ``Δẋ = U (A_iᵀ l̇)``, forces f from the mount's laws, ``F = A_i Uᵀ f`` on
+   P_i and ``−F`` on P_j;
+5. Newton–Euler per rigid body (``m r̈ = F + m g``,
+   ``J ω̄̇ = n̄ − ω̄ × J ω̄``) and, per flexible body, the floating-frame
+   equations in the body frame ``M̄(a) [Aᵀ r̈, ω̄̇, ä] = Q̄`` from the modal
+   invariants (:func:`flex_mass_body`, :func:`flex_forces_body`; the
+   formulas are in :mod:`dynamics.flexible`), solved by Cholesky;
+6. the powers that feed the energy quadratures.
+
+Everything per call writes into arrays of :class:`Compiled` (the ``w_*``
+work arrays), so a call allocates nothing; ``w_dx``, ``w_dxd``, ``w_f``,
+``w_F``, ``w_acc`` and ``w_base`` keep the last call's mount deflections,
+rates, forces, inertial mount forces, accelerations and base motion for
+:meth:`dynamics.system.System.observe`.
+
+Inputs (drives and loads of the base), one row each: ``in_kind`` 0 for a
+piecewise polynomial (value, first and second integral as three tables of
+breaks, origins and ascending coefficients, padded with +inf breaks and
+zero rows), 1 for a windowed sinusoid (``in_sin`` = amplitude, ω, phase,
+start, end). At t ≥ ``seg_end`` an input gives its limit from the left
+(from inside the segment an integrator is stepping through); elsewhere it
+is right-continuous. ``seg_end = inf`` means right-continuous everywhere.
+"""
+
+from __future__ import annotations
+
+from ..jitcache import refresh as _refresh
+
+_refresh()   # before any compiled function is loaded (flexbed.dynamics.jitcache)
+
+from .flexible_body import flex_forces_body, flex_mass_body, flex_T
+from .inputs import piecewise_value
+from .rhs import evaluate, evaluate_many, evaluate_packed
+from .storage import FIELDS, KINDS, Compiled, pack, unpack
+
+__all__ = ["Compiled", "FIELDS", "KINDS", "pack", "unpack", "evaluate", "evaluate_packed",
+           "evaluate_many", "flex_T", "flex_mass_body", "flex_forces_body", "piecewise_value"]

@@ -1,0 +1,269 @@
+"""The linear model: the motion linearised about the static equilibrium.
+
+Coordinates
+-----------
+The linear model works in minimal deviations from the equilibrium state
+``y_eq`` (see :class:`Coordinates`): for the free base δr (3); for every
+other body δr (3) and a small rotation θ (3, body frame, defined by
+``p = p_eq ⊗ [√(1 − |θ/2|²), θ/2]``); the modal deviations δa; then the
+same blocks' rates ṙ, ω̄, ȧ. In these coordinates the equations of motion
+are ``ż = f(z, t)``, built from the one right-hand side
+:meth:`dynamics.system.System.rhs`; the kinematics ``θ̇ = ω̄ + O(θ ω̄)``
+come out of it exactly.
+
+Linearisation
+-------------
+``ż ≈ A z + b0 + B (u(t) − u(0))`` with ``A = ∂f/∂z`` at the equilibrium
+(central differences of the right-hand side), ``b0 = f(0, 0)`` (zero up to
+the statics' tolerance) and the inputs ``u`` of the base:
+
+- free base: the sum of the loads along each axis [N]; they enter only as
+  the base's acceleration, so ``B = 1/m_base`` there — exactly;
+- driven base: the drive's displacement [m] and velocity [m/s] along each
+  axis; translating the base is translating every other body the other way
+  (mount forces depend on relative positions and velocities only, gravity is
+  uniform), so ``B = −Σ_bodies ∂f/∂δr`` and ``−Σ_bodies ∂f/∂ṙ`` in the
+  dynamic rows — exactly, from the columns of A (the kinematic rows do not
+  see the base).
+
+Propagated exactly, with an estimate of its error, by
+:mod:`flexbed.dynamics.linear`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .piecewise import PiecewisePolynomial
+from .system import System
+
+__all__ = ["Coordinates", "Linearisation", "linearise"]
+
+_SINE_PIECE = 0.2                          # longest piece of an analytic sinusoid: 0.2/ω
+
+
+def _qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Quaternion products a ⊗ b over the leading axes, scalar first, (..., 4)."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    a0, a1, a2, a3 = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
+    b0, b1, b2, b3 = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
+    out[..., 0] = a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3
+    out[..., 1] = a0 * b1 + b0 * a1 + a2 * b3 - a3 * b2
+    out[..., 2] = a0 * b2 + b0 * a2 + a3 * b1 - a1 * b3
+    out[..., 3] = a0 * b3 + b0 * a3 + a1 * b2 - a2 * b1
+    return out
+
+
+class Coordinates:
+    """The map between the state ``y`` and the deviations ``z`` from ``y_eq``.
+
+    Parameters
+    ----------
+    system : System
+    y_eq : (ny,) array
+        The static equilibrium (Euler parameters of unit norm).
+
+    Attributes
+    ----------
+    nz : int
+        ``2 × n_pos`` with ``n_pos = 3·base_free + 6·n_rigid + n_modal``.
+    r_index : (n_rigid, 3) int
+        Where δr of bodies 2… sit in z.
+    v_index : (n_rigid, 3) int
+        Where their ṙ sit in z.
+    """
+
+    def __init__(self, system: System, y_eq: np.ndarray):
+        lay = system.layout
+        self.layout = lay
+        self.y_eq = np.array(y_eq, dtype=float)
+        n = len(lay.rigid)
+        self.n_rigid = n
+        nb3 = 3 * lay.base_free
+        self.n_pos = nb3 + 6 * n + lay.n_modal
+        self.nz = 2 * self.n_pos
+        parts = lay.split(self.y_eq)
+        p_eq = np.array(parts["p"], dtype=float)
+        self.p_eq = p_eq / np.linalg.norm(p_eq, axis=1, keepdims=True)
+        self.p_eq_conj = self.p_eq * np.array([1.0, -1.0, -1.0, -1.0])
+        body = nb3 + 6 * np.arange(n)[:, None]
+        self.r_index = body + np.arange(3)[None, :]
+        self.th_index = body + np.arange(3, 6)[None, :]
+        self.v_index = self.n_pos + self.r_index
+        self.w_index = self.n_pos + self.th_index
+        self.base_index = np.arange(nb3)
+        self.base_v_index = self.n_pos + self.base_index
+        self.a_index = nb3 + 6 * n + np.arange(lay.n_modal)
+        self.ad_index = self.n_pos + self.a_index
+        qr = np.arange(lay.q_rigid.start, lay.q_rigid.stop).reshape(n, 7)
+        vr = np.arange(lay.v_rigid.start, lay.v_rigid.stop).reshape(n, 6)
+        self.y_r, self.y_p = qr[:, :3], qr[:, 3:]
+        self.y_rd, self.y_w = vr[:, :3], vr[:, 3:]
+        self.y_base = np.arange(lay.q_base.start, lay.q_base.stop)
+        self.y_base_v = np.arange(lay.v_base.start, lay.v_base.stop)
+        self.y_a = np.arange(lay.q_modal.start, lay.q_modal.stop)
+        self.y_ad = np.arange(lay.v_modal.start, lay.v_modal.stop)
+
+    def to_y(self, z: np.ndarray) -> np.ndarray:
+        """States for deviations z (..., nz) → (..., ny); work entries from y_eq."""
+        z = np.asarray(z, dtype=float)
+        y = np.broadcast_to(self.y_eq, z.shape[:-1] + self.y_eq.shape).copy()
+        y[..., self.y_base] += z[..., self.base_index]
+        y[..., self.y_base_v] = z[..., self.base_v_index]
+        y[..., self.y_r] += z[..., self.r_index]
+        s = 0.5 * z[..., self.th_index]                                # (..., n, 3)
+        rel = np.empty(s.shape[:-1] + (4,))
+        rel[..., 0] = np.sqrt(np.maximum(1.0 - np.sum(s * s, axis=-1), 0.0))
+        rel[..., 1:] = s
+        y[..., self.y_p] = _qmul(self.p_eq, rel)
+        y[..., self.y_rd] = z[..., self.v_index]
+        y[..., self.y_w] = z[..., self.w_index]
+        y[..., self.y_a] += z[..., self.a_index]
+        y[..., self.y_ad] = z[..., self.ad_index]
+        return y
+
+    def to_z(self, y: np.ndarray) -> np.ndarray:
+        """Deviations of states y (..., ny) → (..., nz); the inverse of :meth:`to_y`."""
+        y = np.asarray(y, dtype=float)
+        z = np.empty(y.shape[:-1] + (self.nz,))
+        z[..., self.base_index] = y[..., self.y_base] - self.y_eq[self.y_base]
+        z[..., self.base_v_index] = y[..., self.y_base_v]
+        z[..., self.r_index] = y[..., self.y_r] - self.y_eq[self.y_r]
+        p = y[..., self.y_p]
+        p = p / np.linalg.norm(p, axis=-1, keepdims=True)
+        rel = _qmul(self.p_eq_conj, p)
+        rel *= np.where(rel[..., :1] < 0.0, -1.0, 1.0)
+        z[..., self.th_index] = 2.0 * rel[..., 1:]
+        z[..., self.v_index] = y[..., self.y_rd]
+        z[..., self.w_index] = y[..., self.y_w]
+        z[..., self.a_index] = y[..., self.y_a] - self.y_eq[self.y_a]
+        z[..., self.ad_index] = y[..., self.y_ad]
+        return z
+
+    def rate(self, dydt: np.ndarray) -> np.ndarray:
+        """ż (..., nz) for state derivatives dydt (..., ny) (ṗ → θ̇ = 2 vec(p_eq* ⊗ ṗ))."""
+        dydt = np.asarray(dydt, dtype=float)
+        zd = np.empty(dydt.shape[:-1] + (self.nz,))
+        zd[..., self.base_index] = dydt[..., self.y_base]
+        zd[..., self.base_v_index] = dydt[..., self.y_base_v]
+        zd[..., self.r_index] = dydt[..., self.y_r]
+        zd[..., self.th_index] = 2.0 * _qmul(self.p_eq_conj, dydt[..., self.y_p])[..., 1:]
+        zd[..., self.v_index] = dydt[..., self.y_rd]
+        zd[..., self.w_index] = dydt[..., self.y_w]
+        zd[..., self.a_index] = dydt[..., self.y_a]
+        zd[..., self.ad_index] = dydt[..., self.y_ad]
+        return zd
+
+
+@dataclass(frozen=True)
+class _Channel:
+    """One input of the base: a scalar function of time and its knots [s]."""
+
+    name: str
+    values: object                 # vectorised t (k,) -> (k,)
+    knots: np.ndarray
+    max_piece: float = math.inf    # longest propagation piece it tolerates [s]
+
+
+def _channels(system: System) -> tuple[list[_Channel], list[tuple[str, int]]]:
+    """The base's input channels and, for each, (kind, axis) with kind
+    "load" | "displacement" | "velocity"."""
+    base = system.scene.base
+    chans, kinds = [], []
+    if base.motion == "free":
+        groups = [("load", k, [d.shape for d in base.loads if d.direction == k]) for k in range(3)]
+    elif base.motion == "driven":
+        groups = [(kind, k, [d.shape for d in base.drives if d.direction == k])
+                  for kind in ("displacement", "velocity") for k in range(3)]
+    else:
+        groups = []
+    for kind, k, shapes in groups:
+        if not shapes:
+            continue
+        fs = [s.compile() for s in shapes]
+        attr = {"load": "values", "displacement": "seconds", "velocity": "firsts"}[kind]
+        funcs = [getattr(f, attr) for f in fs]
+        knots, max_piece = [], math.inf
+        for s, f in zip(shapes, fs):
+            if isinstance(f.value, PiecewisePolynomial):
+                knots.extend(f.value.breaks.tolist())
+            else:                                              # an analytic sinusoid
+                knots.extend(f.breakpoints)
+                max_piece = min(max_piece, _SINE_PIECE / (2 * math.pi * float(s.frequency)))
+
+        def values(t, funcs=funcs):
+            t = np.asarray(t, dtype=float)
+            return sum(fn(t) for fn in funcs)
+
+        chans.append(_Channel(f"{kind} {'xyz'[k]}", values, np.unique(knots), max_piece))
+        kinds.append((kind, k))
+    return chans, kinds
+
+
+@dataclass(frozen=True)
+class Linearisation:
+    """``ż = A z + b0 + B (u(t) − u(0))`` about the equilibrium.
+
+    coords : Coordinates; A : (nz, nz) [SI per coordinate]; B : (nz, nu);
+    b0 : (nz,); channels : the base's inputs (nu of them); u0 : (nu,)
+    their values at t = 0; evaluations : right-hand sides it took.
+    """
+
+    coords: Coordinates
+    A: np.ndarray
+    B: np.ndarray
+    b0: np.ndarray
+    channels: tuple
+    u0: np.ndarray
+    evaluations: int
+
+    def f(self, system: System, t: float, z: np.ndarray) -> np.ndarray:
+        """The nonlinear ż = f(z, t) (nz,), through the system's right-hand side."""
+        return self.coords.rate(system.rhs(t, self.coords.to_y(z)))
+
+    def inputs(self, t: np.ndarray) -> np.ndarray:
+        """u(t) − u(0), (k, nu)."""
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        if not self.channels:
+            return np.zeros((t.size, 0))
+        return np.stack([c.values(t) for c in self.channels], axis=1) - self.u0
+
+
+def linearise(system: System, y_eq: np.ndarray) -> Linearisation:
+    """Linearise the system about its static equilibrium ``y_eq`` (ny,).
+
+    Central differences of the right-hand side with steps of 1e-6 in each
+    coordinate (m, rad, m/s, rad/s; modal coordinates scaled by the square
+    root of the body's mass, which is their unit's size for a unit
+    displacement); see the module docstring for the inputs' columns.
+    """
+    coords = Coordinates(system, y_eq)
+    nz = coords.nz
+    nfev0 = system.nfev
+    step = np.full(nz, 1e-6)
+    if coords.a_index.size:
+        scale = math.sqrt(max(float(fc.eom.m) for fc in system.flex_compiled))
+        step[coords.a_index] *= scale
+        step[coords.ad_index] *= scale
+
+    system.set_segment(None)
+    Zp = np.vstack([np.zeros(nz), np.diag(step), -np.diag(step)])      # (2 nz + 1, nz)
+    Yp = coords.to_y(Zp)
+    F = coords.rate(np.array([system.rhs(0.0, y) for y in Yp]))
+    b0 = F[0]
+    A = ((F[1:nz + 1] - F[nz + 1:]) / (2.0 * step[:, None])).T
+    chans, kinds = _channels(system)
+    B = np.zeros((nz, len(chans)))
+    for c, (kind, k) in enumerate(kinds):
+        if kind == "load":
+            B[coords.base_v_index[k], c] = 1.0 / system.m_base
+        else:              # only the dynamic rows: the kinematic ones do not see the base
+            cols = coords.r_index[:, k] if kind == "displacement" else coords.v_index[:, k]
+            B[coords.n_pos:, c] = -A[coords.n_pos:, cols].sum(axis=1)
+    u0 = np.array([c.values(np.zeros(1))[0] for c in chans], dtype=float)
+    return Linearisation(coords, A, B, b0, tuple(chans), u0, system.nfev - nfev0)
+
+

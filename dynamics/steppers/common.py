@@ -1,0 +1,127 @@
+"""What the compiled steppers share: the call of the right-hand side on the
+shifted state, projection of the Euler parameters, output rows, SciPy's
+initial-step selection."""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from ..kernel import evaluate
+
+__all__ = ["jit", "EPS", "SQRT_EPS", "rhs", "finite", "project", "normalise_row", "end_tol",
+           "put_end", "initial_step"]
+
+#: the decorator of every compiled stepper function
+jit = numba.njit(cache=True, error_model="numpy")
+
+EPS = float(np.finfo(float).eps)
+SQRT_EPS = math.sqrt(EPS)
+
+
+@jit
+def rhs(t, seg_end, z, shift, ybuf, dz, d):
+    """dz = f(t, z + shift); ybuf (ny,) scratch."""
+    for i in range(z.size):
+        ybuf[i] = z[i] + shift[i]
+    evaluate(t, seg_end, ybuf, dz, d)
+
+
+@jit
+def finite(x):
+    """Whether every entry of the 1-D array x is finite."""
+    for i in range(x.size):
+        if not math.isfinite(x[i]):
+            return False
+    return True
+
+
+@jit
+def project(z, shift, p_idx, f, scale_f):
+    """Euler parameters of z + shift onto |p| = 1 (in z); if scale_f, the
+    same rows of f divided by the same |p|."""
+    for b in range(p_idx.shape[0]):
+        s = 0.0
+        for k in range(4):
+            j = p_idx[b, k]
+            p = z[j] + shift[j]
+            s += p * p
+        nrm = math.sqrt(s)
+        if not (nrm > 0.0 and math.isfinite(nrm)):
+            continue
+        for k in range(4):
+            j = p_idx[b, k]
+            z[j] = (z[j] + shift[j]) / nrm - shift[j]
+            if scale_f:
+                f[j] /= nrm
+
+
+@jit
+def normalise_row(Y, k, p_idx):
+    """Euler parameters of the output row Y[k] onto |p| = 1."""
+    for b in range(p_idx.shape[0]):
+        s = 0.0
+        for m in range(4):
+            p = Y[k, p_idx[b, m]]
+            s += p * p
+        nrm = math.sqrt(s)
+        if nrm > 0.0 and math.isfinite(nrm):
+            for m in range(4):
+                Y[k, p_idx[b, m]] /= nrm
+
+
+@jit
+def end_tol(t_new):
+    """Grid times within this of t_new take the step's end state."""
+    return 1e-12 * max(1.0, abs(t_new))
+
+
+@jit
+def put_end(Y, k, z_new, shift):
+    """Y[k] = z_new + shift."""
+    for i in range(z_new.size):
+        Y[k, i] = z_new[i] + shift[i]
+
+
+@jit
+def initial_step(t0, t_b, z, f0, shift, d, rtol, atol, h_max, order, ybuf, z1, f1, counts):
+    """SciPy's ``select_initial_step`` (Hairer, Nørsett & Wanner I, II.4).
+
+    order : error-estimator order (dop853: 7; radau: 3). One evaluation.
+    Returns the first step [s].
+    """
+    ny = z.size
+    interval = abs(t_b - t0)
+    if ny == 0:
+        return math.inf
+    if interval == 0.0:
+        return 0.0
+    d0 = 0.0
+    d1 = 0.0
+    for i in range(ny):
+        sc = atol[i] + abs(z[i]) * rtol
+        d0 += (z[i] / sc) ** 2
+        d1 += (f0[i] / sc) ** 2
+    d0 = math.sqrt(d0 / ny)
+    d1 = math.sqrt(d1 / ny)
+    if d0 < 1e-5 or d1 < 1e-5:
+        h0 = 1e-6
+    else:
+        h0 = 0.01 * d0 / d1
+    h0 = min(h0, interval)
+    for i in range(ny):
+        z1[i] = z[i] + h0 * f0[i]
+    rhs(t0 + h0, t_b, z1, shift, ybuf, f1, d)
+    counts[0] += 1
+    d2 = 0.0
+    for i in range(ny):
+        sc = atol[i] + abs(z[i]) * rtol
+        d2 += ((f1[i] - f0[i]) / sc) ** 2
+    d2 = math.sqrt(d2 / ny) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (order + 1))
+    return min(100.0 * h0, h1, interval, h_max)

@@ -1,0 +1,81 @@
+"""The statics and simulation stages on a compiled scene: the static
+equilibrium, then the motion from it (or from the scene's initial state)
+with the requested model — what ``flexbed static``, ``simulate``,
+``compare``, ``run`` and the Python API share."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from flexbed.dynamics.integrate import Settings
+from flexbed.dynamics.statics import Equilibrium, solve_statics
+from flexbed.dynamics.system import System
+from flexbed.errors import NumericalError
+from flexbed.files.scene import SceneFile
+from flexbed.stages.motion import Motion, solve_motion
+
+__all__ = ["Simulation", "equilibrium", "simulate_system"]
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """A motion and where it started.
+
+    motion : Motion; equilibrium : Equilibrium or None (solved or given,
+    when the run started there or the linear model needed it); start :
+    "equilibrium" or "initial"; y0 : (ny,) the state at t = 0.
+    """
+
+    motion: Motion
+    equilibrium: Equilibrium | None
+    start: str
+    y0: np.ndarray
+
+
+def equilibrium(sf: SceneFile, system: System, *, tol: float | None = None,
+                sag: bool | None = None) -> Equilibrium:
+    """The static equilibrium (base held) by Newton–Raphson.
+
+    tol : float, optional — default the scene's ``static_tol``; sag : bool,
+    optional — include the bed's elastic sag (default the scene's
+    ``static_sag``). Raises NumericalError when it is not found."""
+    eq = solve_statics(system, tol=sf.solver.static_tol if tol is None else tol,
+                       sag=sf.bed.static_sag if sag is None else sag)
+    if not eq.success:
+        raise NumericalError(f"{sf.source.name}: {eq.message}")
+    return eq
+
+
+def simulate_system(sf: SceneFile, system: System, settings: Settings, *, start: str,
+                    model: str, linear_tol: float, eq: Equilibrium | None = None,
+                    sag: bool | None = None, progress=None) -> Simulation:
+    """Run the motion of a compiled scene.
+
+    Parameters
+    ----------
+    sf : SceneFile
+    system : System
+    settings : Settings
+    start : {"equilibrium", "initial"}
+    model : {"nonlinear", "linear", "auto"}
+    linear_tol : float
+        [m] for ``model = "auto"``.
+    eq : Equilibrium, optional
+        The static equilibrium if already known (solved here when needed).
+    sag : bool, optional
+        Static sag of the bed (default the scene's).
+    progress : callable(t), optional
+
+    Returns
+    -------
+    Simulation
+    """
+    if (start == "equilibrium" or model != "nonlinear") and eq is None:
+        eq = equilibrium(sf, system, sag=sag)
+    y0 = system.initial_state(eq.y if start == "equilibrium" else None)   # + the velocities
+    y_eq = eq.y if eq is not None else None
+    motion = solve_motion(system, y_eq, y0, settings, model=model, linear_tol=linear_tol,
+                          progress=progress)
+    return Simulation(motion, eq, start, y0)

@@ -1,0 +1,56 @@
+"""flexbed's own thread pools: BLAS and OpenMP limited to ``FLEXBED_THREADS``
+threads (default 1).
+
+flexbed's linear algebra is small or banded (the bed's shift-invert eigen
+step factors a banded matrix of bandwidth ~4 (nx + 1)); a BLAS that starts
+one thread per core gains nothing there, and on a machine busy with other
+work its threads wait for each other: the modes stage was seen to take 10 s
+instead of 0.3 s. The parallelism that pays is one process per core (a
+study's points), so each process keeps to one thread.
+
+- The command line sets ``OPENBLAS_NUM_THREADS``, ``OMP_NUM_THREADS``,
+  ``MKL_NUM_THREADS`` and ``BLIS_NUM_THREADS`` before NumPy is loaded
+  (:func:`pin_environment`), so that every pool starts at that size.
+- The Python API, called where NumPy and SciPy are already loaded, limits
+  the loaded pools for the duration of each call (:func:`limited`, with
+  threadpoolctl) and restores them afterwards.
+"""
+
+from __future__ import annotations
+
+import os
+from contextlib import contextmanager
+from typing import Iterator
+
+__all__ = ["thread_count", "pin_environment", "limited"]
+
+_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+              "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS")
+
+
+def thread_count() -> int:
+    """Threads per pool: ``FLEXBED_THREADS`` if it is an integer ≥ 1, else 1."""
+    try:
+        n = int(os.environ.get("FLEXBED_THREADS", "1"))
+    except ValueError:
+        return 1
+    return n if n >= 1 else 1
+
+
+def pin_environment() -> None:
+    """Set the pools' environment variables to :func:`thread_count` (before
+    NumPy, SciPy or numba are imported; later imports start their pools
+    at that size)."""
+    n = str(thread_count())
+    for name in _VARIABLES:
+        os.environ[name] = n
+
+
+@contextmanager
+def limited() -> Iterator[None]:
+    """Limit every loaded BLAS and OpenMP pool to :func:`thread_count`
+    threads inside the ``with`` block."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=thread_count()):
+        yield

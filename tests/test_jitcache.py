@@ -1,0 +1,61 @@
+"""numba's cache of the compiled modules: one stamp over all their sources
+(flexbed.dynamics.jitcache) covers every module that holds compiled code,
+and a changed stamp flushes the cache of all of them."""
+
+import importlib
+import pkgutil
+from pathlib import Path
+
+import numba
+from numba.core.ccallback import CFunc
+from numba.core.dispatcher import Dispatcher
+
+import flexbed.dynamics
+from flexbed.dynamics import jitcache
+
+
+def _modules_with_compiled_code():
+    found = set()
+    prefix = flexbed.dynamics.__name__ + "."
+    for info in pkgutil.walk_packages(flexbed.dynamics.__path__, prefix):
+        module = importlib.import_module(info.name)
+        for value in vars(module).values():
+            if isinstance(value, (Dispatcher, CFunc)):
+                py_func = value.py_func if isinstance(value, Dispatcher) else value._pyfunc
+                if py_func.__module__ == info.name:
+                    found.add(info.name[len(prefix):])
+    return found
+
+
+def test_every_module_with_compiled_code_is_covered():
+    found = _modules_with_compiled_code()
+    assert "kernel.rhs" in found and "steppers.radau" in found      # the scan sees them
+    assert found <= set(jitcache.COMPILED), sorted(found - set(jitcache.COMPILED))
+    # and nothing listed is stale
+    assert set(jitcache.COMPILED) <= found, sorted(set(jitcache.COMPILED) - found)
+
+
+def test_a_changed_stamp_flushes_every_compiled_module(tmp_path, monkeypatch):
+    monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path))
+    files = []
+    for name in jitcache.COMPILED:
+        folder = Path(jitcache.cache_dir(jitcache._source(name)))
+        assert folder.is_relative_to(tmp_path)
+        stem = jitcache._source(name).stem
+        for suffix in (".nbi", ".nbc"):
+            f = folder / f"{stem}.some_function-12.py311{suffix}"
+            f.write_bytes(b"old")
+            files.append(f)
+    other = Path(jitcache.cache_dir(jitcache._source(jitcache.COMPILED[0]))) / "unrelated.nbi"
+    other.write_bytes(b"keep")
+    stamp_file = Path(jitcache.cache_dir(jitcache._source(jitcache.COMPILED[0]))) / \
+        "flexbed-compiled.stamp"
+    stamp_file.write_text("an older source")
+    assert jitcache.refresh(force=True)
+    assert not any(f.exists() for f in files)
+    assert other.exists()
+    assert stamp_file.read_text() == jitcache.stamp()
+    # the same sources: nothing flushed
+    files[0].write_bytes(b"new")
+    assert not jitcache.refresh(force=True)
+    assert files[0].exists()
