@@ -246,3 +246,18 @@ def test_flexible_bed_gets_its_frame_velocities_and_zero_modal_rates(tmp_path):
         assert not np.any(y[lay.work])
     assert np.any(lay.split(eq.y)["a"])        # the sag is kept
     assert np.array_equal(lay.split(system.initial_state(eq.y))["a"], lay.split(eq.y)["a"])
+
+
+def test_python_api_starts_with_the_scenes_velocities(launched):
+    """flexbed.simulate (the shared simulation stage) from the equilibrium
+    and from the initial positions, and a variant's velocity by vary."""
+    import flexbed
+    sf = flexbed.load_scene(launched)
+    omega = np.sqrt(4 * K_LAUNCH / 50.0)
+    for start in ("equilibrium", "initial"):
+        res = flexbed.simulate(sf, start=start, t_end=0.05, output_dt=1e-3)
+        assert np.array_equal(res.velocity[0, 1], V_LAUNCH)
+    fast = flexbed.vary(sf, {"body.mass.velocity": [0.0, 0.0, 1.0]})
+    res = flexbed.simulate(fast, t_end=0.05, output_dt=1e-3)
+    z = res.position[:, 1, 2] - res.position[0, 1, 2]
+    assert np.abs(z - np.sin(omega[2] * res.t) / omega[2]).max() < 1e-10
