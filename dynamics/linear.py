@@ -29,8 +29,11 @@ Along the linear solution the nonlinear model leaves the defect
 ``d(t) = f(z(t), t) − (A z + b0 + B Δu)``, evaluated at every output
 sample (one right-hand side each). The nonlinear solution differs from the
 linear one by ``e`` with ``ė = A e + d + O(e²)``; ``e`` is propagated
-exactly with ``d`` piecewise linear between samples. Its largest position
-component (bodies 2…, [m]) is the reported estimate; it is a first-order
+exactly with ``d`` piecewise linear between samples. The largest error it
+implies in the position of a point that matters (the centres of mass of
+bodies 2… and both ends of every mount on them, rotations and modes
+included with their lever arms) is the reported estimate [m]; it is a
+first-order
 (Newton) estimate, reliable while ``e`` is small against the motion, which
 :attr:`LinearRun.estimate_reliable` checks.
 
@@ -172,9 +175,12 @@ def propagate(lin: Linearisation, z0: np.ndarray, t_end: float,
 class ErrorEstimate:
     """First-order estimate of the linear model's error against the nonlinear one.
 
-    position : float [m], largest |e| of the positions of bodies 2…;
-    rotation : float [rad]; motion : float [m], largest position deviation
-    of the linear solution from the equilibrium (bodies 2…); e : (k, nz);
+    position : float [m], the largest error |δP| of a point that matters:
+    the centres of mass of bodies 2… and both ends of every mount on them
+    (so that rotations and, on a flexible bed, the modes count with their
+    lever arms); rotation : float [rad], the largest rotation error;
+    motion : float [m], the largest displacement of those points in the
+    linear solution from the equilibrium; e : (k, nz);
     reliable : bool, ``position <= 0.1 × motion`` (or both tiny);
     evaluations : right-hand sides it took.
     """
@@ -186,6 +192,50 @@ class ErrorEstimate:
     reliable: bool
     evaluations: int
     powers: np.ndarray = field(repr=False, default=None)
+
+
+def _point_map(system: System, coords: Coordinates) -> np.ndarray:
+    """(P, 3, nz) first-order map from the deviations z to the inertial
+    displacements of every point that matters: the centres of mass of
+    bodies 2… and both ends of every mount on them,
+    δP = δr + A_eq (δθ × (s̄ + Φ_e a_eq) + Φ_e δa)."""
+    from .rotation import A as rotation_matrix
+
+    lay = system.layout
+    rows = []
+    where = {b: k for k, b in enumerate(lay.rigid)}
+    modal_at, offset = {}, 0
+    for body, n in lay.modal:
+        modal_at[body] = coords.a_index[offset:offset + n]
+        offset += n
+    A_eq = rotation_matrix(coords.p_eq) if coords.n_rigid else np.zeros((0, 3, 3))
+    end_phi = np.asarray(system.data.end_phi)
+    points = [(b, np.zeros(3), None) for b in lay.rigid]
+    points += [(int(b), np.asarray(s, dtype=float), e)
+               for e, (b, s) in enumerate(zip(system.end_body, system.S)) if int(b) in where]
+    for body, s, end in points:
+        k = where[body]
+        if end is not None and body in modal_at:      # the lever arm includes the sag
+            idx = modal_at[body]
+            phi = end_phi[end][:, :idx.size]
+            s = s + phi @ coords.y_eq[coords.y_a[idx - coords.a_index[0]]]
+        T = np.zeros((3, coords.nz))
+        T[:, coords.r_index[k]] = np.eye(3)
+        # δθ × s̄ = −s̃ δθ, turned into the inertial frame
+        s_tilde = np.array([[0.0, -s[2], s[1]], [s[2], 0.0, -s[0]], [-s[1], s[0], 0.0]])
+        T[:, coords.th_index[k]] = -A_eq[k] @ s_tilde
+        if end is not None and body in modal_at:
+            T[:, idx] = A_eq[k] @ phi
+        rows.append(T)
+    return np.array(rows) if rows else np.zeros((0, 3, coords.nz))
+
+
+def _largest_displacement(Z: np.ndarray, coords: Coordinates, to_points: np.ndarray) -> float:
+    """Largest |δP| [m] over the samples (k, nz) and the points of :func:`_point_map`."""
+    if not to_points.shape[0]:
+        return 0.0
+    d = np.einsum("pij,kj->kpi", to_points, Z)
+    return float(np.sqrt(np.max(np.sum(d * d, axis=2))))
 
 
 def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
@@ -220,9 +270,10 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
         Phi, P0, P1 = cache[key]
         e = Phi @ e + P0 @ D[i] + P1 @ (D[i + 1] - D[i])
         E[i + 1] = e
-    pos = float(np.max(np.abs(E[:, coords.r_index]))) if coords.n_rigid else 0.0
+    to_points = _point_map(system, coords)
+    pos = _largest_displacement(E, coords, to_points)
     rot = float(np.max(np.abs(E[:, coords.th_index]))) if coords.n_rigid else 0.0
-    motion = float(np.max(np.abs(Z[:, coords.r_index]))) if coords.n_rigid else 0.0
+    motion = _largest_displacement(Z, coords, to_points)
     reliable = pos <= 0.1 * motion or pos < 1e-12
     return ErrorEstimate(pos, rot, motion, E, reliable, system.nfev - nfev0, powers)
 

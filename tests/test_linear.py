@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from flexbed.dynamics.integrate import Settings, integrate
-from flexbed.dynamics.linear import run_linear
+from flexbed.dynamics.linear import _largest_displacement, _point_map, run_linear
 from flexbed.dynamics.statics import solve_statics
 from flexbed.stages.modes import ensure_modes
 from flexbed.stages.system import compile_scene
@@ -101,14 +101,18 @@ def test_error_estimate_matches_the_nonlinear_model():
     assert ref.complete
     lay = system.layout
     R = lay.split(ref.y)["r"]
-    actual = float(np.max(np.abs(lay.split(lr.run.y)["r"] - R)))
     est = lr.estimate
+    c = lr.linearisation.coords
+    # the actual error at the points the estimate measures: centres of mass
+    # and mount ends, rotations and modes with their lever arms
+    points = _point_map(system, c)
+    actual = _largest_displacement(c.to_z(ref.y) - c.to_z(lr.run.y), c, points)
     assert 1e-9 < actual < 1e-5                      # a small but visible nonlinearity
     assert 0.9 < est.position / actual < 1.1
     assert est.reliable
-    c = lr.linearisation.coords
     corrected = c.to_y(c.to_z(lr.run.y) + est.e)
-    assert float(np.max(np.abs(lay.split(corrected)["r"] - R))) < 0.05 * actual
+    com = float(np.max(np.abs(lay.split(lr.run.y)["r"] - R)))
+    assert float(np.max(np.abs(lay.split(corrected)["r"] - R))) < 0.05 * com
     # |p| = 1 on every sample of the linear solution
     p = lay.split(lr.run.y)["p"]
     assert np.max(np.abs(np.linalg.norm(p, axis=-1) - 1.0)) < 1e-14
@@ -144,3 +148,42 @@ def test_bad_linear_tol_is_one_line(tmp_path):
     assert cp.returncode == 2
     assert cp.stderr.count("\n") == 1 and "linear-tol" in cp.stderr
     assert not out.exists()
+
+
+def test_point_map_is_the_first_order_kinematics(tmp_path, monkeypatch):
+    """The estimate's map from deviations z to the displacements of the mount
+    ends is the derivative of the kernel's own end positions (flexible bed:
+    rotations and modes with their lever arms)."""
+    sf = load_scene(None)
+    sf = replace(sf, bed=replace(sf.bed, model="flexible", modes=2, fmax=None))
+    monkeypatch.chdir(tmp_path)
+    data, _ = ensure_modes(sf, tmp_path / "m.h5", log=lambda m: None)
+    system = compile_scene(sf, data.path)
+    y_eq = solve_statics(system, tol=1e-11).y
+    c = run_linear(system, y_eq, y_eq, Settings("dop853", t_end=1e-3, output_dt=1e-3)
+                   ).linearisation.coords
+    points = _point_map(system, c)
+    ends = points[len(system.layout.rigid):]
+    moving = np.isin(system.end_body, system.layout.rigid)
+    dz = np.random.default_rng(1).standard_normal(c.nz)
+    eps = 1e-7
+
+    def end_positions(z):
+        system.rhs(0.0, c.to_y(z))
+        return np.array(system.data.w_P)[moving]
+
+    exact = (end_positions(eps * dz) - end_positions(-eps * dz)) / (2 * eps)
+    np.testing.assert_allclose(np.einsum("pij,j->pi", ends, dz), exact, rtol=0,
+                               atol=1e-7 * np.abs(exact).max())
+
+
+def test_a_spinning_body_is_not_taken_for_linear():
+    """Equipment spinning on its mounts: the centres of mass hardly move, the
+    attitude does; model = "auto" must see it and integrate the nonlinear
+    model (the estimate counts rotations at the mount points)."""
+    import flexbed
+    scene = flexbed.vary(flexbed.load_scene(), {"body.equipment A.angular_velocity": [0, 20, 3],
+                                                "solver.t_end": 0.3})
+    run = flexbed.simulate(scene, model="auto")
+    assert run.solver["model"] == "nonlinear"
+    assert run.solver["linear_estimated_error"] > 1e-3
