@@ -4,10 +4,10 @@ as TOML, a starting point for a scene of your own."""
 from __future__ import annotations
 
 import argparse
+from importlib import resources
 from pathlib import Path
 
 from flexbed.errors import InputError
-from flexbed.files.scene import builtin_scene_path
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -17,7 +17,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    text = builtin_scene_path().read_text()
+    # the packaged file itself (flexbed.files.scene.builtin_scene_path), read
+    # without importing the scene reader and the dynamics behind it
+    text = (resources.files("flexbed") / "scenes" / "lee1999.toml").read_text()
     if args.output is None:
         print(text, end="")
         return 0

@@ -6,8 +6,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from flexbed.errors import InputError
-from flexbed.fem.bed import compute_bed_modes
-from flexbed.fem.modes import ModesError
 from flexbed.files.modes import ModesData, read_modes_file, write_modes_file
 from flexbed.files.scene import SceneFile
 
@@ -61,6 +59,8 @@ def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,
                 log(f"modes: {path} holds {data.n_modes} modes, fewer than asked; recomputing")
             else:
                 return data, True
+    from flexbed.fem.bed import compute_bed_modes   # scikit-fem, only to compute
+    from flexbed.fem.modes import ModesError
     try:
         if sf.bed.auto and fmax is not None and n_modes is None:
             try:                       # modes = "auto" keeps at least one mode
