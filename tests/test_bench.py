@@ -175,3 +175,13 @@ def test_bench_rigid_sub_report_through_the_command(tmp_path, capsys, monkeypatc
             and "integrator" not in line]
     assert {r.split("|")[1].strip() for r in rows} == {"rk4", "adams", "bdf", "radau", "dop853"}
     assert "flexbed bench rigid --quick --t-end 0.2" in report.read_text()
+
+
+def test_bench_positionals_target_then_scene(capsys):
+    from flexbed.commands.bench import target_and_scene
+    assert target_and_scene("rigid", None) == ("rigid", None)
+    assert target_and_scene("rigid", "s.toml") == ("rigid", "s.toml")
+    assert target_and_scene("my.toml", None) == ("all", "my.toml")
+    assert main(["bench", "nonsense"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "target 'nonsense' is not one of all, modes" in err[0]

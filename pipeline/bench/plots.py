@@ -109,9 +109,13 @@ def loglog_figure(title: str, xlabel: str, panels: list[Panel]):
             ax.loglog(x[keep], y[keep], label=s.name, lw=1.0, ms=4, **style)
             drawn = True
             if s.labels is not None:
-                for xi, yi, text in zip(x[keep], y[keep], np.asarray(s.labels, dtype=object)[keep]):
-                    ax.annotate(str(text), (xi, yi), textcoords="offset points", xytext=(4, 3),
-                                fontsize=7)
+                # above and below the line in turn: neighbours close together
+                # (1 and 2 modes, 4 and 6) keep their labels apart
+                texts = np.asarray(s.labels, dtype=object)[keep]
+                for i, (xi, yi, text) in enumerate(zip(x[keep], y[keep], texts)):
+                    ax.annotate(str(text), (xi, yi), textcoords="offset points",
+                                xytext=(4, 3) if i % 2 == 0 else (4, -4),
+                                va="bottom" if i % 2 == 0 else "top", fontsize=7)
         for i, (tx, ty) in enumerate(panel.targets):
             ax.loglog([tx], [ty], ls="none", marker="x", ms=8, color="tab:purple",
                       label="aims" if i == 0 else None)

@@ -24,7 +24,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "(scikit-fem Kirchhoff plate), written to the modes file.")
     parser.add_argument("scene", nargs="?", default=None,
                         help="scene file (TOML); default: the built-in reference scene")
-    parser.add_argument("-o", "--output", default=None,
+    parser.add_argument("-o", "--output", default=None, metavar="FILE",
                         help="modes file to write (default: the scene's modes_file, "
                              "else <scene name>-modes.h5 in the current folder)")
     group = parser.add_mutually_exclusive_group()

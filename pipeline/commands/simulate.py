@@ -29,24 +29,29 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "its initial positions, and write the results file (HDF5).")
     parser.add_argument("scene", nargs="?", default=None,
                         help="scene file (TOML); default: the built-in reference scene")
-    parser.add_argument("-o", "--output", default=None,
+    parser.add_argument("-o", "--output", default=None, metavar="FILE",
                         help="results file (default: <scene name>-results.h5)")
     parser.add_argument("--integrator", choices=METHODS, default=None,
                         help="time integrator (default: the scene's)")
-    parser.add_argument("--dt", type=float, default=None, help="rk4 step [s]")
-    parser.add_argument("--rtol", type=float, default=None, help="relative tolerance (adaptive methods)")
-    parser.add_argument("--atol", type=float, default=None, help="absolute tolerance (adaptive methods)")
+    parser.add_argument("--dt", type=float, default=None, metavar="DT", help="rk4 step [s]")
+    parser.add_argument("--rtol", type=float, default=None, metavar="R",
+                        help="relative tolerance (adaptive methods)")
+    parser.add_argument("--atol", type=float, default=None, metavar="A",
+                        help="absolute tolerance (adaptive methods)")
     parser.add_argument("--from", dest="start", choices=("equilibrium", "initial"), default=None,
                         help="start from the static equilibrium or the scene's positions")
-    parser.add_argument("--t-end", type=float, default=None, help="end time [s]")
-    parser.add_argument("--output-dt", type=float, default=None, help="spacing of stored samples [s]")
-    parser.add_argument("--equilibrium", default=None,
+    parser.add_argument("--t-end", type=float, default=None, metavar="T",
+                        help="end time [s] (default: the scene's [solver] t_end)")
+    parser.add_argument("--output-dt", type=float, default=None, metavar="DT",
+                        help="spacing of stored samples [s] (default: the scene's [solver] "
+                             "output_dt)")
+    parser.add_argument("--equilibrium", default=None, metavar="FILE",
                         help="equilibrium file from 'flexbed static' (default: solve it here)")
     parser.add_argument("--model", choices=MODELS, default=None,
                         help="nonlinear integration, the linear fast path about the static "
                              "equilibrium, or auto: linear when its estimated error is below "
                              "--linear-tol (default: the scene's [solver] model)")
-    parser.add_argument("--linear-tol", type=float, default=None,
+    parser.add_argument("--linear-tol", type=float, default=None, metavar="M",
                         help="position error [m] below which --model auto keeps the linear "
                              "model (default: the scene's [solver] linear_tol)")
     parser.add_argument("--no-progress", action="store_true", help="no progress line on stderr")
