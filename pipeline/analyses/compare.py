@@ -210,8 +210,8 @@ def comparison_rows(runs: dict[str, CaseRun], names: list[str], bodies: list[int
                 "peak": float(np.abs(d).max()),
                 "rms": float(np.sqrt(np.mean(d * d))),
                 "frequency": dominant_frequency(run.t, d),
-                "delay": (Delay(0.0, window) if case == "rigid" else
-                          delay(run.t, d, ref, max_lag=window)),
+                "delay": (replace(delay(run.t, d, ref, max_lag=window), value=0.0)
+                          if case == "rigid" else delay(run.t, d, ref, max_lag=window)),
                 "decay": decay(run.t, d, run.load_end),
             })
     return rows
