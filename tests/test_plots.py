@@ -75,9 +75,10 @@ def test_mount_styles_differ_for_forty_mounts_and_between_neighbours():
     [0.021, 0.03, 0.045, 0.062, 0.095],
     [0.07, 0.074, 0.083],                          # a narrow range
     [1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0],
+    [0.049, 0.16],                                 # y from 6.5e-5 to 9.6e-4: one style
 ])
 def test_loglog_tick_labels_do_not_overlap(x):
-    y = np.geomspace(1e-4, 3e-7, len(x))
+    y = np.geomspace(9.6e-4, 6.5e-5, len(x))     # 0.001 to 5e-5 on one axis
     fig = loglog_figure("t", "solve time [s]", [Panel("error [m]", [Series("a", x, y)]),
                                                Panel("error [N]", [Series("b", x, 1e6 * y)])])
     try:
@@ -91,6 +92,8 @@ def test_loglog_tick_labels_do_not_overlap(x):
                     axis.get_majorticklabels() + axis.get_minorticklabels())
                     if lab.get_visible() and lab.get_text() and lo <= tick <= hi]
                 assert len(shown) >= 2, [lab.get_text() for lab in shown]
+                texts = [lab.get_text() for lab in shown]
+                assert len({t.startswith("$") for t in texts}) == 1, texts   # one style
                 boxes = [lab.get_window_extent(renderer) for lab in shown]
                 for a, b in itertools.combinations(boxes, 2):     # a space apart at least
                     assert not overlaps(a, b, gap=4.0), [lab.get_text() for lab in shown]

@@ -48,10 +48,10 @@ class Panel:
     targets: list = field(default_factory=list)
 
 
-def tick_label(v: float) -> str:
-    """A tick value as a plain number between 0.001 and 10 000 ("0.05",
-    "200"), else as m×10^k in mathtext."""
-    if v <= 0 or 1e-3 <= v < 1e4:
+def tick_label(v: float, plain: bool = True) -> str:
+    """A tick value as a plain number ("0.05", "200"; when ``plain``), else
+    as m×10^k in mathtext ("5×10^-4")."""
+    if v <= 0 or plain:
         return f"{v:g}"
     mant, exp = f"{v:.0e}".split("e")
     power = f"10^{{{int(exp)}}}"
@@ -63,7 +63,8 @@ def readable_log_ticks(axis, limits: tuple[float, float]) -> None:
 
     Over up to two decades (where matplotlib labels the minor ticks 2–9 ×
     10^k, and 3×10^-1 and 4×10^-1 overlap), the labelled ticks are 1, 2
-    and 5 × 10^k, written as plain numbers (0.02, 0.05, 0.1), or a few
+    and 5 × 10^k, written as plain numbers (0.02, 0.05, 0.1) when the whole
+    range lies within 0.001–10 000, else as 2×10^-4 throughout, or a few
     round values when fewer than two of those fall in the range; over more
     decades, the decades only. Minor ticks stay, unlabelled.
 
@@ -74,7 +75,9 @@ def readable_log_ticks(axis, limits: tuple[float, float]) -> None:
     """
     low, high = sorted(limits)
     decades = np.log10(high / low) if low > 0 else np.inf
-    plain = FuncFormatter(lambda v, _pos: tick_label(v))
+    # one style per axis: plain numbers when the whole range reads well so
+    plain = 1e-3 <= low and high < 1e4
+    labels = FuncFormatter(lambda v, _pos: tick_label(v, plain))
     if decades > 2.0:
         axis.set_major_locator(LogLocator(base=10.0, subs=(1.0,)))
     else:
@@ -84,7 +87,7 @@ def readable_log_ticks(axis, limits: tuple[float, float]) -> None:
             axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
         else:       # a narrow range (e.g. 0.07-0.085 s): a few round values in it
             axis.set_major_locator(MaxNLocator(nbins=4))
-        axis.set_major_formatter(plain)
+        axis.set_major_formatter(labels)
     axis.set_minor_formatter(NullFormatter())
 
 
