@@ -40,11 +40,13 @@ free–free modes make I3 and I4 vanish to round-off.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .modes import ModeSet
-from .plate import PlateModel
+if TYPE_CHECKING:       # annotations only: reading invariants needs no FE code
+    from .modes import ModeSet
+    from .plate import PlateModel
 
 # Levi-Civita symbol: (a × b)_i = ε_ijk a_j b_k
 _EPS = np.zeros((3, 3, 3))

@@ -195,9 +195,10 @@ class Results:
     """
 
     def __init__(self, contents: Contents, *, modes: ModesData | None = None,
-                 datasets: dict | None = None):
+                 modes_file: str | Path | None = None, datasets: tuple | None = None):
         self.contents = contents
         self._modes = modes
+        self._modes_file = modes_file
         self._datasets = datasets
         self._post: Run | None = None
 
@@ -254,7 +255,7 @@ class Results:
     # points of interest
     def _run(self) -> Run:
         if self._post is None:
-            self._post = Run(self.contents, modes=self._modes)
+            self._post = Run(self.contents, modes=self._modes, modes_file=self._modes_file)
         return self._post
 
     def point(self, body: str, position: Sequence[float], *, relative_to: str | None = None,
@@ -302,11 +303,12 @@ class Results:
 
 
 def open_results(path: str | Path, *, modes: ModesData | str | Path | None = None) -> Results:
-    """A results file read back; ``modes``: a flexible bed's modes (data or
-    file; default the modes file the run records)."""
+    """A results file read back. ``modes``: a flexible bed's modes (data, or
+    a modes file); default the modes file the run used, looked for beside
+    the results file, then where the run recorded it (checked by the
+    plate's hash)."""
     if isinstance(modes, (str, Path)):
-        from flexbed.files.modes import read_modes_file
-        modes = read_modes_file(modes)
+        return Results(read_results(path), modes_file=modes)
     return Results(read_results(path), modes=modes)
 
 

@@ -3,18 +3,32 @@
 Every subcommand lives in its own module ``flexbed.commands.<name>`` with
 ``add_args(parser)`` and ``run(args) -> int``. Failures the user can act on
 come up as :class:`flexbed.errors.FlexbedError` and leave as one line on
-stderr and an exit code: 0 success, 1 numerical failure, 2 bad input.
+stderr and an exit code: 0 success, 1 numerical failure, 2 bad input, 130
+interrupted (Ctrl-C), 141 output pipe closed (``flexbed post … | head``:
+the reader stopped; nothing is printed, as ``yes | head`` does).
+
+Start-up stays light: only the module of the command given is imported
+(and through it NumPy, SciPy, numba, h5py, matplotlib as that command
+needs them); ``flexbed --help`` lists every command from :data:`COMMANDS`
+without importing any of them, and ``--version`` reads the installed
+distribution's metadata.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 from flexbed.errors import EXIT_INPUT, FlexbedError
 from flexbed.threads import limited, pin_environment
-from flexbed.files.store import package_version
+
+#: status of a run whose output pipe was closed by its reader (128 + SIGPIPE,
+#: what the shell reports for a program that SIGPIPE ends)
+EXIT_PIPE = 141
+#: status of a run stopped by Ctrl-C (128 + SIGINT)
+EXIT_INTERRUPT = 130
 
 COMMANDS = {
     "scene": "print the built-in reference scene as TOML",
@@ -24,7 +38,7 @@ COMMANDS = {
     "compare": "rigid vs flexible vs damped flexible bed -> tables and plots",
     "post": "points of interest and mount forces from a results file",
     "run": "the whole pipeline on one scene, into one folder",
-    "bench": "benchmarks: speed against error, printed as tables",
+    "bench": "benchmarks: speed against error, written as a report",
 }
 
 
@@ -36,37 +50,97 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_INPUT, f"{self.prog}: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+class _Version(argparse.Action):
+    """``--version``: the installed distribution's version, looked up only when asked."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
+                 help="print the version and exit"):
+        super().__init__(option_strings=option_strings, dest=dest, default=default, nargs=0,
+                         help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from importlib import metadata
+        try:
+            version = metadata.version("flexbed")
+        except metadata.PackageNotFoundError:      # running from a source tree
+            version = "0+unknown"
+        print(f"flexbed {version}")
+        parser.exit()
+
+
+def chosen_command(argv: list[str]) -> str | None:
+    """The subcommand named in ``argv`` (its first word that is not an
+    option), or None."""
+    for word in argv:
+        if not word.startswith("-"):
+            return word if word in COMMANDS else None
+    return None
+
+
+def build_parser(commands=None) -> argparse.ArgumentParser:
+    """The argument parser.
+
+    Parameters
+    ----------
+    commands : iterable of str, optional
+        The subcommands whose options are added (their modules imported);
+        the others are listed with their summary only. Default: all.
+    """
+    full = set(COMMANDS if commands is None else commands)
     parser = _Parser(prog="flexbed", description="Mount systems with flexible common beds "
                      "(Lee, Kim & Jeong 1999): bed modes, statics, dynamics, post-processing.")
-    parser.add_argument("--version", action="version", version=f"flexbed {package_version()}")
+    parser.add_argument("--version", action=_Version)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name, summary in COMMANDS.items():
-        module = importlib.import_module(f"flexbed.commands.{name}")
-        p = sub.add_parser(name, help=summary)
-        module.add_args(p)
-        p.set_defaults(_run=module.run)
+        p = sub.add_parser(name, help=summary, description=summary)
+        if name in full:
+            importlib.import_module(f"flexbed.commands.{name}").add_args(p)
     return parser
+
+
+def _silence_stdout() -> None:
+    """Point stdout at the null device, so that the interpreter's final
+    flush of a closed pipe does not fail again at exit."""
+    try:
+        sys.stdout.flush()
+    except (BrokenPipeError, ValueError):
+        pass
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # replaced by a test's capture
+        return
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, fd)
+    os.close(null)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     pin_environment()
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if not getattr(args, "_run", None):
-        parser.print_help()
-        return EXIT_INPUT
+    argv = sys.argv[1:] if argv is None else list(argv)
+    command = chosen_command(argv)
+    parser = build_parser([command] if command else [])
     try:
-        with limited():
-            return int(args._run(args) or 0)
-    except FlexbedError as exc:
-        print(f"flexbed {args.command}: {exc}", file=sys.stderr)
-        return exc.exit_code
+        args = parser.parse_args(argv)
+        if not args.command:
+            parser.print_help()
+            return EXIT_INPUT
+        module = importlib.import_module(f"flexbed.commands.{args.command}")
+        try:
+            with limited():
+                code = int(module.run(args) or 0)
+        except FlexbedError as exc:
+            print(f"flexbed {args.command}: {exc}", file=sys.stderr)
+            return exc.exit_code
+        sys.stdout.flush()
+        return code
     except KeyboardInterrupt:
-        print(f"flexbed {args.command}: interrupted", file=sys.stderr)
-        return 130
-
+        print(f"flexbed {command}: interrupted" if command else "flexbed: interrupted",
+              file=sys.stderr)
+        return EXIT_INTERRUPT
+    except BrokenPipeError:
+        _silence_stdout()
+        return EXIT_PIPE
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())

@@ -21,10 +21,25 @@ T_END = 0.5
 PNG = b"\x89PNG\r\n\x1a\n"
 
 
+#: files in the report's folder before it runs: another report's PNG, a note
+FOREIGN = {"bench-retired-section.png": PNG + b"an earlier report's", "notes.txt": b"mine"}
+
+
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
     out = tmp_path_factory.mktemp("bench")
+    for name, data in FOREIGN.items():
+        (out / name).write_bytes(data)
     return write_report(out, quick=True, t_end=T_END)
+
+
+def test_files_the_report_did_not_write_are_left_alone(report):
+    out = report.path.parent
+    for name, data in FOREIGN.items():
+        assert (out / name).read_bytes() == data
+    assert report.stale == [out / "bench-retired-section.png"]
+    assert sorted(out.iterdir()) == sorted([report.path] + report.figures +
+                                           [out / name for name in FOREIGN])
 
 
 def test_report_and_every_figure_are_written(report):
@@ -139,14 +154,34 @@ def test_sections_are_a_named_list():
         write_report("unused", sections=["nonsense"])
 
 
-def test_bench_rigid_sub_report_through_the_command(tmp_path, capsys):
-    code = main(["bench", "rigid", "--quick", "--t-end", "0.2", "-o", str(tmp_path)])
+def test_bench_rigid_sub_report_through_the_command(tmp_path, capsys, monkeypatch):
+    """Run from a project's root, bench writes into ./flexbed-bench and
+    leaves docs/ (the project's own report) alone."""
+    docs = tmp_path / "docs"
+    docs.mkdir()
+    (docs / "benchmarks-rigid.md").write_text("the project's report")
+    (docs / "bench-integrators-rigid.png").write_bytes(PNG + b"tracked")
+    monkeypatch.chdir(tmp_path)
+    code = main(["bench", "rigid", "--quick", "--t-end", "0.2"])
     out, err = capsys.readouterr()
     assert code == 0, err
-    report = tmp_path / "benchmarks-rigid.md"
-    assert report.is_file() and (tmp_path / "bench-integrators-rigid.png").is_file()
-    assert not (tmp_path / "benchmarks.md").exists()
+    assert (docs / "benchmarks-rigid.md").read_text() == "the project's report"
+    assert (docs / "bench-integrators-rigid.png").read_bytes() == PNG + b"tracked"
+    folder = tmp_path / "flexbed-bench"
+    report = folder / "benchmarks-rigid.md"
+    assert report.is_file() and (folder / "bench-integrators-rigid.png").is_file()
+    assert not (folder / "benchmarks.md").exists()
     rows = [line for line in out.splitlines() if line.startswith("| ")
             and "integrator" not in line]
     assert {r.split("|")[1].strip() for r in rows} == {"rk4", "adams", "bdf", "radau", "dop853"}
     assert "flexbed bench rigid --quick --t-end 0.2" in report.read_text()
+
+
+def test_bench_positionals_target_then_scene(capsys):
+    from flexbed.commands.bench import target_and_scene
+    assert target_and_scene("rigid", None) == ("rigid", None)
+    assert target_and_scene("rigid", "s.toml") == ("rigid", "s.toml")
+    assert target_and_scene("my.toml", None) == ("all", "my.toml")
+    assert main(["bench", "nonsense"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "target 'nonsense' is not one of all, modes" in err[0]

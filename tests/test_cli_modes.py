@@ -24,6 +24,12 @@ def run(capsys, *argv):
     return code, out, err
 
 
+def test_one_mode_is_one_mode(tmp_path, capsys):
+    code, out, err = run(capsys, "modes", "-o", str(tmp_path / "m.h5"), "--modes", "1")
+    assert code == 0, err
+    assert "(1 elastic mode, 1 asked;" in out and "modes," not in out
+
+
 def test_modes_writes_the_file_and_prints_the_table(tmp_path, capsys):
     out_file = tmp_path / "m.h5"
     code, out, err = run(capsys, "modes", "-o", str(out_file), "--modes", "4")
@@ -140,6 +146,13 @@ def test_run_writes_every_stage_into_the_folder(tmp_path, capsys):
               "lee1999-damped-mount-forces.png", "lee1999-damped-bed.xdmf",
               "lee1999-damped-bed.h5", "lee1999-flexible-bed.xdmf"):
         assert f in names, f
+    # the bed's motion: an XDMF over a self-describing HDF5 (units on every dataset)
+    from flexbed.files.store import read_file
+    from flexbed.files.xdmf import BED_MOTION_SCHEMA
+    motion = read_file(tmp_path / "out" / "lee1999-damped-bed.h5", schema=BED_MOTION_SCHEMA,
+                       major=1)
+    assert all(motion.units.values()) and len(motion.units) == 3 + 2 * 301
+    assert "1 elastic mode" not in out and "2 elastic modes" in out
     summary = (tmp_path / "out" / "lee1999-summary.md").read_text()
     assert "5.084327544" in summary and "5.331875044" in summary
     # the summary's numbers are the results files' numbers

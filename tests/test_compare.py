@@ -2,10 +2,16 @@
 findings on the reference scene, and one-line refusals of bad input."""
 
 import csv
+import io
+import math
 
+import numpy as np
 import pytest
 
-from flexbed.cli import main
+from flexbed.analyses.compare import csv_table, delay, markdown_table
+from flexbed.cli import build_parser, main
+from flexbed.dynamics.integrate import METHODS
+from flexbed.files.results import read_results
 from flexbed.files.scene import builtin_scene_path
 
 FLEX = ('model = "rigid"', 'model = "flexible"')
@@ -88,3 +94,73 @@ def test_flexible_static_lowers_the_equipment(tmp_path, capsys, modes_file):
     z = {line.split()[1]: float(line.split()[-4]) for line in out.splitlines()
          if line.strip()[:1].isdigit()}
     assert z["bed"] < 5.084327544 - 1e-3
+
+
+# ---------------------------------------------------------------- the delay
+
+def pulse_response(t, shift=0.0):
+    """A decaying 3 Hz oscillation that starts at 0.2 s + shift [s]."""
+    s = np.clip(t - 0.2 - shift, 0.0, None)
+    return np.where(t >= 0.2 + shift, np.exp(-1.5 * s) * np.sin(2 * np.pi * 3.0 * s), 0.0)
+
+
+@pytest.mark.parametrize("shift", [-0.09, -0.012, 0.0, 0.024, 0.08, 0.15])
+def test_delay_is_measured_inside_half_a_period(shift):
+    """The window is half the reference's period (167 ms at 3 Hz): any shift
+    inside it is found to a small fraction of the sample spacing, 80 and
+    150 ms included (the old search stopped at 50 ms and reported 50)."""
+    t = np.arange(0.0, 3.0 + 5e-4, 1e-3)
+    ref = pulse_response(t)
+    d = delay(t, pulse_response(t, shift), ref)
+    assert d.window == pytest.approx(0.5 / 3.0, abs=2e-3)
+    assert d.beyond == 0 and d.value == pytest.approx(shift, abs=1e-4)
+    assert d.text() == f"{1e3 * d.value:.3f}"
+
+
+@pytest.mark.parametrize("shift, side", [(0.08, 1), (-0.08, -1)])
+def test_a_delay_beyond_the_window_is_said_so(shift, side):
+    t = np.arange(0.0, 3.0 + 5e-4, 1e-3)
+    d = delay(t, pulse_response(t, shift), pulse_response(t), max_lag=0.05)
+    assert d.beyond == side and math.isnan(d.value) and d.window == pytest.approx(0.05)
+    assert d.text() == f"beyond {side * 50:g} ms"
+    row = {"equipment": "A", "case": "flexible", "static_z": 5.3, "peak": 1e-3, "rms": 1e-4,
+           "frequency": 3.0, "delay": d, "decay": 1.0}
+    assert f"| beyond {side * 50:g} ms |" in markdown_table([row])
+    fields = next(csv.DictReader(io.StringIO(csv_table([row]))))
+    assert fields["delay_s"] == "nan" and float(fields["delay_window_s"]) == pytest.approx(0.05)
+    assert int(fields["delay_beyond"]) == side
+
+
+# ---------------------------------------------------- integrator and end time
+
+@pytest.mark.parametrize("command", ["compare", "run"])
+def test_integrator_and_t_end_options(tmp_path, capsys, command):
+    out = tmp_path / command
+    code = main([command, "-o", str(out), "--integrator", "rk4", "--t-end", "0.2"])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    for case in ("rigid", "flexible", "damped"):
+        c = read_results(out / f"lee1999-{case}.h5")
+        solver = c.attrs["solver"]
+        assert solver["method"] == "rk4" and solver["t_end"] == 0.2
+        assert c.get("time")[-1] == pytest.approx(0.2)
+    assert "0-0.2 s, rk4" in captured.out
+
+
+def test_integrator_choices_are_the_dynamics_methods():
+    parser = build_parser(["compare", "run", "simulate"])
+    for name in ("compare", "run", "simulate"):
+        sub = parser._subparsers._group_actions[0].choices[name]
+        action = next(a for a in sub._actions if "--integrator" in a.option_strings)
+        assert tuple(action.choices) == tuple(METHODS)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--t-end", "-1"], "--t-end = -1.0 must be > 0"),
+    (["--t-end", "nan"], "--t-end = nan must be > 0"),
+])
+def test_bad_solver_options(tmp_path, capsys, argv, words):
+    code = main(["compare", "-o", str(tmp_path / "c")] + argv)
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and words in err, err
+    assert not (tmp_path / "c").exists()

@@ -1,6 +1,9 @@
 """Post-processing from the results file: consistent with the run's own
 kinematics, for rigid bodies and for points on the flexible bed."""
 
+import subprocess
+import sys
+
 import h5py
 import numpy as np
 import pytest
@@ -114,3 +117,65 @@ def test_post_refuses_missing_results_and_stale_modes(flexible_run, tmp_path, ca
         f["bed"].attrs["plate_input_hash"] = "0" * 64
     assert main(["post", str(stale), "--mounts"]) == 2
     assert "made for another bed" in capsys.readouterr().err
+
+
+def test_post_works_from_a_moved_results_folder(tmp_path, capsys):
+    """The modes file is found beside the results file by its name, wherever
+    the folder goes; the recorded absolute path is gone after the move."""
+    first = tmp_path / "first"
+    assert main(["compare", "-o", str(first), "--t-end", "0.1"]) == 0
+    moved = tmp_path / "elsewhere" / "moved"
+    moved.parent.mkdir()
+    first.rename(moved)
+    capsys.readouterr()
+    assert main(["post", str(moved / "lee1999-damped.h5"), "--mounts"]) == 0
+    assert "| M12 |" in capsys.readouterr().out
+    run = Run(moved / "lee1999-damped.h5")
+    assert run.modes_path == moved / "lee1999-modes.h5"
+    # the results file alone: refused, naming the places tried and the option
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    (alone / "r.h5").write_bytes((moved / "lee1999-damped.h5").read_bytes())
+    assert main(["post", str(alone / "r.h5"), "--mounts"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1
+    assert str(alone / "lee1999-modes.h5") in err and str(first / "lee1999-modes.h5") in err
+    assert "--modes-file" in err
+    # ... and read with --modes-file
+    assert main(["post", str(alone / "r.h5"), "--mounts", "--modes-file",
+                 str(moved / "lee1999-modes.h5")]) == 0
+    assert "| M12 |" in capsys.readouterr().out
+
+
+def test_post_modes_file_option_is_checked(flexible_run, tmp_path, capsys):
+    _, _, _, results = flexible_run
+    other = tmp_path / "thin.toml"
+    other.write_text(builtin_scene_path().read_text().replace("thickness = 0.1",
+                                                              "thickness = 0.08"))
+    assert main(["modes", str(other), "-o", str(tmp_path / "thin.h5")]) == 0
+    capsys.readouterr()
+    assert main(["post", str(results), "--mounts", "--modes-file",
+                 str(tmp_path / "thin.h5")]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "made for another bed" in err
+    assert main(["post", str(results), "--mounts", "--modes-file", str(tmp_path / "no.h5")]) == 2
+    assert "no.h5 (missing)" in capsys.readouterr().err
+
+
+def test_post_of_a_flexible_run_needs_no_compiled_dynamics(flexible_run):
+    """post reads files and does array arithmetic: no numba, no scikit-fem,
+    no matplotlib without --plot (checked in a fresh interpreter)."""
+    _, _, _, results = flexible_run
+    probe = ("import sys\nfrom flexbed.cli import main\ncode = main(sys.argv[1:])\n"
+             "print('IMPORTED:' + ','.join(m for m in ('numba', 'skfem', 'matplotlib', "
+             "'meshio') if m in sys.modules))\nsys.exit(code)\n")
+    p = subprocess.run([sys.executable, "-c", probe, "post", str(results), "--mounts"],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.splitlines()[-1] == "IMPORTED:"
+
+
+def test_post_plots_the_mount_forces(flexible_run, tmp_path, capsys):
+    _, _, _, results = flexible_run
+    assert main(["post", str(results), "--mounts", "--plot", str(tmp_path)]) == 0
+    assert (tmp_path / "mount-forces.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -110,7 +110,7 @@ def test_an_interrupted_run_keeps_its_samples_marked_incomplete(tmp_path, monkey
         if t > 0.1:
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(cmd_simulate._Progress, "__call__", ctrl_c)
+    monkeypatch.setattr(cmd_simulate.Progress, "__call__", ctrl_c)
     out = tmp_path / "r.h5"
     assert flexbed(["simulate", "-o", str(out), "--t-end", "2.0"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
@@ -172,3 +172,33 @@ def test_bad_options_exit_2(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 2 and "--dt applies to" in err[0] and "t_end = -1.0 must be > 0" in err[1]
     assert not out.exists()
+
+
+def test_the_progress_line_ends_at_the_time_reached():
+    """Drawn at most every 0.25 s, the line used to stop where the last
+    redraw happened (17 %); closing draws the end: 100 % for a finished run."""
+    import io
+    from flexbed.commands.simulate import Progress
+
+    stream = io.StringIO()
+    progress = Progress(3.0, enabled=True, stream=stream)
+    progress.t0 -= 2.0                       # a run that has taken 2 s so far
+    progress(0.51)
+    progress(0.9)                            # within 0.25 s of the last: not drawn
+    progress.close(3.0)
+    lines = stream.getvalue().split("\r")[1:]
+    assert len(lines) == 2 and "( 17%)" in lines[0]
+    assert "t = 3.0000 / 3 s (100%)" in lines[1] and "#" * 30 in lines[1]
+    assert lines[1].endswith("\n")
+    quiet = io.StringIO()
+    short = Progress(3.0, enabled=True, stream=quiet)   # a run under 1 s: no line at all
+    short(1.0)
+    short.close(3.0)
+    assert quiet.getvalue() == ""
+
+
+def test_counts_are_singular_for_one():
+    from flexbed.words import count
+    assert count(1, "segment") == "1 segment" and count(2, "segment") == "2 segments"
+    assert count(1, "elastic mode") == "1 elastic mode" and count(0, "Jacobian") == "0 Jacobians"
+    assert count(1, "right-hand side") == "1 right-hand side"

@@ -7,6 +7,11 @@ says otherwise). Per piece of equipment (every body after the bed), the
 vertical motion relative to the base, d(t) = (z_e − z_base)(t) − (z_e −
 z_base)(0), is summarised by its peak, RMS, dominant frequency, its delay
 against the rigid case and its decay once the loads have ended.
+
+The delay is the shift that maximises the cross-correlation with the rigid
+case, searched over ± half the period of the rigid response's dominant
+frequency (beyond that the shift of an oscillation is ambiguous); a best
+shift at the edge of that window is reported as "beyond N ms", not as N.
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ from flexbed.files.modes import ModesData
 from flexbed.stages.motion import solve_motion
 from flexbed.files.results import read_results, write_results
 from flexbed.files.scene import SceneFile
+from flexbed.words import count
 
 CASES = ("rigid", "flexible", "damped")
 LABELS = {"rigid": "rigid bed", "flexible": "flexible bed (α = β = 0)",
@@ -76,8 +82,9 @@ def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=p
     obs0 = system.observe(0.0, eq.y)
     st = result.stats
     how = f" (model {sf.solver.model}: {motion.reason})" if sf.solver.model != "nonlinear" else ""
-    log(f"  {LABELS[case]}: {st.method}, {st.steps} steps, {st.rhs_evaluations} right-hand "
-        f"sides, {st.wall_time:.2f} s{how} -> {path.name}")
+    log(f"  {LABELS[case]}: {st.method}, {count(st.steps, 'step')}, "
+        f"{count(st.rhs_evaluations, 'right-hand side')}, {st.wall_time:.2f} s{how} "
+        f"-> {path.name}")
     return CaseRun(case=case, path=path, t=result.t, position=pos, base_acceleration=acc,
                    static_position=obs0.r.copy(), steps=st.steps,
                    rhs_evaluations=st.rhs_evaluations, wall_time=st.wall_time,
@@ -106,21 +113,72 @@ def dominant_frequency(t: np.ndarray, d: np.ndarray) -> float:
     return float(k / (n * dt))
 
 
-def delay(t: np.ndarray, d: np.ndarray, ref: np.ndarray, max_lag: float = 0.05) -> float:
-    """Time shift [s] of d against ref that best aligns them (positive: d
-    lags), from the cross-correlation with a parabolic refinement."""
+@dataclass(frozen=True)
+class Delay:
+    """A time shift found by cross-correlation.
+
+    value : float
+        The shift [s] (positive: the signal lags the reference); nan when
+        the best alignment lies at the edge of the window searched, i.e. the
+        shift is beyond it.
+    window : float
+        The largest shift searched, either way [s].
+    beyond : int
+        0 when measured; +1 (lags by more than ``window``) or −1 (leads by
+        more) when not.
+    """
+
+    value: float
+    window: float
+    beyond: int = 0
+
+    def text(self, scale: float = 1e3, fmt: str = "{:.3f}", unit: str = "ms") -> str:
+        """The delay for a table: the value, or "beyond N ms" (−N: leads)."""
+        if not self.beyond:
+            return fmt.format(scale * self.value)
+        return f"beyond {self.beyond * scale * self.window:.4g} {unit}"
+
+
+def delay_window(t: np.ndarray, ref: np.ndarray) -> float:
+    """The largest shift a delay against ``ref`` is searched over [s]: half
+    the period of ref's dominant frequency (a longer shift of an
+    oscillation is ambiguous by a whole period), at most half the record."""
+    span = float(t[-1] - t[0])
+    f = dominant_frequency(t, ref)
+    return min(0.5 / f, 0.5 * span) if f > 0 else 0.5 * span
+
+
+def delay(t: np.ndarray, d: np.ndarray, ref: np.ndarray,
+          max_lag: float | None = None) -> Delay:
+    """Time shift of d against ref that best aligns them (positive: d lags),
+    from the cross-correlation with a parabolic refinement of its peak.
+
+    Parameters
+    ----------
+    t : ndarray (k,)
+        Sample times, evenly spaced [s].
+    d, ref : ndarray (k,)
+        The signal and the reference.
+    max_lag : float, optional
+        The largest shift searched, either way [s] (default:
+        :func:`delay_window`). A best alignment at the edge of this window
+        is reported as beyond it, never as the window itself.
+    """
     dt = float(np.mean(np.diff(t)))
-    m = max(1, int(round(max_lag / dt)))
+    window = delay_window(t, ref) if max_lag is None else float(max_lag)
+    m = min(max(1, int(round(window / dt))), d.size - 1)
+    n = 1 << int(2 * d.size - 1).bit_length()
+    cc_full = np.fft.irfft(np.fft.rfft(d, n) * np.conj(np.fft.rfft(ref, n)), n)
     lags = np.arange(-m, m + 1)
-    cc = np.array([np.dot(d[max(0, L):d.size + min(0, L)], ref[max(0, -L):ref.size - max(0, L)])
-                   for L in lags])
+    cc = cc_full[lags % n]                   # cc[L] = sum_i d[i + L] ref[i]
     i = int(np.argmax(cc))
+    if i == 0 or i == cc.size - 1:
+        return Delay(math.nan, m * dt, 1 if i else -1)
     shift = float(lags[i])
-    if 0 < i < cc.size - 1:
-        a, b, c = cc[i - 1:i + 2]
-        if a - 2 * b + c != 0:
-            shift += 0.5 * (a - c) / (a - 2 * b + c)
-    return shift * dt
+    a, b, c = cc[i - 1:i + 2]
+    if a - 2 * b + c != 0:
+        shift += 0.5 * (a - c) / (a - 2 * b + c)
+    return Delay(shift * dt, m * dt)
 
 
 def decay(t: np.ndarray, d: np.ndarray, t_free: float) -> float:
@@ -142,6 +200,7 @@ def comparison_rows(runs: dict[str, CaseRun], names: list[str], bodies: list[int
     rows = []
     for body in bodies:
         ref = relative_vertical(rigid, body)
+        window = delay_window(rigid.t, ref)
         for case in CASES:
             run = runs[case]
             d = relative_vertical(run, body)
@@ -151,7 +210,8 @@ def comparison_rows(runs: dict[str, CaseRun], names: list[str], bodies: list[int
                 "peak": float(np.abs(d).max()),
                 "rms": float(np.sqrt(np.mean(d * d))),
                 "frequency": dominant_frequency(run.t, d),
-                "delay": 0.0 if case == "rigid" else delay(run.t, d, ref),
+                "delay": (replace(delay(run.t, d, ref, max_lag=window), value=0.0)
+                          if case == "rigid" else delay(run.t, d, ref, max_lag=window)),
                 "decay": decay(run.t, d, run.load_end),
             })
     return rows
@@ -164,9 +224,9 @@ COLUMNS = (("equipment", "equipment", "{}"), ("case", "case", "{}"),
 
 
 def _cell(key: str, fmt: str, value) -> str:
+    if isinstance(value, Delay):
+        return value.text(1e3, fmt, "ms")
     if key in ("peak", "rms"):
-        value = 1e3 * value
-    if key == "delay":
         value = 1e3 * value
     if isinstance(value, float) and math.isnan(value):
         return "n/a"
@@ -182,12 +242,20 @@ def markdown_table(rows: list[dict]) -> str:
 
 
 def csv_table(rows: list[dict]) -> str:
-    """The comparison as CSV (SI units: m, Hz, s)."""
+    """The comparison as CSV (SI units: m, Hz, s). The delay is three
+    columns: ``delay_s`` (nan when beyond the window), ``delay_window_s``
+    (the largest shift searched) and ``delay_beyond`` (0 measured, +1 lags
+    by more than the window, −1 leads by more)."""
     keys = [k for k, _, _ in COLUMNS]
     units = {"static_z": "static_z_m", "peak": "peak_m", "rms": "rms_m",
-             "frequency": "frequency_Hz", "delay": "delay_s", "decay": "decay_ratio"}
+             "frequency": "frequency_Hz", "delay": "delay_s,delay_window_s,delay_beyond",
+             "decay": "decay_ratio"}
+
+    def cell(value) -> str:
+        if isinstance(value, Delay):
+            return f"{value.value:.10g},{value.window:.10g},{value.beyond}"
+        return f"{value:.10g}" if isinstance(value, float) else str(value)
+
     lines = [",".join(units.get(k, k) for k in keys)]
-    for r in rows:
-        lines.append(",".join(f"{r[k]:.10g}" if isinstance(r[k], float) else str(r[k])
-                              for k in keys))
+    lines += [",".join(cell(r[k]) for k in keys) for r in rows]
     return "\n".join(lines) + "\n"

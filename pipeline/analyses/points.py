@@ -26,7 +26,6 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.dynamics.flexible import cross
 from flexbed.dynamics.rotation import A as rotation_matrix
 from flexbed.fem.shapes import GridShapes, OutsidePlateError
 
@@ -72,14 +71,88 @@ def parse_point(text: str) -> Point:
     return Point(name=name, body=body, position=xyz)
 
 
+def modes_file_candidates(results: Path, bed: dict) -> list[Path]:
+    """Where a run's modes file may be, in the order tried: beside the
+    results file under its recorded name, at the recorded path relative to
+    the results file, at the recorded absolute path (duplicates dropped)."""
+    recorded = str(bed.get("modes_file", ""))
+    relative = str(bed.get("modes_file_relative", ""))
+    found = []
+    if recorded:
+        found.append(results.parent / Path(recorded).name)
+    if relative:
+        found.append(results.parent / relative)
+    if recorded:
+        found.append(Path(recorded))
+    unique = []
+    for p in found:
+        if not any(p.resolve() == q.resolve() for q in unique):
+            unique.append(p)
+    return unique
+
+
+def find_modes_file(results: Path, bed: dict, modes_file=None):
+    """The modes file a flexible-bed run was made with, checked by the
+    plate's input hash the results file records.
+
+    Parameters
+    ----------
+    results : Path
+        The results file.
+    bed : dict
+        Its ``bed`` attributes (``modes_file``, ``modes_file_relative``,
+        ``plate_input_hash``).
+    modes_file : path-like, optional
+        Given by the user (``--modes-file``): the only one tried.
+
+    Returns
+    -------
+    data : ModesData
+    path : Path
+
+    Raises
+    ------
+    InputError
+        None found, or none made for this run's plate; the message names
+        the places tried.
+    """
+    want = str(bed.get("plate_input_hash", ""))
+    candidates = [Path(modes_file)] if modes_file is not None else \
+        modes_file_candidates(results, bed)
+    tried = []
+    for path in candidates:
+        if not path.is_file():
+            tried.append(f"{path} (missing)")
+            continue
+        if modes_file is not None:
+            data = read_modes_file(path)
+            if data.input_hash != want:
+                raise InputError(f"{results}: modes file {path} was made for another bed than "
+                                 f"this run (plate input hash {data.input_hash[:12]}…, the "
+                                 f"run's {want[:12]}…)")
+            return data, path
+        try:
+            data = read_modes_file(path)
+        except InputError as exc:
+            tried.append(f"{path} (unreadable: {exc})")
+            continue
+        if data.input_hash == want:
+            return data, path
+        tried.append(f"{path} (made for another bed)")
+    where = "; ".join(tried) or "no modes file recorded"
+    raise InputError(f"{results}: the flexible bed's modes file is not found: {where}; give "
+                     f"--modes-file FILE (or re-run 'flexbed modes' and the simulation)")
+
+
 class Run:
     """A run opened for post-processing: a results file, or its contents in
     memory (:class:`flexbed.files.store.Contents`), and the modes of a
     flexible bed (``modes``: given, else the modes file the run records)."""
 
-    def __init__(self, source: str | Path | Contents, modes: ModesData | None = None):
+    def __init__(self, source: str | Path | Contents, modes: ModesData | None = None,
+                 modes_file: str | Path | None = None):
         c = source if isinstance(source, Contents) else read_results(source)
-        self.path = c.path if c.path is not None else "results"
+        self.path = c.path if c.path is not None else Path("results")
         self._modes = modes
         if not c.attrs.get("", {}).get("complete", True):
             self.incomplete = str(c.attrs[""].get("message", ""))
@@ -95,6 +168,9 @@ class Run:
         self.wd = np.asarray(c.get("bodies/angular_acceleration"), dtype=float)
         self.A = rotation_matrix(self.p)                                  # (k, nb, 3, 3)
         self.mount_names = [str(n) for n in np.atleast_1d(c.datasets.get("mounts/names", []))]
+        self.mount_body_i, self.mount_body_j = (
+            [str(n) for n in np.atleast_1d(c.datasets.get(f"mounts/{key}", []))]
+            for key in ("body_i", "body_j"))
         self.mounts = {key: np.asarray(c.datasets[f"mounts/{key}"])
                        for key in ("deflection", "rate", "force", "force_i", "force_j")
                        if f"mounts/{key}" in c.datasets}
@@ -108,8 +184,9 @@ class Run:
         self.bed_name = None
         self.shapes = None
         self.translation = None
+        self.modes_path = None
         if self.bed_model == "flexible":
-            self._open_modes(c, bed)
+            self._open_modes(c, bed, modes_file)
 
     def _scene_points(self, data: dict):
         for i, p in enumerate(data.get("point", [])):
@@ -120,23 +197,15 @@ class Run:
             except (KeyError, TypeError, ValueError):
                 raise InputError(f"{self.path}: scene point {i + 1} is malformed") from None
 
-    def _open_modes(self, c, bed: dict) -> None:
+    def _open_modes(self, c, bed: dict, modes_file) -> None:
         if self._modes is not None:
-            data = self._modes
-            path = data.path or "the modes given"
+            data, path = self._modes, self._modes.path
+            if data.input_hash != str(bed.get("plate_input_hash", "")):
+                raise InputError(f"{self.path}: the modes given were made for another bed than "
+                                 f"this run (plate input hash {data.input_hash[:12]}…)")
         else:
-            raw = str(bed.get("modes_file", ""))
-            if not raw:
-                raise InputError(f"{self.path}: the run records no modes file (its modes were "
-                                 f"computed in memory); give the bed's modes")
-            path = Path(raw)
-            if not path.is_file():
-                raise InputError(f"{self.path}: the flexible bed's modes file {raw!r} "
-                                 f"is missing; re-run 'flexbed modes' (and the simulation)")
-            data = read_modes_file(path)
-        if data.input_hash != str(bed.get("plate_input_hash", "")):
-            raise InputError(f"{self.path}: modes file {path} was made for another bed than "
-                             f"this run; re-run 'flexbed modes' and 'flexbed simulate'")
+            data, path = find_modes_file(self.path, bed, modes_file)
+        self.modes_path = path
         n = int(bed.get("n_modes", 0))
         basis = c.datasets.get("modal/basis")
         basis = np.eye(n) if basis is None else np.asarray(basis, dtype=float)
@@ -182,8 +251,8 @@ class Run:
         A = self.A[:, b]
         w, wd = self.w[:, b], self.wd[:, b]
         R = self.r[:, b] + np.einsum("kij,kj->ki", A, u)
-        V = self.rd[:, b] + np.einsum("kij,kj->ki", A, cross(w, u) + ud)
-        acc_body = cross(wd, u) + cross(w, cross(w, u)) + 2.0 * cross(w, ud) + udd
+        V = self.rd[:, b] + np.einsum("kij,kj->ki", A, np.cross(w, u) + ud)
+        acc_body = np.cross(wd, u) + np.cross(w, np.cross(w, u)) + 2.0 * np.cross(w, ud) + udd
         Acc = self.rdd[:, b] + np.einsum("kij,kj->ki", A, acc_body)
         return PointMotion(point, "inertial", R, V, Acc)
 
@@ -194,9 +263,9 @@ class Run:
         AB = self.A[:, B]
         wB, wdB = self.w[:, B], self.wd[:, B]
         rho = np.einsum("kji,kj->ki", AB, m.position - self.r[:, B])
-        rhod = np.einsum("kji,kj->ki", AB, m.velocity - self.rd[:, B]) - cross(wB, rho)
+        rhod = np.einsum("kji,kj->ki", AB, m.velocity - self.rd[:, B]) - np.cross(wB, rho)
         rhodd = (np.einsum("kji,kj->ki", AB, m.acceleration - self.rdd[:, B])
-                 - cross(wdB, rho) - 2.0 * cross(wB, rhod) - cross(wB, cross(wB, rho)))
+                 - np.cross(wdB, rho) - 2.0 * np.cross(wB, rhod) - np.cross(wB, np.cross(wB, rho)))
         return PointMotion(point, body, rho, rhod, rhodd)
 
 

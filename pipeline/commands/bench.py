@@ -1,10 +1,15 @@
-"""``flexbed bench [TARGET] [SCENE] [--quick] [-o DIR]``: the work-precision report.
+"""``flexbed bench [TARGET] [SCENE] [--quick] [-o DIR] [--t-end T]``: the
+work-precision report (``flexbed bench SCENE``: the whole report on a scene).
 
-Without a target: the whole report, ``DIR/benchmarks.md`` (default DIR:
-``docs``) and its PNGs ``DIR/bench-*.png``, every one regenerated (see
-:mod:`flexbed.bench.report`). ``--quick``: the cheaper cases, one or two
-settings per integrator, fewer repeats (about a minute). A target writes a
-part only, as ``DIR/benchmarks-<target>.md``:
+Without a target: the whole report, ``DIR/benchmarks.md`` and its PNGs
+``DIR/bench-*.png`` (see :mod:`flexbed.bench.report`). DIR is
+``./flexbed-bench`` unless given: the project's own report is regenerated
+with ``-o docs``. Only the report and the PNGs of this run are written; no
+other file is touched or deleted (a ``bench-*.png`` of an earlier report
+that this one no longer draws is named on stderr and left alone).
+``--quick``: the cheaper cases, one or two settings per integrator, fewer
+repeats. A target writes a part only, as
+``DIR/benchmarks-<target>.md``:
 
 - ``modes``: mesh density of the bed-modes stage;
 - ``rigid``: the integrators on the rigid bed, and the aims;
@@ -21,7 +26,11 @@ import argparse
 import sys
 from pathlib import Path
 
-from flexbed.bench.report import write_report
+from flexbed.errors import InputError
+from flexbed.words import count
+
+#: the default output folder, in the current folder
+DEFAULT_OUTPUT = "flexbed-bench"
 
 #: target -> (sections, integrator cases); None: the profile's
 TARGETS = {
@@ -37,33 +46,51 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Benchmarks as a work-precision report: every integrator's error "
                           "against wall time, and the error and cost of the modelling "
                           "choices, written to DIR/benchmarks.md with PNG diagrams.")
-    parser.add_argument("target", nargs="?", default="all", choices=list(TARGETS),
-                        help="a part of the report only (default: all)")
+    parser.add_argument("target", nargs="?", default="all", metavar="TARGET",
+                        help=f"a part of the report only: {', '.join(TARGETS)} (default: all); "
+                             f"a scene file here is taken as SCENE")
     parser.add_argument("scene", nargs="?", default=None,
                         help="scene file (default: the built-in reference scene)")
     parser.add_argument("--quick", action="store_true",
-                        help="cheaper cases, fewer settings and repeats (about a minute)")
-    parser.add_argument("-o", "--output", default="docs", metavar="DIR",
-                        help="folder of the report and its PNGs (default: docs)")
+                        help="cheaper cases, fewer settings and repeats")
+    parser.add_argument("-o", "--output", default=DEFAULT_OUTPUT, metavar="DIR",
+                        help=f"folder of the report and its PNGs (default: ./{DEFAULT_OUTPUT}; "
+                             f"'-o docs' regenerates the project's own report)")
     parser.add_argument("--t-end", type=float, default=None, metavar="T",
                         help="end every run at T seconds (default: the scene's; the aims "
                              "are stated for 0-3 s)")
 
 
+def target_and_scene(target: str, scene: str | None) -> tuple[str, str | None]:
+    """The positional words as (target, scene): ``flexbed bench SCENE.toml``
+    is the whole report on that scene; anything else must be a target."""
+    if target in TARGETS:
+        return target, scene
+    if scene is None and target.endswith(".toml"):
+        return "all", target
+    raise InputError(f"target {target!r} is not one of {', '.join(TARGETS)}")
+
+
 def run(args: argparse.Namespace) -> int:
+    from flexbed.bench.report import write_report   # NumPy, SciPy, numba, matplotlib
+
     def log(m: str) -> None:
         print(m, file=sys.stderr, flush=True)
 
+    args.target, args.scene = target_and_scene(args.target, args.scene)
     sections, cases = TARGETS[args.target]
     filename = "benchmarks.md" if args.target == "all" else f"benchmarks-{args.target}.md"
     words = ["flexbed bench"] + ([] if args.target == "all" else [args.target])
     words += [args.scene] if args.scene else []
     words += ["--quick"] if args.quick else []
     words += [f"--t-end {args.t_end:g}"] if args.t_end is not None else []
+    words += [f"-o {args.output}"] if args.output != DEFAULT_OUTPUT else []
     report = write_report(Path(args.output), scene=args.scene, quick=args.quick,
                           sections=sections, cases=cases, t_end=args.t_end, filename=filename,
                           command=" ".join(words), log=log)
     print(report.path.read_text())
-    print(f"wrote {report.path} and {len(report.figures)} PNGs in {report.elapsed:.1f} s",
-          file=sys.stderr)
+    for old in report.stale:
+        print(f"note: {old} is not part of this report (left in place)", file=sys.stderr)
+    print(f"wrote {report.path} and {count(len(report.figures), 'PNG')} in "
+          f"{report.elapsed:.1f} s", file=sys.stderr)
     return 0

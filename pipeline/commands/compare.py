@@ -1,18 +1,48 @@
-"""``flexbed compare [SCENE] [-o DIR]``: the scene with a rigid bed, a
-flexible bed (α = β = 0) and a damped flexible bed (the scene's damping),
-compared per piece of equipment, with plots (the paper's Figs. 10–12)."""
+"""``flexbed compare [SCENE] [-o DIR] [--integrator NAME] [--t-end T] [--force]``:
+the scene with a rigid bed, a flexible bed (α = β = 0) and a damped flexible
+bed (the scene's damping), compared per piece of equipment, with plots (the
+paper's Figs. 10–12)."""
 
 from __future__ import annotations
 
 import argparse
+import math
 import time
+from dataclasses import replace
 from pathlib import Path
 
-from flexbed.stages.modes import ensure_modes
-from flexbed.analyses.compare import CASES, LABELS, comparison_rows, csv_table, markdown_table, \
-    relative_vertical, run_case
-from flexbed.plots import plot_responses, plot_series
+from flexbed.analyses.compare import (CASES, LABELS, comparison_rows, csv_table, markdown_table,
+                                      relative_vertical, run_case)
+from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile, load_scene
+from flexbed.plots import plot_responses, plot_series
+from flexbed.stages.modes import ensure_modes
+
+
+def add_solver_args(parser: argparse.ArgumentParser) -> None:
+    """``--integrator`` and ``--t-end``, as on ``flexbed simulate``."""
+    from flexbed.dynamics.integrate import METHODS
+    parser.add_argument("--integrator", choices=METHODS, default=None,
+                        help="time integrator of every run (default: the scene's [solver] "
+                             "integrator)")
+    parser.add_argument("--t-end", type=float, default=None, metavar="T",
+                        help="end time of every run [s] (default: the scene's [solver] t_end)")
+
+
+def with_solver_options(sf: SceneFile, integrator: str | None, t_end: float | None) -> SceneFile:
+    """The scene with ``--integrator`` and ``--t-end`` applied to its
+    ``[solver]`` (None keeps the scene's); InputError on a bad value."""
+    if t_end is not None and not (math.isfinite(t_end) and t_end > 0):
+        raise InputError(f"option: --t-end = {t_end!r} must be > 0 s")
+    changes = {k: v for k, v in (("integrator", integrator), ("t_end", t_end)) if v is not None}
+    if not changes:
+        return sf
+    solver = replace(sf.solver, **changes)
+    try:
+        solver.settings()
+    except ValueError as exc:
+        raise InputError(f"option: {exc}") from None
+    return replace(sf, solver=solver)
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -22,6 +52,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                         help="scene file (TOML); default: the built-in reference scene")
     parser.add_argument("-o", "--output", default="flexbed-compare", metavar="DIR",
                         help="output folder (default: ./flexbed-compare)")
+    add_solver_args(parser)
     parser.add_argument("--force", action="store_true", help="recompute the modes file")
 
 
@@ -58,9 +89,10 @@ def compare_scene(sf: SceneFile, out: Path, *, force: bool = False, log=print) -
 
 def run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
-    sf = load_scene(args.scene)
+    sf = with_solver_options(load_scene(args.scene), args.integrator, args.t_end)
     out = Path(args.output)
-    print(f"compare '{sf.scene.name}': rigid, flexible and damped flexible bed -> {out}/")
+    print(f"compare '{sf.scene.name}': rigid, flexible and damped flexible bed, "
+          f"0-{sf.solver.t_end:g} s, {sf.solver.integrator} -> {out}/")
     res = compare_scene(sf, out, force=args.force)
     print(res["table"])
     for f in res["files"]:

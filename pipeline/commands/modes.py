@@ -1,4 +1,4 @@
-"""``flexbed modes [SCENE] [-o FILE] [--modes N | --fmax HZ] [--vtu DIR] [--force]``.
+"""``flexbed modes [SCENE] [-o FILE] [--modes N | --fmax HZ] [--vtu DIR] [--force] [--show FILE]``.
 
 Computes the common bed's free–free modes and modal invariants and writes
 the modes file, or reuses it when it was made from the same plate inputs
@@ -12,12 +12,11 @@ import sys
 import time
 from pathlib import Path
 
-from flexbed.fem.export import write_modes_vtu
-
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.files.scene import load_scene
 from flexbed.stages.modes import default_modes_path, ensure_modes
+from flexbed.words import count
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -25,7 +24,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "(scikit-fem Kirchhoff plate), written to the modes file.")
     parser.add_argument("scene", nargs="?", default=None,
                         help="scene file (TOML); default: the built-in reference scene")
-    parser.add_argument("-o", "--output", default=None,
+    parser.add_argument("-o", "--output", default=None, metavar="FILE",
                         help="modes file to write (default: the scene's modes_file, "
                              "else <scene file stem>-modes.h5 in the current folder)")
     group = parser.add_mutually_exclusive_group()
@@ -82,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
     if args.show:
         data = read_modes_file(args.show)
         print_summary(data)
-        print(f"{data.path}: {data.n_modes} elastic modes; made by {data.creator} "
+        print(f"{data.path}: {count(data.n_modes, 'elastic mode')}; made by {data.creator} "
               f"on {data.created}; input hash {data.input_hash[:12]}")
         return 0
     sf = load_scene(args.scene)
@@ -96,9 +95,10 @@ def run(args: argparse.Namespace) -> int:
         print(auto_line(sf.bed))
     asked = (f"{args.modes} asked" if args.modes else
              f"all below {args.fmax:g} Hz asked" if args.fmax else "")
-    held = f"{data.n_modes} elastic modes" + (f", {asked}" if asked else "")
+    held = count(data.n_modes, "elastic mode") + (f", {asked}" if asked else "")
     print(f"{'reused' if reused else 'wrote'} {path} ({held}; {elapsed:.2f} s)")
     if args.vtu:
+        from flexbed.fem.export import write_modes_vtu      # meshio
         vtu = write_modes_vtu(Path(args.vtu) / f"{sf.output_name}-modes.vtu", data.nodes,
                               data.cells, data.translation, data.rotation, data.frequency)
         print(f"wrote {vtu}")

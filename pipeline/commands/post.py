@@ -1,6 +1,13 @@
 """``flexbed post RESULTS.h5 [--point NAME=BODY:x,y,z ...] [--relative-to BODY]
-[--mounts] [--csv DIR] [--plot DIR]``: points of interest and mount forces
-from a finished run, without running it again (paper, section 4)."""
+[--mounts] [--csv DIR] [--plot DIR] [--modes-file FILE]``: points of interest
+and mount forces from a finished run, without running it again (paper,
+section 4).
+
+A flexible bed's modes file is found beside the results file under the name
+it had when the run was made, else at the path the results file records
+(relative, then absolute), each checked by the plate's input hash; a results
+folder can therefore be moved or shared whole. ``--modes-file`` names it.
+"""
 
 from __future__ import annotations
 
@@ -8,9 +15,9 @@ import argparse
 import sys
 from pathlib import Path
 
+from flexbed.analyses.points import (Run, motion_csv, motion_table, mount_csv, mount_table,
+                                     parse_point)
 from flexbed.errors import InputError
-from flexbed.plots import plot_responses
-from flexbed.analyses.points import Run, motion_csv, motion_table, mount_csv, mount_table, parse_point
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -27,12 +34,16 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--csv", default=None, metavar="DIR",
                         help="write the time series as CSV files into DIR")
     parser.add_argument("--plot", default=None, metavar="DIR",
-                        help="write PNG plots of the points' displacement into DIR")
+                        help="write PNG plots of the points' displacement (and with --mounts, "
+                             "of the mount forces) into DIR")
+    parser.add_argument("--modes-file", default=None, metavar="FILE",
+                        help="the flexible bed's modes file (default: found beside the "
+                             "results file, else where the run recorded it)")
 
 
 def run(args: argparse.Namespace) -> int:
     points = [parse_point(text) for text in args.point]
-    r = Run(args.results)
+    r = Run(args.results, modes_file=args.modes_file)
     if r.incomplete:
         print(f"note: {r.path} holds an incomplete run ({r.incomplete})", file=sys.stderr)
     points = list(r.scene_points) + points
@@ -69,7 +80,8 @@ def run(args: argparse.Namespace) -> int:
             f = out / "mounts.csv"
             f.write_text(mount_csv(r))
             print(f"wrote {f}")
-    if args.plot and motions:
+    if args.plot and (motions or args.mounts):
+        from flexbed.plots import plot_mount_forces, plot_responses   # matplotlib
         out = Path(args.plot)
         for m in motions:
             d = 1e3 * (m.position - m.position[0])
@@ -78,5 +90,10 @@ def run(args: argparse.Namespace) -> int:
             f = plot_responses(out / f"point-{m.point.name.replace(' ', '_')}{suffix}.png",
                                f"{m.point.name} on {m.point.body} ({m.frame} frame)", curves,
                                {}, "displacement from t = 0 [mm]")
+            print(f"wrote {f}")
+        if args.mounts and r.mount_names:
+            f = plot_mount_forces(out / "mount-forces.png", f"mount forces, {r.path.name}",
+                                  r.t, r.mounts["force"], r.mount_names, r.mount_body_i,
+                                  r.mount_body_j)
             print(f"wrote {f}")
     return 0

@@ -1,10 +1,12 @@
-"""``flexbed run [SCENE] [-o DIR]``: the whole pipeline on one scene.
+"""``flexbed run [SCENE] [-o DIR] [--integrator NAME] [--t-end T] [--force]``:
+the whole pipeline on one scene.
 
 Stages, each with a progress line: the bed's modes (reused when the folder
 already holds a matching modes file) and their shapes for ParaView → the
 static equilibrium (the paper's Table 2, rigid bed) → the simulations with a
 rigid, a flexible and a damped flexible bed and their comparison (tables
-and plots) → the scene's points of interest (CSV) → a summary in Markdown. Everything goes into one folder.
+and plots) → the scene's points of interest (CSV) → a summary in Markdown.
+Everything goes into one folder.
 """
 
 from __future__ import annotations
@@ -16,20 +18,21 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.dynamics.statics import solve_statics
-from flexbed.fem.export import write_modes_vtu, write_motion_series
-
-from flexbed.commands.compare import compare_scene
-from flexbed.commands.modes import auto_line, modes_table
-from flexbed.stages.modes import ensure_modes
-from flexbed.commands.static import equilibrium_csv, equilibrium_table
-from flexbed.stages.system import compile_scene
 from flexbed.analyses.compare import LABELS
-from flexbed.errors import NumericalError
-from flexbed.plots import plot_responses
 from flexbed.analyses.points import Run, bed_motion, motion_csv, motion_table, mount_peaks_csv
+from flexbed.commands.compare import add_solver_args, compare_scene, with_solver_options
+from flexbed.commands.modes import auto_line, modes_table
+from flexbed.commands.static import equilibrium_csv, equilibrium_table
+from flexbed.dynamics.statics import solve_statics
+from flexbed.errors import NumericalError
+from flexbed.fem.export import write_modes_vtu
 from flexbed.files.results import write_equilibrium
 from flexbed.files.scene import load_scene
+from flexbed.files.xdmf import write_bed_motion
+from flexbed.plots import plot_mount_forces
+from flexbed.stages.modes import ensure_modes
+from flexbed.stages.system import compile_scene
+from flexbed.words import count
 
 STAGES = 5
 FRAME_DT = 0.01        # s between frames of the bed's motion for ParaView
@@ -41,12 +44,13 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                         help="scene file (TOML); default: the built-in reference scene")
     parser.add_argument("-o", "--output", default="flexbed-out", metavar="DIR",
                         help="output folder (default: ./flexbed-out)")
+    add_solver_args(parser)
     parser.add_argument("--force", action="store_true", help="recompute the modes file")
 
 
 def run(args: argparse.Namespace) -> int:
     t_start = time.perf_counter()
-    sf = load_scene(args.scene)
+    sf = with_solver_options(load_scene(args.scene), args.integrator, args.t_end)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     name = sf.output_name
@@ -57,8 +61,9 @@ def run(args: argparse.Namespace) -> int:
                                 log=lambda m: print(f"  {m}"))
     vtu = write_modes_vtu(out / f"{name}-modes.vtu", data.nodes, data.cells,
                           data.translation, data.rotation, data.frequency)
-    print(f"[1/{STAGES}] modes: {'reused' if reused else 'computed'} {data.n_modes} elastic "
-          f"modes ({time.perf_counter() - t0:.2f} s) -> {data.path.name}, {vtu.name}")
+    print(f"[1/{STAGES}] modes: {'reused' if reused else 'computed'} "
+          f"{count(data.n_modes, 'elastic mode')} ({time.perf_counter() - t0:.2f} s) -> "
+          f"{data.path.name}, {vtu.name}")
     if sf.bed.auto:
         print(f"  {auto_line(sf.bed)}")
     print(modes_table(data))
@@ -71,7 +76,8 @@ def run(args: argparse.Namespace) -> int:
         raise NumericalError(f"{sf.source.name}: {eq.message}")
     eq_path = write_equilibrium(out / f"{name}-equilibrium.h5", rigid_sf, system, eq)
     table2 = equilibrium_table(system, eq.y)
-    print(f"[2/{STAGES}] static equilibrium (rigid bed): {eq.iterations} Newton iterations, "
+    print(f"[2/{STAGES}] static equilibrium (rigid bed): "
+          f"{count(eq.iterations, 'Newton iteration')}, "
           f"residual {eq.residual:.1e} ({time.perf_counter() - t0:.2f} s) -> "
           f"{Path(eq_path).name}")
     print(table2)
@@ -95,15 +101,14 @@ def run(args: argparse.Namespace) -> int:
         if r.mount_names:
             f = out / f"{name}-{case}-mounts.csv"
             f.write_text(mount_peaks_csv(r))
-            curves = {m: (r.t, r.mounts["force"][:, i, 2]) for i, m in enumerate(r.mount_names)}
-            res["files"] += [f, plot_responses(out / f"{name}-{case}-mount-forces.png",
-                                               f"mount forces along u3 ({LABELS[case]})",
-                                               curves, {}, "f3 [N]")]
+            res["files"] += [f, plot_mount_forces(
+                out / f"{name}-{case}-mount-forces.png", f"mount forces ({LABELS[case]})",
+                r.t, r.mounts["force"], r.mount_names, r.mount_body_i, r.mount_body_j)]
         if case != "rigid":
             pos, defl = bed_motion(r, data.nodes, r.translation)
             stride = max(1, int(round(FRAME_DT / float(np.mean(np.diff(r.t))))))
             frames = slice(None, None, stride)
-            res["files"].append(write_motion_series(
+            res["files"].append(write_bed_motion(
                 out / f"{name}-{case}-bed.xdmf", pos[0], data.cells, r.t[frames],
                 (pos - pos[0])[frames], defl[frames]))
 
@@ -123,19 +128,22 @@ def run(args: argparse.Namespace) -> int:
                 f.write_text(motion_csv(r.t, m))
                 res["files"].append(f)
             point_tables.append((case, motion_table(motions)))
-        print(f"[4/{STAGES}] points of interest: {len(sf.points)} points x {len(res['runs'])} "
-              f"runs ({time.perf_counter() - t0:.2f} s) -> CSV")
+        print(f"[4/{STAGES}] points of interest: {count(len(sf.points), 'point')} x "
+              f"{count(len(res['runs']), 'run')} ({time.perf_counter() - t0:.2f} s) -> CSV")
     else:
         print(f"[4/{STAGES}] points of interest: none in the scene")
 
     summary = out / f"{name}-summary.md"
-    lines = [f"# {name}: summary", "", f"Scene: `{sf.source}`.", "", "## Bed modes", "", "```", modes_table(data), "```", "",
+    lines = [f"# {name}: summary", "", f"Scene: `{sf.source}`.", "", "## Bed modes", "",
+             "```", modes_table(data), "```", "",
              "## Static equilibrium (rigid bed, the paper's Table 2)", "", "```", table2, "```",
              "", "## Rigid, flexible and damped flexible bed", "",
+             f"0-{sf.solver.t_end:g} s, {sf.solver.integrator}. "
              "d = vertical motion of the equipment relative to the base, from its static "
-             "position; delay from the cross-correlation with the rigid case; decay = peak "
-             "|d| over the second half of the free vibration / over its first half.", "",
-             res["table"], ""]
+             "position; delay from the cross-correlation with the rigid case, searched over "
+             "± half the period of the rigid response (\"beyond\" when the best shift is at "
+             "that edge); decay = peak |d| over the second half of the free vibration / over "
+             "its first half.", "", res["table"], ""]
     if point_tables:
         lines += ["## Points of interest", "",
                   "Peak displacement from t = 0, speed and acceleration; absolute (inertial) "

@@ -7,7 +7,7 @@ import argparse
 from pathlib import Path
 
 from flexbed.errors import InputError
-from flexbed.files.scene import builtin_scene_text
+from flexbed.files.builtin import builtin_scene_text
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:

@@ -19,6 +19,7 @@ from flexbed.errors import InputError, NumericalError
 from flexbed.stages.motion import solve_motion
 from flexbed.files.results import read_equilibrium, write_results
 from flexbed.files.scene import MODELS, load_scene
+from flexbed.words import count
 
 __all__ = ["add_args", "run"]
 
@@ -28,39 +29,57 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "its initial positions, and write the results file (HDF5).")
     parser.add_argument("scene", nargs="?", default=None,
                         help="scene file (TOML); default: the built-in reference scene")
-    parser.add_argument("-o", "--output", default=None,
+    parser.add_argument("-o", "--output", default=None, metavar="FILE",
                         help="results file (default: <scene file stem>-results.h5)")
     parser.add_argument("--integrator", choices=METHODS, default=None,
                         help="time integrator (default: the scene's)")
-    parser.add_argument("--dt", type=float, default=None, help="rk4 step [s]")
-    parser.add_argument("--rtol", type=float, default=None, help="relative tolerance (adaptive methods)")
-    parser.add_argument("--atol", type=float, default=None, help="absolute tolerance (adaptive methods)")
+    parser.add_argument("--dt", type=float, default=None, metavar="DT", help="rk4 step [s]")
+    parser.add_argument("--rtol", type=float, default=None, metavar="R",
+                        help="relative tolerance (adaptive methods)")
+    parser.add_argument("--atol", type=float, default=None, metavar="A",
+                        help="absolute tolerance (adaptive methods)")
     parser.add_argument("--from", dest="start", choices=("equilibrium", "initial"), default=None,
-                        help="start from the static equilibrium or the scene's positions, with its velocities")
-    parser.add_argument("--t-end", type=float, default=None, help="end time [s]")
-    parser.add_argument("--output-dt", type=float, default=None, help="spacing of stored samples [s]")
-    parser.add_argument("--equilibrium", default=None,
+                        help="start from the static equilibrium or the scene's positions, "
+                             "with the scene's velocities either way")
+    parser.add_argument("--t-end", type=float, default=None, metavar="T",
+                        help="end time [s] (default: the scene's [solver] t_end)")
+    parser.add_argument("--output-dt", type=float, default=None, metavar="DT",
+                        help="spacing of stored samples [s] (default: the scene's [solver] "
+                             "output_dt)")
+    parser.add_argument("--equilibrium", default=None, metavar="FILE",
                         help="equilibrium file from 'flexbed static' (default: solve it here)")
     parser.add_argument("--model", choices=MODELS, default=None,
                         help="nonlinear integration, the linear fast path about the static "
                              "equilibrium, or auto: linear when its estimated error is below "
                              "--linear-tol (default: the scene's [solver] model)")
-    parser.add_argument("--linear-tol", type=float, default=None,
+    parser.add_argument("--linear-tol", type=float, default=None, metavar="M",
                         help="position error [m] below which --model auto keeps the linear "
                              "model (default: the scene's [solver] linear_tol)")
     parser.add_argument("--no-progress", action="store_true", help="no progress line on stderr")
     add_modes_file_arg(parser)
 
 
-class _Progress:
-    """A one-line progress indicator on stderr, shown once a run takes over 1 s."""
+class Progress:
+    """A one-line progress indicator on stderr, shown once a run takes over
+    1 s, redrawn at most every 0.25 s; :meth:`close` draws the final state
+    (100 % for a complete run) and ends the line."""
 
-    def __init__(self, t_end: float, enabled: bool):
+    def __init__(self, t_end: float, enabled: bool, stream=None):
         self.t_end = t_end
         self.enabled = enabled
+        self.stream = stream if stream is not None else sys.stderr
         self.t0 = time.perf_counter()
         self.last = 0.0
         self.shown = False
+
+    def draw(self, t: float) -> None:
+        """Write the line for time ``t`` [s]."""
+        frac = min(1.0, max(0.0, t / self.t_end))
+        bar = "#" * int(round(30 * frac))
+        self.stream.write(f"\rsimulate [{bar:<30}] t = {t:.4f} / {self.t_end:g} s "
+                          f"({100 * frac:3.0f}%), {time.perf_counter() - self.t0:.1f} s")
+        self.stream.flush()
+        self.shown = True
 
     def __call__(self, t: float) -> None:
         if not self.enabled:
@@ -69,17 +88,16 @@ class _Progress:
         if now - self.t0 < 1.0 or now - self.last < 0.25:
             return
         self.last = now
-        self.shown = True
-        frac = min(1.0, t / self.t_end)
-        bar = "#" * int(30 * frac)
-        sys.stderr.write(f"\rsimulate [{bar:<30}] t = {t:.4f} / {self.t_end:g} s "
-                         f"({100 * frac:3.0f}%), {now - self.t0:.1f} s")
-        sys.stderr.flush()
+        self.draw(t)
 
-    def close(self) -> None:
+    def close(self, t_reached: float | None = None) -> None:
+        """End the line, first drawing ``t_reached`` [s] (where the run
+        stopped; the end time for a complete run) if the line was shown."""
         if self.shown:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
+            if t_reached is not None:
+                self.draw(t_reached)
+            self.stream.write("\n")
+            self.stream.flush()
 
 
 def run(args: argparse.Namespace) -> int:
@@ -129,12 +147,13 @@ def run(args: argparse.Namespace) -> int:
         else:
             y_eq = y0
     y0 = system.initial_state(y0)      # the scene's initial velocities, at these positions
-    progress = _Progress(settings.t_end, enabled=not args.no_progress)
+    progress = Progress(settings.t_end, enabled=not args.no_progress)
+    motion = None
     try:
         motion = solve_motion(system, y_eq, y0, settings, model=model, linear_tol=linear_tol,
                               progress=progress)
     finally:
-        progress.close()
+        progress.close(motion.run.t_reached if motion is not None else None)
     result = motion.run
     write_results(out, sf, system, result, start=start, equilibrium=eq,
                   modes_path=(args.modes_file or default_modes_path(sf)) if sf.bed.flexible
@@ -144,16 +163,17 @@ def run(args: argparse.Namespace) -> int:
         print(f"model {model}: {motion.reason}")
     if motion.model == "linear":
         lr = motion.linear
-        print(f"linear: {lr.pieces} exact steps, linearisation {lr.time_linearise:.3f} s, "
+        print(f"linear: {count(lr.pieces, 'exact step')}, linearisation {lr.time_linearise:.3f} s, "
               f"propagation {lr.time_propagate:.3f} s, error estimate {lr.time_estimate:.3f} s "
-              f"({st.rhs_evaluations} right-hand sides)")
+              f"({count(st.rhs_evaluations, 'right-hand side')})")
     else:
         rej = "n/a" if st.rejected < 0 else str(st.rejected)
-        print(f"{method}: {st.steps} steps ({rej} rejected), {st.rhs_evaluations} right-hand "
-              f"sides, {st.jacobian_evaluations} Jacobians, {st.segments} segments, "
+        print(f"{st.method}: {count(st.steps, 'step')} ({rej} rejected), "
+              f"{count(st.rhs_evaluations, 'right-hand side')}, "
+              f"{count(st.jacobian_evaluations, 'Jacobian')}, {count(st.segments, 'segment')}, "
               f"{st.wall_time:.3f} s")
     if not result.complete:
         raise NumericalError(f"{result.message}; the samples up to t = {result.t_reached:.6g} s "
                              f"are in {out} (marked incomplete)")
-    print(f"wrote {out} ({result.t.size} samples, 0 – {result.t[-1]:g} s)")
+    print(f"wrote {out} ({count(result.t.size, 'sample')}, 0 – {result.t[-1]:g} s)")
     return 0

@@ -29,9 +29,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "(base held), printed as the paper's Table 2 and written to a file.")
     parser.add_argument("scene", nargs="?", default=None,
                         help="scene file (TOML); default: the built-in reference scene")
-    parser.add_argument("-o", "--output", default=None,
+    parser.add_argument("-o", "--output", default=None, metavar="FILE",
                         help="equilibrium file to write (default: <scene file stem>-equilibrium.h5)")
-    parser.add_argument("--tol", type=float, default=None,
+    parser.add_argument("--tol", type=float, default=None, metavar="TOL",
                         help="Newton–Raphson tolerance (default: the scene's static_tol)")
     add_modes_file_arg(parser)
 

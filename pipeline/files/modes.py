@@ -40,16 +40,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
-from flexbed.fem.bed import BedModes
 from flexbed.fem.invariants import Invariants
 from flexbed.fem.spec import PlateSpec
 
 from flexbed.errors import InputError
 from flexbed.files.store import Dataset, read_file, write_file
+
+if TYPE_CHECKING:       # annotation only: reading a modes file needs no FE code
+    from flexbed.fem.bed import BedModes
 
 SCHEMA = "flexbed.modes"
 VERSION = "1.0"

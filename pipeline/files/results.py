@@ -1,6 +1,6 @@
 """Results and equilibrium files of the dynamics stages (HDF5 via flexbed.files.store).
 
-``flexbed.results`` 1.0 — one simulation run:
+``flexbed.results`` 1.1 — one simulation run:
 
 - ``time`` (k,) [s]; root attributes ``complete`` (bool) and ``message``
   (why it is incomplete, or "completed"), ``start`` ("equilibrium" or
@@ -22,6 +22,12 @@
 - ``modal/``: ``coordinates``, ``rates``, ``accelerations`` (k, n_modal)
   of the flexible bodies [kg^1/2 m, /s, /s²] (empty with a rigid bed);
 - ``solver/`` attributes: method, settings and statistics;
+- ``bed`` attributes: ``model``, ``plate_input_hash`` (the modes file's
+  ``input_hash``), ``modes_file`` (its absolute path when written),
+  ``modes_file_relative`` (from the results file's folder; 1.1),
+  ``n_modes``, ``invariants``, ``rayleigh``, ``damping_ratio``,
+  ``static_sag``; post finds the modes file beside the results file by its
+  name, then by these paths, and checks it by the hash;
 - ``scene/toml`` (the scene file's text) with attributes ``digest``,
   ``statics_digest``, ``source``, ``name``;
 - ``initial/position``, ``initial/euler_parameters``: the state at t = 0;
@@ -37,25 +43,30 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from flexbed.dynamics.history import history
-from flexbed.dynamics.integrate import Run
-from flexbed.dynamics.statics import Equilibrium
-from flexbed.dynamics.system import System
-
 from flexbed.errors import InputError
-from flexbed.files.scene import SceneFile
 from flexbed.files.store import Contents, Dataset, read_file, write_file
 
-__all__ = ["write_results", "read_results", "results_contents", "write_results_contents", "write_equilibrium", "read_equilibrium",
+if TYPE_CHECKING:   # reading a results file needs neither the dynamics nor the scene reader
+    from flexbed.dynamics.integrate import Run
+    from flexbed.dynamics.statics import Equilibrium
+    from flexbed.dynamics.system import System
+    from flexbed.files.scene import SceneFile
+
+__all__ = ["write_results", "read_results", "results_contents", "write_results_contents",
+           "write_equilibrium", "read_equilibrium",
            "RESULTS_SCHEMA", "EQUILIBRIUM_SCHEMA"]
 
 RESULTS_SCHEMA = "flexbed.results"
 EQUILIBRIUM_SCHEMA = "flexbed.equilibrium"
 VERSION = "1.0"
+#: 1.1: ``bed`` attribute ``modes_file_relative``
+RESULTS_VERSION = "1.1"
 
 
 def _scene_part(sf: SceneFile) -> tuple[dict, dict]:
@@ -84,6 +95,15 @@ def _equilibrium_part(system: System, eq: Equilibrium, prefix: str) -> tuple[dic
              "residual": float(eq.residual), "step": float(eq.step), "tol": float(eq.tol),
              "rhs_evaluations": int(eq.rhs_evaluations), "wall_time": float(eq.wall_time)}
     return ds, attrs
+
+
+def _relative(target, start_file) -> str:
+    """``target``'s path relative to the folder of ``start_file`` ("" when
+    there is none, e.g. another drive)."""
+    try:
+        return os.path.relpath(Path(target).resolve(), Path(start_file).resolve().parent)
+    except ValueError:
+        return ""
 
 
 def write_equilibrium(path, sf: SceneFile, system: System, eq: Equilibrium) -> Path:
@@ -135,8 +155,13 @@ def write_results(path, sf: SceneFile, system: System, run: Run, *, start: str,
 
 
 def write_results_contents(path, datasets: dict, attrs: dict) -> Path:
-    """Write what :func:`results_contents` gave as a results file, atomically."""
-    return write_file(path, schema=RESULTS_SCHEMA, version=VERSION, datasets=datasets,
+    """Write what :func:`results_contents` gave as a results file, atomically
+    (with the modes file's path relative to it, ``bed/modes_file_relative``)."""
+    bed = dict(attrs.get("bed", {}))
+    bed["modes_file_relative"] = (_relative(bed["modes_file"], path) if bed.get("modes_file")
+                                  else "")
+    attrs = {**attrs, "bed": bed}
+    return write_file(path, schema=RESULTS_SCHEMA, version=RESULTS_VERSION, datasets=datasets,
                       attrs=attrs)
 
 
@@ -145,6 +170,7 @@ def results_contents(sf: SceneFile, system: System, run: Run, *, start: str,
                      model: dict | None = None) -> tuple[dict, dict]:
     """The datasets and group attributes of a run's results file (the file's
     layout above), in memory: (``{path: Dataset}``, ``{group: attrs}``)."""
+    from flexbed.dynamics.history import history
     h = history(system, run.t, run.y)
     ds, sattrs = _scene_part(sf)
     sc = system.scene

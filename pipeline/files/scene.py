@@ -14,10 +14,8 @@ from __future__ import annotations
 
 import hashlib
 import json
-import re
 import tomllib
 from dataclasses import dataclass, replace
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +29,7 @@ from flexbed.dynamics.rotation import p_from_angles
 from flexbed.dynamics.scene import DIRECTIONS, Base, Body, Drive, Load, Mount, Scene
 from flexbed.dynamics.shapes import SplineEnds
 
+from flexbed.files.builtin import BUILTIN, builtin_scene_path, builtin_scene_text  # noqa: F401
 from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
 from flexbed.files.shapes import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
@@ -38,7 +37,6 @@ from flexbed.errors import InputError
 __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse_scene",
            "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
 
-BUILTIN = "lee1999.toml"
 
 _TOP = ("scene", "body", "base", "bed", "mount", "solver", "point")
 _SCENE_KEYS = ("name", "description", "gravity")
@@ -117,23 +115,6 @@ class SceneFile:
         which no two scene files in one folder share (the built-in scene's
         is ``lee1999``). ``[scene] name`` is only a label."""
         return self.source.stem
-
-
-def builtin_scene_path() -> Path:
-    """Path of the built-in reference scene."""
-    return Path(str(resources.files("flexbed") / "scenes" / BUILTIN))
-
-
-def builtin_scene_text(name: str | None = None) -> str:
-    """The built-in reference scene as TOML, with ``[scene] name`` set to
-    ``name`` (e.g. the stem of the file it is written to) when given."""
-    text = builtin_scene_path().read_text(encoding="utf-8")
-    if name is None:
-        return text
-    new, n = re.subn(r'^name = "lee1999"$', lambda _: f"name = {json.dumps(name)}", text,
-                     count=1, flags=re.M)
-    assert n == 1, "the built-in scene has no [scene] name line"
-    return new
 
 
 def load_scene(path: str | Path | None = None) -> SceneFile:

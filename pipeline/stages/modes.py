@@ -6,8 +6,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from flexbed.errors import InputError
-from flexbed.fem.bed import BedModes, compute_bed_modes
-from flexbed.fem.modes import ModesError
 from flexbed.files.modes import ModesData, read_modes_file, write_modes_file
 from flexbed.files.scene import SceneFile
 
@@ -81,6 +79,9 @@ def compute_modes(sf: SceneFile, *, n_modes: int | None = None,
     -------
     BedModes
     """
+    from flexbed.fem.bed import compute_bed_modes   # scikit-fem, only to compute
+    from flexbed.fem.modes import ModesError
+
     if n_modes is None and fmax is None:
         n_modes, fmax = sf.bed.modes, sf.bed.fmax
     extra = sf.bed.correction_modes if sf.bed.static_correction else 0

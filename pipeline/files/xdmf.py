@@ -1,0 +1,126 @@
+"""The bed's motion for ParaView: an XDMF time series (``<stem>.xdmf``, the
+light XML) over one HDF5 file (``<stem>.h5``, the heavy data), both written
+here, the HDF5 through :mod:`flexbed.files.store` so that it describes
+itself as every flexbed file does.
+
+``flexbed.bed_motion`` 1.0 (every dataset has ``units`` and a
+``description``):
+
+- ``mesh/nodes`` (N, 3) [m]: the nodes at t = 0, inertial frame;
+- ``mesh/cells`` (ne, 4) [1]: quadrilaterals (node indices);
+- ``time`` (k,) [s]: the frames' times;
+- ``frames/<i>/displacement`` (N, 3) [m]: node positions minus their
+  t = 0 positions (rigid motion and deformation), frame i (zero-padded);
+- ``frames/<i>/deflection`` (N,) [m]: elastic deflection along the bed's
+  normal; each ``frames/<i>`` group has the attribute ``time`` [s].
+
+The XML follows the layout meshio writes (one mesh grid, included by every
+step of a temporal collection), which ParaView's XDMF readers open; use
+"Warp By Vector" on ``displacement`` and play.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from xml.sax.saxutils import escape, quoteattr
+
+import numpy as np
+
+from flexbed.files.store import Dataset, write_file
+
+__all__ = ["write_bed_motion", "BED_MOTION_SCHEMA"]
+
+BED_MOTION_SCHEMA = "flexbed.bed_motion"
+VERSION = "1.0"
+
+
+def _item(h5name: str, dataset: str, shape: tuple, kind: str) -> str:
+    dims = " ".join(str(int(d)) for d in shape)
+    return (f'<DataItem DataType="{kind}" Dimensions="{dims}" Format="HDF" Precision="8">'
+            f"{escape(h5name)}:/{dataset}</DataItem>")
+
+
+def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarray,
+                     times: np.ndarray, displacement: np.ndarray,
+                     deflection: np.ndarray) -> Path:
+    """Write the bed's motion as ``path`` (XDMF) and its ``.h5`` beside it.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``.xdmf`` file; the HDF5 file is ``path`` with suffix ``.h5``.
+    nodes : ndarray (N, 3)
+        Node positions at t = 0, inertial frame [m].
+    cells : ndarray (ne, 4)
+        Quadrilaterals (node indices, counter-clockwise).
+    times : ndarray (k,)
+        Frame times [s].
+    displacement : ndarray (k, N, 3)
+        Node positions minus their t = 0 positions, inertial frame [m].
+    deflection : ndarray (k, N)
+        Elastic deflection along the bed's normal [m].
+
+    Returns
+    -------
+    Path
+        The XDMF file.
+    """
+    path = Path(path)
+    h5 = path.with_suffix(".h5")
+    nodes = np.asarray(nodes, dtype=float)
+    cells = np.asarray(cells, dtype=np.int64)
+    times = np.asarray(times, dtype=float)
+    k, n = times.size, nodes.shape[0]
+    width = max(4, len(str(max(k - 1, 0))))
+    ds = {
+        "mesh/nodes": Dataset(nodes, "m", "node positions at t = 0, inertial frame"),
+        "mesh/cells": Dataset(cells, "1", "node indices of each quadrilateral"),
+        "time": Dataset(times, "s", "time of each frame"),
+    }
+    attrs = {"": {"description": "the bed's motion: displacement and elastic deflection of "
+                                 "every node per frame (open the .xdmf beside it)"}}
+    for i in range(k):
+        g = f"frames/{i:0{width}d}"
+        ds[f"{g}/displacement"] = Dataset(
+            np.ascontiguousarray(displacement[i], dtype=float), "m",
+            "node position minus its t = 0 position (rigid motion and deformation), "
+            "inertial frame")
+        ds[f"{g}/deflection"] = Dataset(np.ascontiguousarray(deflection[i], dtype=float), "m",
+                                        "elastic deflection along the bed's normal")
+        attrs[g] = {"time": float(times[i])}
+    write_file(h5, schema=BED_MOTION_SCHEMA, version=VERSION, datasets=ds, attrs=attrs)
+
+    name = h5.name
+    mesh = ("xpointer(//Grid[@Name=&quot;mesh&quot;]/*[self::Topology or "
+            "self::Geometry])")
+    lines = ['<?xml version="1.0" encoding="utf-8"?>',
+             '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">',
+             "  <Domain>",
+             '    <Grid Name="mesh" GridType="Uniform">',
+             f'      <Topology TopologyType="Quadrilateral" NumberOfElements="{cells.shape[0]}">',
+             f"        {_item(name, 'mesh/cells', cells.shape, 'Int')}",
+             "      </Topology>",
+             '      <Geometry GeometryType="XYZ">',
+             f"        {_item(name, 'mesh/nodes', nodes.shape, 'Float')}",
+             "      </Geometry>",
+             "    </Grid>",
+             f'    <Grid Name={quoteattr(path.stem)} GridType="Collection" '
+             'CollectionType="Temporal">']
+    for i, t in enumerate(times):
+        g = f"frames/{i:0{width}d}"
+        lines += ['      <Grid GridType="Uniform">',
+                  f'        <xi:include xpointer="{mesh}"/>',
+                  f'        <Time Value="{float(t)!r}"/>',
+                  '        <Attribute Name="displacement" AttributeType="Vector" Center="Node">',
+                  f"          {_item(name, f'{g}/displacement', (n, 3), 'Float')}",
+                  "        </Attribute>",
+                  '        <Attribute Name="deflection" AttributeType="Scalar" Center="Node">',
+                  f"          {_item(name, f'{g}/deflection', (n,), 'Float')}",
+                  "        </Attribute>",
+                  "      </Grid>"]
+    lines += ["    </Grid>", "  </Domain>", "</Xdmf>"]
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text("\n".join(lines) + "\n")
+    tmp.replace(path)
+    return path
