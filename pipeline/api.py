@@ -30,7 +30,8 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from flexbed.analyses.compare import CASES, LABELS, CaseRun, comparison_rows, markdown_table
+from flexbed.analyses.compare import CASES, LABELS, case_run, comparison_rows, markdown_table, \
+    solve_case
 from flexbed.analyses.points import Point, PointMotion, Run
 from flexbed.dynamics.rotation import angles_from_p
 from flexbed.dynamics.statics import Equilibrium
@@ -312,6 +313,24 @@ def open_results(path: str | Path, *, modes: ModesData | str | Path | None = Non
     return Results(read_results(path), modes=modes)
 
 
+_SETTINGS = ("integrator", "t_end", "dt", "rtol", "atol", "output_dt")
+
+
+def _solver(scene: SceneFile, settings: Mapping[str, Any]):
+    """The scene's ``[solver]`` with ``settings`` (names of :data:`_SETTINGS`)
+    replaced, checked."""
+    unknown = sorted(set(settings) - set(_SETTINGS))
+    if unknown:
+        raise InputError(f"unknown setting(s) {', '.join(unknown)} (known: "
+                         f"{', '.join(_SETTINGS)})")
+    try:
+        solver = dataclasses.replace(scene.solver, **settings)
+        solver.settings()
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"settings {dict(settings)!r}: {exc}") from None
+    return solver
+
+
 @_pinned
 def simulate(scene: SceneFile, *, modes: ModesData | None = None,
              equilibrium: Statics | None = None, start: str | None = None,
@@ -341,36 +360,21 @@ def simulate(scene: SceneFile, *, modes: ModesData | None = None,
     Results
         ``complete`` False (with ``message``) when the run stopped early.
     """
-    return _simulate(scene, modes=modes, given=equilibrium, start=start, model=model,
-                     linear_tol=linear_tol, progress=progress, settings=settings)
-
-
-def _simulate(scene: SceneFile, *, modes, given, start, model, linear_tol, progress, settings,
-              damped: bool = True) -> Results:
-    solver = scene.solver
-    unknown = set(settings) - {"integrator", "t_end", "dt", "rtol", "atol", "output_dt"}
-    if unknown:
-        raise InputError(f"simulate: unknown setting(s) {', '.join(sorted(unknown))}")
-    if "integrator" in settings:
-        settings["method"] = settings.pop("integrator")
-    try:
-        st = solver.settings(**settings)
-    except ValueError as exc:
-        raise InputError(f"simulate: {exc}") from None
+    solver = _solver(scene, settings)
     if scene.bed.flexible and modes is None:
         modes = globals()["modes"](scene)
-    system = given.system if given is not None else _system(scene, modes, damped=damped)
-    sim = simulate_system(scene, system, st, start=start or solver.start,
+    system = equilibrium.system if equilibrium is not None else _system(scene, modes)
+    sim = simulate_system(scene, system, solver.settings(), start=start or solver.start,
                           model=model or solver.model,
                           linear_tol=solver.linear_tol if linear_tol is None else linear_tol,
-                          eq=given.equilibrium if given is not None else None,
+                          eq=equilibrium.equilibrium if equilibrium is not None else None,
                           progress=progress)
-    ds, attrs = results_contents(scene, system, sim.motion.run, start=sim.start,
-                                 equilibrium=sim.equilibrium if sim.start == "equilibrium"
-                                 else None, modes_path=modes.path if modes else None,
-                                 model=sim.motion.attrs())
-    return Results(in_memory(ds, attrs), modes=modes if scene.bed.flexible else None,
-                   datasets=(ds, attrs))
+    contents = results_contents(scene, system, sim.motion.run, start=sim.start,
+                                equilibrium=sim.equilibrium if sim.start == "equilibrium"
+                                else None, modes_path=modes.path if modes else None,
+                                model=sim.motion.attrs())
+    return Results(in_memory(*contents), modes=modes if scene.bed.flexible else None,
+                   datasets=contents)
 
 
 # -------------------------------------------------------------------- compare
@@ -396,28 +400,21 @@ def compare(scene: SceneFile, *, modes: ModesData | None = None, **settings) -> 
     """Run the scene with its bed rigid, flexible undamped and flexible with
     its damping, each from its own static equilibrium (``**settings`` as in
     :func:`simulate`)."""
-    flexible = dataclasses.replace(scene, bed=dataclasses.replace(scene.bed, model="flexible"))
-    rigid = dataclasses.replace(scene, bed=dataclasses.replace(scene.bed, model="rigid"))
+    if settings:
+        scene = dataclasses.replace(scene, solver=_solver(scene, settings))
     if modes is None:
+        flexible = dataclasses.replace(scene, bed=dataclasses.replace(scene.bed,
+                                                                      model="flexible"))
         modes = globals()["modes"](flexible)
     runs, cases = {}, {}
     for case in CASES:
-        sf, m = (rigid, None) if case == "rigid" else (flexible, modes)
-        system = compile_scene(sf, modes=m, damped=(case == "damped"))
-        eq = equilibrium(sf, system, sag=True if case == "rigid" else None)
-        res = _simulate(sf, modes=m, given=_statics_of(sf, system, eq), start=None, model=None,
-                        linear_tol=None, progress=None, settings=dict(settings))
+        sol = solve_case(scene, modes, case)
+        res = Results(in_memory(*sol.contents), modes=modes if case != "rigid" else None,
+                      datasets=sol.contents)
         if not res.complete:
             raise NumericalError(f"{LABELS[case]}: {res.message}")
         runs[case] = res
-        st = res.solver
-        cases[case] = CaseRun(case=case, path=None, t=res.t, position=res.position,
-                              base_acceleration=res.acceleration[:, 0, :],
-                              static_position=system.observe(0.0, eq.y).r.copy(),
-                              steps=int(st.get("steps", 0)),
-                              rhs_evaluations=int(st.get("rhs_evaluations", 0)),
-                              wall_time=float(st.get("wall_time", 0.0)),
-                              load_end=max(system.breakpoints, default=0.0))
+        cases[case] = case_run(sol)
     names = [b.name for b in scene.scene.bodies]
     bed = scene.bed.body or names[1]
     equipment = [i for i in range(1, len(names)) if names[i] != bed]

@@ -22,13 +22,12 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.dynamics.statics import solve_statics
 
 from flexbed.stages.system import compile_scene
 from flexbed.errors import NumericalError
 from flexbed.files.modes import ModesData
-from flexbed.stages.motion import solve_motion
-from flexbed.files.results import read_results, write_results
+from flexbed.stages.simulation import equilibrium, simulate_system
+from flexbed.files.results import results_contents, write_results_contents
 from flexbed.files.scene import SceneFile
 from flexbed.words import count
 
@@ -53,42 +52,74 @@ class CaseRun:
     load_end: float
 
 
-def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=print) -> CaseRun:
-    """Statics then simulation of one case; writes its results file."""
+@dataclass(frozen=True)
+class CaseSolution:
+    """One case solved in memory: its scene variant, compiled system, static
+    equilibrium, motion, and its results file's contents (datasets, attrs)."""
+
+    case: str
+    scene: SceneFile
+    system: object
+    equilibrium: object
+    motion: object
+    contents: tuple
+
+
+def solve_case(sf: SceneFile, data: ModesData | None, case: str) -> CaseSolution:
+    """Statics then simulation of one case (``case`` in :data:`CASES`), in memory.
+
+    A flexible case needs the bed's modes ``data``; the rigid case keeps the
+    static sag on (it has none). Raises NumericalError, naming the case,
+    when there is no equilibrium."""
     if case == "rigid":
         csf = replace(sf, bed=replace(sf.bed, model="rigid"))
         system = compile_scene(csf)
     else:
         csf = replace(sf, bed=replace(sf.bed, model="flexible"))
-        system = compile_scene(csf, data.path, damped=(case == "damped"))
+        system = compile_scene(csf, modes=data, damped=(case == "damped"))
     sag = sf.bed.static_sag if case != "rigid" else True
-    eq = solve_statics(system, tol=sf.solver.static_tol, sag=sag)
-    if not eq.success:
-        raise NumericalError(f"{sf.source.name} ({LABELS[case]}): {eq.message}")
+    try:
+        eq = equilibrium(csf, system, sag=sag)
+    except NumericalError as exc:
+        raise NumericalError(f"{LABELS[case]}: {exc}") from None
     start = sf.solver.start
-    y0 = system.initial_state(eq.y if start == "equilibrium" else None)
-    motion = solve_motion(system, eq.y, y0, sf.solver.settings(), model=sf.solver.model,
-                          linear_tol=sf.solver.linear_tol)
-    result = motion.run
-    write_results(path, csf, system, result, start=start,
-                  equilibrium=eq if start == "equilibrium" else None,
-                  modes_path=data.path if case != "rigid" else None, model=motion.attrs())
+    motion = simulate_system(csf, system, sf.solver.settings(), start=start,
+                             model=sf.solver.model, linear_tol=sf.solver.linear_tol,
+                             eq=eq).motion
+    contents = results_contents(csf, system, motion.run, start=start,
+                                equilibrium=eq if start == "equilibrium" else None,
+                                modes_path=data.path if (case != "rigid" and data) else None,
+                                model=motion.attrs())
+    return CaseSolution(case, csf, system, eq, motion, contents)
+
+
+def case_run(sol: CaseSolution, path: Path | None = None) -> CaseRun:
+    """The figures :func:`comparison_rows` needs from a solved case."""
+    ds = sol.contents[0]
+    st = sol.motion.run.stats
+    return CaseRun(case=sol.case, path=path, t=np.asarray(ds["time"].data),
+                   position=np.asarray(ds["bodies/position"].data),
+                   base_acceleration=np.asarray(ds["bodies/acceleration"].data)[:, 0, :],
+                   static_position=sol.system.observe(0.0, sol.equilibrium.y).r.copy(),
+                   steps=st.steps, rhs_evaluations=st.rhs_evaluations,
+                   wall_time=st.wall_time, load_end=max(sol.system.breakpoints, default=0.0))
+
+
+def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=print) -> CaseRun:
+    """Statics then simulation of one case; writes its results file."""
+    sol = solve_case(sf, data, case)
+    result = sol.motion.run
+    write_results_contents(path, *sol.contents)
     if not result.complete:
         raise NumericalError(f"{LABELS[case]}: {result.message}; the samples up to "
                              f"t = {result.t_reached:.6g} s are in {path} (marked incomplete)")
-    stored = read_results(path)
-    pos = np.asarray(stored.get("bodies/position"))
-    acc = np.asarray(stored.get("bodies/acceleration"))[:, 0, :]
-    obs0 = system.observe(0.0, eq.y)
     st = result.stats
-    how = f" (model {sf.solver.model}: {motion.reason})" if sf.solver.model != "nonlinear" else ""
+    how = (f" (model {sf.solver.model}: {sol.motion.reason})"
+           if sf.solver.model != "nonlinear" else "")
     log(f"  {LABELS[case]}: {st.method}, {count(st.steps, 'step')}, "
         f"{count(st.rhs_evaluations, 'right-hand side')}, {st.wall_time:.2f} s{how} "
         f"-> {path.name}")
-    return CaseRun(case=case, path=path, t=result.t, position=pos, base_acceleration=acc,
-                   static_position=obs0.r.copy(), steps=st.steps,
-                   rhs_evaluations=st.rhs_evaluations, wall_time=st.wall_time,
-                   load_end=max(system.breakpoints, default=0.0))
+    return case_run(sol, path)
 
 
 def relative_vertical(run: CaseRun, body: int) -> np.ndarray:

@@ -10,13 +10,13 @@ from pathlib import Path
 import numpy as np
 
 from flexbed.dynamics.integrate import METHODS
-from flexbed.dynamics.statics import Equilibrium, solve_statics
+from flexbed.dynamics.statics import Equilibrium
 
 from flexbed.stages.modes import default_modes_path
 from flexbed.commands.static import add_modes_file_arg
 from flexbed.stages.system import compile_scene
 from flexbed.errors import InputError, NumericalError
-from flexbed.stages.motion import solve_motion
+from flexbed.stages.simulation import simulate_system
 from flexbed.files.results import read_equilibrium, write_results
 from flexbed.files.scene import MODELS, load_scene
 from flexbed.words import count
@@ -122,38 +122,22 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"option: --linear-tol = {linear_tol!r} must be > 0")
     out = Path(args.output) if args.output else Path(f"{sf.output_name}-results.h5")
     eq = None
-    y_eq = None
-    if start == "equilibrium":
-        if args.equilibrium:
-            y0 = read_equilibrium(args.equilibrium, sf, system)
-            eq = Equilibrium(True, f"read from {args.equilibrium}", y0, 0, float("nan"),
-                             float("nan"), np.zeros((system.n_rigid, 6)), 0, 0, 0.0,
-                             solver.static_tol)
-        else:
-            eq = solve_statics(system, tol=solver.static_tol, sag=sf.bed.static_sag)
-            if not eq.success:
-                raise NumericalError(f"{sf.source.name}: {eq.message}")
-            y0 = eq.y
-    else:
-        if args.equilibrium:
+    if args.equilibrium:
+        if start != "equilibrium":
             raise InputError("--equilibrium needs --from equilibrium")
-        y0 = system.initial_state()
-    if model != "nonlinear":
-        if eq is None:       # the linear model is about the equilibrium, whatever the start
-            eq_lin = solve_statics(system, tol=solver.static_tol, sag=sf.bed.static_sag)
-            if not eq_lin.success:
-                raise NumericalError(f"{sf.source.name}: {eq_lin.message}")
-            y_eq = eq_lin.y
-        else:
-            y_eq = y0
-    y0 = system.initial_state(y0)      # the scene's initial velocities, at these positions
+        y_rest = read_equilibrium(args.equilibrium, sf, system)
+        eq = Equilibrium(True, f"read from {args.equilibrium}", y_rest, 0, float("nan"),
+                         float("nan"), np.zeros((system.n_rigid, 6)), 0, 0, 0.0,
+                         solver.static_tol)
     progress = Progress(settings.t_end, enabled=not args.no_progress)
-    motion = None
+    sim = None
     try:
-        motion = solve_motion(system, y_eq, y0, settings, model=model, linear_tol=linear_tol,
-                              progress=progress)
+        sim = simulate_system(sf, system, settings, start=start, model=model,
+                              linear_tol=linear_tol, eq=eq, progress=progress)
     finally:
-        progress.close(motion.run.t_reached if motion is not None else None)
+        progress.close(sim.motion.run.t_reached if sim is not None else None)
+    motion = sim.motion
+    eq = sim.equilibrium if start == "equilibrium" else None
     result = motion.run
     write_results(out, sf, system, result, start=start, equilibrium=eq,
                   modes_path=(args.modes_file or default_modes_path(sf)) if sf.bed.flexible
