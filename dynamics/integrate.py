@@ -14,7 +14,7 @@ Methods
 
 "Compiled": the whole stepping loop runs in numba (:mod:`dynamics.steppers`)
 and calls the compiled right-hand side (:func:`dynamics.kernel.evaluate`)
-directly, in chunks of at most ``CHUNK_STEPS`` accepted steps (between
+through its pointer, in chunks of at most ``CHUNK_STEPS`` accepted steps (between
 chunks the driver reports progress and a Ctrl-C can stop the run); the
 step control of ``dop853`` and ``radau`` is SciPy's. ``adams`` and ``bdf``
 are SciPy's steppers driven from Python, one step at a time, calling
@@ -308,12 +308,13 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
                stats=stats, settings=settings, t_reached=state["t"])
 
 
-def warm_up(system: System, y0: np.ndarray) -> None:
-    """Compile (or load from numba's cache) the kernel and every compiled
-    stepper for this system's types, by a few short steps of each, so that
-    timings that follow measure the work, not the compilation (tens of
-    seconds the first time in a fresh install)."""
-    for method in _COMPILED:
+def warm_up(system: System, y0: np.ndarray, methods=None) -> None:
+    """Compile (or load from numba's cache) the right-hand side and the
+    compiled steppers ``methods`` (default: all of them), by a few short
+    steps of each, so that timings that follow measure the work, not the
+    compilation. A run needs only its own method: :func:`integrate` loads
+    nothing else."""
+    for method in (_COMPILED if methods is None else methods):
         integrate(system, y0, Settings(method, t_end=1e-6, dt=1e-6, output_dt=1e-6,
                                        stiff_steps=0))
 
@@ -344,6 +345,7 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
     p_idx = np.ascontiguousarray(lay.p_indices(), dtype=np.int64).reshape(-1, 4)
     n_motion = lay.nq + lay.nv
     work = radau_workspace(z.size) if method == "radau" else ()
+    kernel = system.kernel
     grid = np.ascontiguousarray(grid, dtype=float)
     for tb in bounds:
         t = state["t"]
@@ -361,7 +363,7 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
             if budget <= 0:
                 raise _Stop(f"the maximum number of steps ({settings.max_steps}) was reached "
                             f"at t = {t:.6g} s; raise max_steps or loosen the tolerances")
-            status, t, h, k_out = step(t, tb, z, shift, system.data, rtol, atol, h, hmax, grid,
+            status, t, h, k_out = step(t, tb, z, shift, kernel, rtol, atol, h, hmax, grid,
                                        Y, state["k_out"], budget, p_idx, n_motion, counts, work)
             state["t"], state["k_out"] = float(t), int(k_out)
             if progress is not None:

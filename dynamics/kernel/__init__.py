@@ -45,8 +45,8 @@ _refresh()   # before any compiled function is loaded (flexbed.dynamics.jitcache
 
 from .flexible_body import flex_forces_body, flex_mass_body, flex_T
 from .inputs import piecewise_value
-from .rhs import evaluate, evaluate_many, evaluate_packed
-from .storage import FIELDS, KINDS, Compiled, pack, unpack
+from .rhs import PROTOTYPE, evaluate, evaluate_many, rhs_function
+from .storage import FIELDS, HEADER, KINDS, Compiled, pack
 
-__all__ = ["Compiled", "FIELDS", "KINDS", "pack", "unpack", "evaluate", "evaluate_packed",
-           "evaluate_many", "flex_T", "flex_mass_body", "flex_forces_body", "piecewise_value"]
+__all__ = ["Compiled", "FIELDS", "KINDS", "HEADER", "pack", "evaluate", "rhs_function",
+           "PROTOTYPE", "evaluate_many", "flex_T", "flex_mass_body", "flex_forces_body", "piecewise_value"]
