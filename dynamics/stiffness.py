@@ -62,6 +62,13 @@ _STABILITY = {
     "dop853": _stability_polynomial(DOP853.A, DOP853.B)[::-1].copy(),
 }
 
+#: Bounds [lo, hi] of the radius |hλ| at which each method's |R(hλ)| first
+#: exceeds 1 along any direction of the left half-plane (measured by
+#: :func:`stable_step` on 20,001 directions: rk4 2.6156 … 2.9601, dop853
+#: 5.9604 … 6.7928; with a margin; a test checks them). An eigenvalue with
+#: |λ| below (lo/hi) max|λ| cannot set the stable step.
+_RADIUS_BOUNDS = {"rk4": (2.5, 3.1), "dop853": (5.8, 7.0)}
+
 
 def jacobian_columns(fun, t: float, z: np.ndarray, n: int, size: np.ndarray) -> np.ndarray:
     """Forward differences of fun(t, z) (→ (ny,)) over z[:n].
@@ -83,8 +90,9 @@ def jacobian_columns(fun, t: float, z: np.ndarray, n: int, size: np.ndarray) -> 
 def motion_eigenvalues(system: System, y: np.ndarray, t: float = 0.0) -> np.ndarray:
     """Eigenvalues of the Jacobian of the motion at (t, y).
 
-    Forward differences of ``System.rhs`` over the coordinates and
-    velocities (q, v), steps of sqrt(eps)·max(1, |y_j|); the energy
+    Forward differences of the right-hand side over the coordinates and
+    velocities (q, v), steps of sqrt(eps)·max(1, |y_j|) (the states of
+    :func:`jacobian_columns`, evaluated in one compiled call); the energy
     quadratures are left out (nothing depends on them). Costs nq + nv + 1
     right-hand sides (counted in ``system.nfev``).
 
@@ -104,7 +112,12 @@ def motion_eigenvalues(system: System, y: np.ndarray, t: float = 0.0) -> np.ndar
     lay = system.layout
     n = lay.nq + lay.nv
     y = np.asarray(y, dtype=float)
-    jac = jacobian_columns(system.rhs, t, y, n, y)[:n]
+    # the states of jacobian_columns, evaluated in one compiled call
+    Y = np.tile(y, (n + 1, 1))
+    j = np.arange(n)
+    Y[j + 1, j] = y[:n] + _SQRT_EPS * np.maximum(1.0, np.abs(y[:n]))
+    F, _ = system.rhs_batch(np.full(n + 1, float(t)), Y)
+    jac = ((F[1:] - F[0]) / (Y[j + 1, j] - y[:n])[:, None]).T[:n]
     if not np.all(np.isfinite(jac)):
         return np.full(n, np.nan + 0j)
     return np.linalg.eigvals(jac)
@@ -116,7 +129,15 @@ def stable_step(method: str, eigenvalues: np.ndarray) -> tuple[float, float]:
     For each eigenvalue λ (a growing one's real part set to zero: its
     growth is physics), the step h is bounded by the first radius along
     λ's direction where |R(hλ)| exceeds 1 (R: the method's stability
-    polynomial; found on a grid of |hλ| up to 10, then by bisection).
+    polynomial). That radius lies within the method's
+    :data:`_RADIUS_BOUNDS` [lo, hi] in every direction, so
+
+    - only the eigenvalues with |λ| ≥ (lo/hi) max|λ| can set the bound
+      (any other gives a longer step than the largest one does);
+    - for those, the first unstable point of the grid 0.01, 0.02, … within
+      [lo, hi] brackets the radius (every radius below lo is stable), and
+      five searches on 256 equal sub-points narrow the bracket to 1e-14
+      (the same answer as 40 bisections, in 6 vectorised evaluations).
 
     Parameters
     ----------
@@ -138,25 +159,33 @@ def stable_step(method: str, eigenvalues: np.ndarray) -> tuple[float, float]:
     lam, mag = lam[mag > 0], mag[mag > 0]
     if lam.size == 0:
         return math.inf, 0.0
-    d = lam / mag                                          # directions, left half-plane
+    r_lo, r_hi = _RADIUS_BOUNDS[method]
+    can_limit = mag >= (1.0 - 1e-12) * (r_lo / r_hi) * mag.max()
+    lam, mag = lam[can_limit], mag[can_limit]
+    d = (lam / mag)[:, None]                               # directions, left half-plane
 
-    def unstable(r):                                       # r : (n,) or (n, k) radii |hλ|
-        z = r * (d if r.ndim == 1 else d[:, None])
-        return np.abs(np.polyval(poly, z)) > 1.0 + 1e-12
+    def first_unstable(r):
+        """Index of the first radius of each row of r (n, k) where |R| > 1
+        (k if none)."""
+        bad = np.abs(np.polyval(poly, r * d)) > 1.0 + 1e-12
+        return np.where(bad.any(axis=1), bad.argmax(axis=1), r.shape[1])
 
-    grid = np.linspace(0.0, 10.0, 1001)[1:]                # both regions lie within |z| < 7
-    first = np.argmax(unstable(np.broadcast_to(grid, (d.size, grid.size))), axis=1)
-    lo = np.where(first > 0, grid[first - 1], 0.0)
-    hi = grid[first]
-    for _ in range(40):
-        mid = 0.5 * (lo + hi)
-        bad = unstable(mid)
-        hi = np.where(bad, mid, hi)
-        lo = np.where(bad, lo, mid)
+    grid = 0.01 * np.arange(math.floor(r_lo / 0.01), math.ceil(r_hi / 0.01) + 1)
+    k = first_unstable(np.broadcast_to(grid, (d.size, grid.size)))
+    k = np.minimum(k, grid.size - 1)
+    lo = grid[np.maximum(k - 1, 0)]
+    hi = grid[k]
+    frac = np.arange(1, 257) / 256.0
+    for _ in range(5):
+        r = lo[:, None] + (hi - lo)[:, None] * frac         # (n, 256), the last one is hi
+        j = first_unstable(r)
+        j = np.minimum(j, frac.size - 1)
+        rows = np.arange(r.shape[0])
+        hi = r[rows, j]
+        lo = np.where(j > 0, r[rows, np.maximum(j - 1, 0)], lo)
     h = lo / mag
-    k = int(np.argmin(h))
-    return float(h[k]), float(mag[k])
-
+    i = int(np.argmin(h))
+    return float(h[i]), float(mag[i])
 
 
 def segments(system: System, t_end: float) -> list[tuple[float, float]]:

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .flexible import FlexibleEOM
-from .kernel import pack, rhs_function
+from .kernel import evaluate_batch, pack, rhs_function
 from .layout import Layout
 from .laws import LawBank
 from .rotation import A as rotation_matrix
@@ -285,7 +285,7 @@ class System:
             w_ub=np.zeros((2 * M, 3)), w_dx=np.zeros((M, 3)), w_dxd=np.zeros((M, 3)),
             w_f=np.zeros((M, 3)), w_F=np.zeros((M, 3)), w_force=np.zeros((nb, 3)),
             w_torque=np.zeros((nb, 3)), w_flexQ=np.zeros((nf, N)), w_acc=np.zeros((nb, 6)),
-            w_base=np.zeros((3, 3)), w_M=np.zeros((N, N)), w_Q=np.zeros(N + nm),
+            w_base=np.zeros((3, 3)), w_M=np.zeros((nf, N, N)), w_Q=np.zeros(N + nm),
             w_T=np.zeros((nm, 3, 3)), w_gb=np.zeros(3)), lay.ny)
 
     def _build_flexible(self, flex: dict) -> None:
@@ -365,6 +365,43 @@ class System:
         both contiguous float64."""
         rhs_function()(float(t), self._seg_end, y.ctypes.data, dy.ctypes.data, self._F_addr,
                        self._I_addr)
+
+    def rhs_batch(self, t: np.ndarray, Y: np.ndarray, capture: tuple = ()):
+        """dy/dt at many states in one compiled call
+        (:func:`dynamics.kernel.evaluate_batch`).
+
+        Parameters
+        ----------
+        t : (k,) array [s]
+        Y : (k, ny) array
+            States.
+        capture : tuple of str
+            Names of the kernel's work arrays (``w_*`` of
+            :data:`dynamics.kernel.FIELDS`) to keep as each evaluation left
+            them.
+
+        Returns
+        -------
+        dY : (k, ny) array
+        captured : dict
+            name → (k,) + the field's shape.
+        """
+        t = np.ascontiguousarray(t, dtype=np.float64).reshape(-1)
+        Y = np.ascontiguousarray(Y, dtype=np.float64).reshape(t.size, self.ny)
+        F = self._packed[0]
+        views = [getattr(self.data, name) for name in capture]
+        index = [(v.ctypes.data - F.ctypes.data) // F.itemsize + np.arange(v.size)
+                 for v in views]
+        idx = np.concatenate(index).astype(np.int64) if index else np.zeros(0, np.int64)
+        dY = np.empty_like(Y)
+        C = np.empty((t.size, idx.size))
+        evaluate_batch(self.kernel, self._seg_end, t, Y, dY, idx, C)
+        self.nfev += t.size
+        captured, o = {}, 0
+        for name, v in zip(capture, views):
+            captured[name] = C[:, o:o + v.size].reshape((t.size,) + v.shape)
+            o += v.size
+        return dY, captured
 
     @property
     def kernel(self) -> tuple:

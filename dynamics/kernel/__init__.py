@@ -43,10 +43,11 @@ from ..jitcache import refresh as _refresh
 
 _refresh()   # before any compiled function is loaded (flexbed.dynamics.jitcache)
 
+from .batch import evaluate_batch
 from .flexible_body import flex_forces_body, flex_mass_body, flex_T
 from .inputs import piecewise_value
 from .rhs import PROTOTYPE, evaluate, evaluate_many, rhs_function
 from .storage import FIELDS, HEADER, KINDS, Compiled, pack
 
 __all__ = ["Compiled", "FIELDS", "KINDS", "HEADER", "pack", "evaluate", "rhs_function",
-           "PROTOTYPE", "evaluate_many", "flex_T", "flex_mass_body", "flex_forces_body", "piecewise_value"]
+           "PROTOTYPE", "evaluate_many", "evaluate_batch", "flex_T", "flex_mass_body", "flex_forces_body", "piecewise_value"]

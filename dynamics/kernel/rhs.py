@@ -135,7 +135,7 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
     w_flexQ = _v2(F_ptr, meta[50], np.float64)
     w_acc = _v2(F_ptr, meta[51], np.float64)
     w_base = _v2(F_ptr, meta[52], np.float64)
-    w_M = _v2(F_ptr, meta[53], np.float64)
+    w_M = _v3(F_ptr, meta[53], np.float64)
     w_Q = _v1(F_ptr, meta[54], np.float64)
     w_T = _v3(F_ptr, meta[55], np.float64)
     w_gb = _v1(F_ptr, meta[56], np.float64)
@@ -335,11 +335,11 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
         acc[b, 4] = Ji[1, 0] * n0 + Ji[1, 1] * n1 + Ji[1, 2] * n2
         acc[b, 5] = Ji[2, 0] * n0 + Ji[2, 1] * n1 + Ji[2, 2] * n2
     p_struct = 0.0
-    Mb = w_M
     Q = w_Q
     for k in range(nf):
         b = fx_ints[k, 0]
         n = fx_ints[k, 1]
+        Mb = w_M[k]
         oa = fx_ints[k, 2]
         ov = fx_ints[k, 3]
         N = 6 + n

@@ -62,7 +62,8 @@ FIELDS = (
     "w_flexQ",          # (nf, 6 + nm) body-frame generalized mount forces
     "w_acc",            # (nb, 6): r̈ [m/s²] inertial, ω̄̇ [rad/s²] body frame
     "w_base",           # (3, 3): base r, ṙ, r̈
-    "w_M",              # (6 + nm, 6 + nm)
+    "w_M",              # (nf, 6 + nm, 6 + nm) M̄(a) of each flexible body, then its
+                        # Cholesky factor L (lower triangle; the upper keeps M̄)
     "w_Q",              # (6 + nm + nm,) Q̄ then C ȧ
     "w_T",              # (nm, 3, 3) T_k = I8_k + Σ_l a_l I9_kl
     "w_gb",             # (3,) Aᵀ g
@@ -84,7 +85,7 @@ KINDS = {
     "in_c": ("f", 4), "w_A": ("f", 3), "w_P": ("f", 2), "w_Pd": ("f", 2), "w_ub": ("f", 2),
     "w_dx": ("f", 2), "w_dxd": ("f", 2), "w_f": ("f", 2), "w_F": ("f", 2), "w_force": ("f", 2),
     "w_torque": ("f", 2), "w_flexQ": ("f", 2), "w_acc": ("f", 2), "w_base": ("f", 2),
-    "w_M": ("f", 2), "w_Q": ("f", 1), "w_T": ("f", 3), "w_gb": ("f", 1),
+    "w_M": ("f", 3), "w_Q": ("f", 1), "w_T": ("f", 3), "w_gb": ("f", 1),
 }
 
 
