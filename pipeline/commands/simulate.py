@@ -31,7 +31,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", default=None,
                         help="results file (default: <scene name>-results.h5)")
     parser.add_argument("--integrator", choices=METHODS, default=None,
-                        help="time integrator (default: the scene's)")
+                        help="time integrator; auto: radau where dop853 would be "
+                             "stability-bound, else dop853 (default: the scene's)")
     parser.add_argument("--dt", type=float, default=None, help="rk4 step [s]")
     parser.add_argument("--rtol", type=float, default=None, help="relative tolerance (adaptive methods)")
     parser.add_argument("--atol", type=float, default=None, help="absolute tolerance (adaptive methods)")
@@ -148,7 +149,9 @@ def run(args: argparse.Namespace) -> int:
               f"({st.rhs_evaluations} right-hand sides)")
     else:
         rej = "n/a" if st.rejected < 0 else str(st.rejected)
-        print(f"{method}: {st.steps} steps ({rej} rejected), {st.rhs_evaluations} right-hand "
+        if st.requested == "auto":
+            print(st.reason)
+        print(f"{st.method}: {st.steps} steps ({rej} rejected), {st.rhs_evaluations} right-hand "
               f"sides, {st.jacobian_evaluations} Jacobians, {st.segments} segments, "
               f"{st.wall_time:.3f} s")
     if not result.complete:
