@@ -165,7 +165,10 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
                     base[2 - which, c] += input_value(kind, in_sin[i], in_b[i], in_o[i], in_c[i],
                                                  which, t, seg_end)
         elif mode == 2:
-            val = input_value(kind, in_sin[i], in_b[i], in_o[i], in_c[i], 0, t, seg_end)
+            # a load's value: which = role − 1 = 0, a number known at run time only
+            # (a literal 0 would compile input_value a second time)
+            val = input_value(kind, in_sin[i], in_b[i], in_o[i], in_c[i], in_ints[i, 2] - 1, t,
+                              seg_end)
             if c == 0:
                 Fx0 += val
             elif c == 1:

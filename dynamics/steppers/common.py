@@ -42,9 +42,10 @@ def finite(x):
 
 
 @inner
-def project(z, shift, p_idx, f, scale_f):
-    """Euler parameters of z + shift onto |p| = 1 (in z); if scale_f, the
-    same rows of f divided by the same |p|."""
+def project(z, shift, p_idx, f):
+    """Euler parameters of z + shift onto |p| = 1 (in z), and the same rows
+    of f (the derivative kept at z; ṗ is linear in p) divided by the same
+    |p|. A caller that keeps no derivative passes scratch for f."""
     for b in range(p_idx.shape[0]):
         s = 0.0
         for k in range(4):
@@ -57,8 +58,7 @@ def project(z, shift, p_idx, f, scale_f):
         for k in range(4):
             j = p_idx[b, k]
             z[j] = (z[j] + shift[j]) / nrm - shift[j]
-            if scale_f:
-                f[j] /= nrm
+            f[j] /= nrm
 
 
 @inner

@@ -80,7 +80,7 @@ def dop853_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid
     F = np.empty((7, ny))
     exponent = -1.0 / 8.0
 
-    project(z, shift, p_idx, f, False)
+    project(z, shift, p_idx, f)                 # f: scratch until the rhs below
     rhs(t_a, t_b, z, shift, ybuf, f, kernel)
     counts[0] += 1
     if not finite(f):
@@ -115,7 +115,7 @@ def dop853_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid
             for s in range(1, 12):
                 _combine(zt, z, h, K, _DA[s], s)
                 rhs(t + _DC[s] * h, t_b, zt, shift, ybuf, K[s], kernel)
-            _combine(zn, z, h, K, _DB, 12)
+            _combine(zn, z, h, K, _DB, _DB.size)
             rhs(t_new, t_b, zn, shift, ybuf, K[12], kernel)
             counts[0] += 12
             if not (finite(zn) and finite(K[12])):
@@ -183,6 +183,6 @@ def dop853_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid
         for i in range(ny):
             z[i] = zn[i]
             f[i] = K[12, i]
-        project(z, shift, p_idx, f, True)
+        project(z, shift, p_idx, f)
         t = t_new
     return 0, t_b, h_abs, k_out

@@ -272,7 +272,7 @@ def radau_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid,
     resume = st[_S_RESUME] == 1.0 and st[_S_T] == t_a
     st[_S_RESUME] = 0.0
     if not resume:
-        project(z, shift, p_idx, f, False)
+        project(z, shift, p_idx, f)             # f: scratch until the rhs below
         st[_S_HAS_SOL] = 0.0
         st[_S_HAS_OLD] = 0.0
         st[_S_H_LU] = 0.0

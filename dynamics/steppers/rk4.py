@@ -30,7 +30,7 @@ def rk4_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid, Y
     ybuf, f, k2, k3, k4, zt, zn = buf[0], buf[1], buf[2], buf[3], buf[4], buf[5], buf[6]
     fn = np.empty(ny)
 
-    project(z, shift, p_idx, f, False)
+    project(z, shift, p_idx, f)                 # f: scratch until the rhs below
     rhs(t_a, t_b, z, shift, ybuf, f, kernel)
     counts[0] += 1
     if not finite(f):
@@ -82,6 +82,6 @@ def rk4_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid, Y
         for i in range(ny):
             z[i] = zn[i]
             f[i] = fn[i]
-        project(z, shift, p_idx, f, True)
+        project(z, shift, p_idx, f)
         t = t_new
     return 0, t_b, h, k_out
