@@ -10,11 +10,14 @@ Methods
             role of the paper's DE/STEP.
 ``bdf``     implicit variable-order BDF (SciPy), for stiff scenes.
 ``radau``   implicit Radau IIA of order 5, for stiff scenes. Compiled.
+``auto``    (the default) radau where dop853 would be stability-bound,
+            else dop853 (:func:`dynamics.stiffness.auto_method`); the run's
+            statistics say which ran and why.
 ``dop853``  explicit adaptive Dormand–Prince 8(5,3). Compiled.
 
 "Compiled": the whole stepping loop runs in numba (:mod:`dynamics.steppers`)
 and calls the compiled right-hand side (:func:`dynamics.kernel.evaluate`)
-directly, in chunks of at most ``CHUNK_STEPS`` accepted steps (between
+through its pointer, in chunks of at most ``CHUNK_STEPS`` accepted steps (between
 chunks the driver reports progress and a Ctrl-C can stop the run); the
 step control of ``dop853`` and ``radau`` is SciPy's. ``adams`` and ``bdf``
 are SciPy's steppers driven from Python, one step at a time, calling
@@ -70,21 +73,22 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.integrate import BDF, LSODA
 
 from .steppers import (N_COUNTS, dop853_segment, radau_segment, radau_reset, radau_workspace,
                        rk4_segment)
-from .stiffness import jacobian_columns, motion_eigenvalues, segments, stable_step, stiff_message
+from .stiffness import (auto_method, jacobian_columns, motion_eigenvalues, segments, stable_step,
+                        stiff_message)
 from .system import System
 
 __all__ = ["Settings", "Stats", "Run", "integrate", "warm_up", "METHODS", "output_grid",
            "motion_eigenvalues", "stable_step", "stiff_message"]
 
 
-METHODS = ("rk4", "adams", "bdf", "radau", "dop853")
+METHODS = ("auto", "rk4", "adams", "bdf", "radau", "dop853")
 _SCIPY = {"adams": LSODA, "bdf": BDF}
 
 
@@ -100,7 +104,7 @@ class Settings:
     no stiffness check, for ``rk4`` either; see the module docstring).
     """
 
-    method: str = "dop853"
+    method: str = "auto"
     t_end: float = 3.0
     dt: float = 1e-3
     rtol: float = 1e-8
@@ -135,8 +139,11 @@ class Stats:
     jacobian_evaluations, lu_decompositions : implicit methods (0
     otherwise; radau counts a real and a complex factorisation as one);
     segments : restarts
-    at breakpoints + 1; wall_time : [s]; rejected_source : how ``rejected``
-    was counted.
+    at breakpoints + 1; wall_time : [s] the solve's own time (the stiffness
+    check or the ``auto`` choice, and the stepping; the compiled code is
+    loaded, or compiled, before the clock starts); load_time : [s] that
+    loading; rejected_source : how ``rejected`` was counted; requested :
+    the method asked for (e.g. ``auto``); reason : why ``method`` ran.
     """
 
     method: str
@@ -148,6 +155,9 @@ class Stats:
     segments: int = 0
     wall_time: float = 0.0
     rejected_source: str = ""
+    requested: str = ""
+    reason: str = "requested"
+    load_time: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -249,12 +259,17 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
         Samples on the output grid up to where the solution got; never raises
         for a solver failure or an interrupt (``complete = False``).
     """
+    load0 = time.perf_counter()
+    requested_settings = settings
+    requested = settings.method
+    _load_kernel(system, requested)
     wall0 = time.perf_counter()
-    method = settings.method
+    load_time = wall0 - load0
+    method = requested
     t_end = settings.t_end
     grid = output_grid(t_end, settings.output_dt)
     Y = np.empty((grid.size, y0.size))
-    stats = Stats(method=method)
+    stats = Stats(method=method, requested=requested)
     nfev0 = system.nfev
     y = np.array(y0, dtype=float)
     _Projector(system)(y)
@@ -273,18 +288,23 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     # the energy quadratures are outputs: kept out of the error control
     atol = np.full(y.size, settings.atol)
     atol[system.layout.work] = 1e30
-    stats.rejected_source = {"rk4": "none (fixed step)", "dop853": "exact",
-                             "radau": "exact"}.get(method, "counted from distinct trial times")
     state = {"t": 0.0, "k_out": 1}
     counts = np.zeros(N_COUNTS, dtype=np.int64)
     complete, message = True, "completed"
     try:
-        refused = stiff_message(system, y, settings)
-        if refused:
-            raise _Stop(refused)
+        if requested == "auto":
+            method, stats.reason = auto_method(system, y, settings)
+            settings = replace(settings, method=method)
+        else:
+            refused = stiff_message(system, y, settings)
+            if refused:
+                raise _Stop(refused)
+        stats.method = method
+        stats.rejected_source = {"rk4": "none (fixed step)", "dop853": "exact", "radau": "exact"
+                                 }.get(method, "counted from distinct trial times")
         if method in _COMPILED:
-            _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, counts,
-                          state, stats, project, progress)
+            load_time += _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol,
+                                       counts, state, stats, project, progress)
         else:
             _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, stats,
                        project, progress)
@@ -302,18 +322,28 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
         stats.jacobian_evaluations = int(counts[3])
         stats.lu_decompositions = int(counts[4])
     stats.rhs_evaluations = system.nfev - nfev0 + int(counts[0])
-    stats.wall_time = time.perf_counter() - wall0
+    stats.load_time = load_time
+    stats.wall_time = time.perf_counter() - load0 - load_time
     k_out = state["k_out"]
     return Run(t=grid[:k_out].copy(), y=Y[:k_out].copy(), complete=complete, message=message,
-               stats=stats, settings=settings, t_reached=state["t"])
+               stats=stats, settings=requested_settings, t_reached=state["t"])
 
 
-def warm_up(system: System, y0: np.ndarray) -> None:
-    """Compile (or load from numba's cache) the kernel and every compiled
-    stepper for this system's types, by a few short steps of each, so that
-    timings that follow measure the work, not the compilation (tens of
-    seconds the first time in a fresh install)."""
-    for method in _COMPILED:
+def _load_kernel(system: System, method: str) -> None:
+    """Load (or compile) the compiled right-hand side, and the batch
+    evaluation of the stiffness check for the methods that have one."""
+    system.kernel
+    if method in ("auto", "rk4", "dop853"):
+        system.rhs_batch(np.zeros(0), np.zeros((0, system.ny)))
+
+
+def warm_up(system: System, y0: np.ndarray, methods=None) -> None:
+    """Compile (or load from numba's cache) the right-hand side and the
+    compiled steppers ``methods`` (default: all of them), by a few short
+    steps of each, so that timings that follow measure the work, not the
+    compilation. A run needs only its own method: :func:`integrate` loads
+    nothing else."""
+    for method in (_COMPILED if methods is None else methods):
         integrate(system, y0, Settings(method, t_end=1e-6, dt=1e-6, output_dt=1e-6,
                                        stiff_steps=0))
 
@@ -337,14 +367,21 @@ def _first_step(system: System, t: float, tb: float) -> tuple[float, float]:
 def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, counts, state,
                   stats, project, progress):
     """The compiled steppers (:mod:`dynamics.steppers`), segment by segment,
-    in chunks of at most CHUNK_STEPS accepted steps."""
+    in chunks of at most CHUNK_STEPS accepted steps. Returns the time [s]
+    spent loading (or compiling) the stepper, by a call that takes no step,
+    before the first one."""
     method = settings.method
     step = _COMPILED[method]
     lay = system.layout
     p_idx = np.ascontiguousarray(lay.p_indices(), dtype=np.int64).reshape(-1, 4)
     n_motion = lay.nq + lay.nv
     work = radau_workspace(z.size) if method == "radau" else ()
+    kernel = system.kernel
     grid = np.ascontiguousarray(grid, dtype=float)
+    load0 = time.perf_counter()
+    step(0.0, 0.0, z, shift, kernel, rtol, atol, 0.0, math.inf, grid, Y, 1, 1, p_idx, n_motion,
+         counts, work)
+    load_time = time.perf_counter() - load0
     for tb in bounds:
         t = state["t"]
         stats.segments += 1
@@ -361,7 +398,7 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
             if budget <= 0:
                 raise _Stop(f"the maximum number of steps ({settings.max_steps}) was reached "
                             f"at t = {t:.6g} s; raise max_steps or loosen the tolerances")
-            status, t, h, k_out = step(t, tb, z, shift, system.data, rtol, atol, h, hmax, grid,
+            status, t, h, k_out = step(t, tb, z, shift, kernel, rtol, atol, h, hmax, grid,
                                        Y, state["k_out"], budget, p_idx, n_motion, counts, work)
             state["t"], state["k_out"] = float(t), int(k_out)
             if progress is not None:
@@ -374,6 +411,7 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
             if status == -2:
                 raise _Stop(f"{method}: the state became non-finite at t = {t:.6g} s "
                             f"(unstable step; try a smaller step or an implicit method)")
+    return load_time
 
 
 def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, stats, project,

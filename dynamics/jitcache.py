@@ -28,7 +28,7 @@ __all__ = ["COMPILED", "refresh", "stamp", "cache_dir"]
 #: (relative names); a test checks that none is missing.
 COMPILED = (
     "kernel.storage", "kernel.inputs", "kernel.mount_laws", "kernel.flexible_body",
-    "kernel.rhs",
+    "kernel.rhs", "kernel.batch",
     "steppers.common", "steppers.rk4", "steppers.dop853", "steppers.radau",
 )
 

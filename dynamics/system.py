@@ -7,13 +7,15 @@ benchmarks call this one function. :meth:`System.observe` evaluates the same
 physics and returns everything a results file stores.
 
 The physics itself is :func:`dynamics.kernel.evaluate`, compiled with
-numba; :class:`System` turns the scene into the kernel's flat arrays once
-(:meth:`System._compile`, packed by :func:`dynamics.kernel.pack` so that a
-call from Python costs a few microseconds) and keeps the Python-side
+numba into one C function (:func:`dynamics.kernel.rhs_function`);
+:class:`System` turns the scene into the kernel's flat arrays once
+(:meth:`System._compile`, packed by :func:`dynamics.kernel.pack` into two
+arrays so that a call costs a few microseconds) and keeps the Python-side
 pieces: the base's inputs as functions of time, breakpoints and step
 limits, the flexible bodies' equations for statics and outputs, and the
-observation of a state. The compiled steppers (:mod:`dynamics.steppers`)
-call the kernel directly with :attr:`System.data`.
+observation of a state. Compiled callers (:mod:`dynamics.steppers`) call
+the kernel through :attr:`System.kernel`; :attr:`System.data` holds NumPy
+views of every array of the packed storage.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .flexible import FlexibleEOM
-from .kernel import evaluate_packed, pack
+from .kernel import evaluate_batch, pack, rhs_function
 from .layout import Layout
 from .laws import LawBank
 from .rotation import A as rotation_matrix
@@ -187,12 +189,14 @@ class System:
         self.initial_p[0] = (1.0, 0.0, 0.0, 0.0)
         self._build_flexible(flex)
         self._packed, self.data = self._compile(flex)
+        self._F_addr = self._packed[0].ctypes.data
+        self._I_addr = self._packed[1].ctypes.data
         self._seg_end = math.inf
         self.nfev = 0
 
     def _compile(self, flex: dict) -> tuple:
         """The scene as the flat arrays of :class:`dynamics.kernel.Compiled`,
-        packed (:func:`dynamics.kernel.pack`): (storage, views)."""
+        packed (:func:`dynamics.kernel.pack`): ((F, I), views)."""
         nb, M, lay = self.nb, self.M, self.layout
         nf = len(self.flex_index)
         mode = {"fixed": 0, "driven": 1, "free": 2}[self.base_motion]
@@ -281,8 +285,8 @@ class System:
             w_ub=np.zeros((2 * M, 3)), w_dx=np.zeros((M, 3)), w_dxd=np.zeros((M, 3)),
             w_f=np.zeros((M, 3)), w_F=np.zeros((M, 3)), w_force=np.zeros((nb, 3)),
             w_torque=np.zeros((nb, 3)), w_flexQ=np.zeros((nf, N)), w_acc=np.zeros((nb, 6)),
-            w_base=np.zeros((3, 3)), w_M=np.zeros((N, N)), w_Q=np.zeros(N + nm),
-            w_T=np.zeros((nm, 3, 3)), w_gb=np.zeros(3)))
+            w_base=np.zeros((3, 3)), w_M=np.zeros((nf, N, N)), w_Q=np.zeros(N + nm),
+            w_T=np.zeros((nm, 3, 3)), w_gb=np.zeros(3)), lay.ny)
 
     def _build_flexible(self, flex: dict) -> None:
         """Per flexible body: its equations and where its modes sit in y."""
@@ -353,8 +357,58 @@ class System:
         call (:func:`dynamics.kernel.evaluate`)."""
         self.nfev += 1
         dy = np.empty(self.ny)
-        evaluate_packed(float(t), self._seg_end, _as_state(y), dy, *self._packed)
+        self._evaluate(t, _as_state(y), dy)
         return dy
+
+    def _evaluate(self, t: float, y: np.ndarray, dy: np.ndarray) -> None:
+        """The compiled right-hand side from Python: dy (ny,) for y (ny,),
+        both contiguous float64."""
+        rhs_function()(float(t), self._seg_end, y.ctypes.data, dy.ctypes.data, self._F_addr,
+                       self._I_addr)
+
+    def rhs_batch(self, t: np.ndarray, Y: np.ndarray, capture: tuple = ()):
+        """dy/dt at many states in one compiled call
+        (:func:`dynamics.kernel.evaluate_batch`).
+
+        Parameters
+        ----------
+        t : (k,) array [s]
+        Y : (k, ny) array
+            States.
+        capture : tuple of str
+            Names of the kernel's work arrays (``w_*`` of
+            :data:`dynamics.kernel.FIELDS`) to keep as each evaluation left
+            them.
+
+        Returns
+        -------
+        dY : (k, ny) array
+        captured : dict
+            name → (k,) + the field's shape.
+        """
+        t = np.ascontiguousarray(t, dtype=np.float64).reshape(-1)
+        Y = np.ascontiguousarray(Y, dtype=np.float64).reshape(t.size, self.ny)
+        F = self._packed[0]
+        views = [getattr(self.data, name) for name in capture]
+        index = [(v.ctypes.data - F.ctypes.data) // F.itemsize + np.arange(v.size)
+                 for v in views]
+        idx = np.concatenate(index).astype(np.int64) if index else np.zeros(0, np.int64)
+        dY = np.empty_like(Y)
+        C = np.empty((t.size, idx.size))
+        evaluate_batch(self.kernel, self._seg_end, t, Y, dY, idx, C)
+        self.nfev += t.size
+        captured, o = {}, 0
+        for name, v in zip(capture, views):
+            captured[name] = C[:, o:o + v.size].reshape((t.size,) + v.shape)
+            o += v.size
+        return dY, captured
+
+    @property
+    def kernel(self) -> tuple:
+        """The right-hand side as compiled callers take it: (the C function
+        of :func:`dynamics.kernel.rhs_function`, F, I), with (F, I) this
+        scene's packed storage (:func:`dynamics.kernel.pack`)."""
+        return (rhs_function(),) + tuple(self._packed)
 
     # ------------------------------------------------------------ the outputs
     def initial_state(self, positions: np.ndarray | None = None) -> np.ndarray:
@@ -399,7 +453,7 @@ class System:
         """Everything at one (t, y); same physics as :meth:`rhs`."""
         y = _as_state(y)
         dydt = np.empty(self.ny)
-        evaluate_packed(float(t), self._seg_end, y, dydt, *self._packed)
+        self._evaluate(t, y, dydt)
         d = self.data
         nb, M = self.nb, self.M
         o = Observation()

@@ -152,7 +152,7 @@ def test_beta20_explicit_methods_refuse_with_one_line(beta20):
         assert run.t.size == 1 and np.all(np.isfinite(run.y))
         assert "\n" not in run.message
         m = re.fullmatch(r"stiff scene: the fastest rate (\S+) 1/s limits (\w+) to steps below "
-                         r"(\S+) s \((.*)\); use integrator = \"radau\" or \"bdf\"", run.message)
+                         r"(\S+) s \((.*)\); use integrator = \"auto\", \"radau\" or \"bdf\"", run.message)
         assert m and m[2] == method
         assert float(m[1]) == pytest.approx(rho, rel=0.05)
         bound = 6.39 if method == "dop853" else 2.785
@@ -177,7 +177,7 @@ def test_beta20_simulate_command_exits_1_with_the_stiff_message(beta20, tmp_path
     assert len(err.splitlines()) == 1
     assert err.startswith("flexbed simulate: stiff scene: the fastest rate 3.6e+05 1/s limits "
                           "dop853 to steps below 1.8e-05 s")
-    assert 'use integrator = "radau" or "bdf"' in err
+    assert 'use integrator = "auto", "radau" or "bdf"' in err
     assert read_results(out).attrs[""]["complete"] is False
 
 

@@ -1,9 +1,11 @@
 """The right-hand side of the equations of motion, compiled (numba).
 
 :func:`evaluate` is the one implementation of the physics of a scene at a
-time t and state y (layout: :mod:`dynamics.layout`). It reads a scene
-compiled into flat arrays (:class:`Compiled`, built by
-:class:`dynamics.system.System`) and does arithmetic only, in this order:
+time t and state y (layout: :mod:`dynamics.layout`), compiled once as a C
+function (:func:`rhs_function`) that every compiled caller calls through
+its pointer. It reads a scene compiled into flat arrays (the fields of
+:class:`Compiled`, built by :class:`dynamics.system.System`, packed into
+two arrays by :func:`pack`) and does arithmetic only, in this order:
 
 1. the base: prescribed position, velocity and acceleration from the
    drives (their exact integrals), or the state of a free base and its
@@ -25,8 +27,14 @@ compiled into flat arrays (:class:`Compiled`, built by
 Everything per call writes into arrays of :class:`Compiled` (the ``w_*``
 work arrays), so a call allocates nothing; ``w_dx``, ``w_dxd``, ``w_f``,
 ``w_F``, ``w_acc`` and ``w_base`` keep the last call's mount deflections,
-rates, forces, inertial mount forces, accelerations and base motion for
-:meth:`dynamics.system.System.observe`.
+rates, forces, inertial mount forces, accelerations and base motion, and
+``w_M`` each flexible body's mass matrix as its Cholesky factor, for
+:meth:`dynamics.system.System.observe` and :mod:`dynamics.history`
+(:func:`evaluate_batch` evaluates many states in one call).
+
+Modules: :mod:`.storage` (the fields, packing, views), :mod:`.inputs`
+(the base's inputs), :mod:`.mount_laws`, :mod:`.flexible_body`,
+:mod:`.rhs` (:func:`evaluate`, its C function), :mod:`.batch`.
 
 Inputs (drives and loads of the base), one row each: ``in_kind`` 0 for a
 piecewise polynomial (value, first and second integral as three tables of
@@ -43,10 +51,11 @@ from ..jitcache import refresh as _refresh
 
 _refresh()   # before any compiled function is loaded (flexbed.dynamics.jitcache)
 
+from .batch import evaluate_batch
 from .flexible_body import flex_forces_body, flex_mass_body, flex_T
 from .inputs import piecewise_value
-from .rhs import evaluate, evaluate_many, evaluate_packed
-from .storage import FIELDS, KINDS, Compiled, pack, unpack
+from .rhs import PROTOTYPE, evaluate, evaluate_many, rhs_function
+from .storage import FIELDS, HEADER, KINDS, Compiled, pack
 
-__all__ = ["Compiled", "FIELDS", "KINDS", "pack", "unpack", "evaluate", "evaluate_packed",
-           "evaluate_many", "flex_T", "flex_mass_body", "flex_forces_body", "piecewise_value"]
+__all__ = ["Compiled", "FIELDS", "KINDS", "HEADER", "pack", "evaluate", "rhs_function",
+           "PROTOTYPE", "evaluate_many", "evaluate_batch", "flex_T", "flex_mass_body", "flex_forces_body", "piecewise_value"]

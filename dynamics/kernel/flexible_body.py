@@ -11,7 +11,7 @@ from numba import njit
 __all__ = ["flex_T", "flex_mass_body", "flex_forces_body", "cholesky_solve"]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def cholesky_solve(M, b, n):
     """Solve M x = b in place (x in b) for the leading n × n block of a
     symmetric positive definite M, overwritten by its Cholesky factor."""

@@ -11,7 +11,7 @@ from numba import njit
 __all__ = ["piecewise_value", "input_value"]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def piecewise_value(breaks, origins, coeffs, x, seg_end):
     """A piecewise polynomial at x (see :mod:`dynamics.piecewise`).
 
@@ -43,7 +43,7 @@ def piecewise_value(breaks, origins, coeffs, x, seg_end):
     return acc
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _sinusoid(p, which, t, seg_end):
     """Windowed sinusoid a(t) = A sin(ω (t − s) + φ) on [s, e): value (0),
     first (1) or second (2) integral from s."""
@@ -67,7 +67,7 @@ def _sinusoid(p, which, t, seg_end):
     return dist
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def input_value(kind, sin, b, o, c, which, t, seg_end):
     """Input value (which = 0), first (1) or second (2) integral at t; one
     row of the ``in_*`` arrays."""

@@ -11,7 +11,7 @@ from .inputs import piecewise_value
 __all__ = ["law_force"]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _horner(c, x):
     acc = 0.0
     for j in range(c.shape[0] - 1, -1, -1):
@@ -19,7 +19,7 @@ def _horner(c, x):
     return acc
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def law_force(kind, row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c, x, v):
     """Force [N] of a law (``kind``, its ``row`` in that kind's table) at
     Δx [m], Δẋ [m/s]."""

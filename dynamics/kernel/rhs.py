@@ -1,19 +1,46 @@
 """The right-hand side :func:`evaluate` (see :mod:`flexbed.dynamics.kernel`
-for what it computes, in order) and its entry points from Python."""
+for what it computes, in order), compiled once as a C function.
+
+Compiled code that calls the right-hand side (the steppers, the history of
+a run) calls it through a function pointer: the C function
+``void rhs(double t, double seg_end, double *y, double *dy, double *F,
+int64 *I)`` on the packed storage (F, I) of :func:`.storage.pack`
+(:data:`PROTOTYPE`), obtained from :func:`rhs_function` and passed to the
+compiled callers as an argument. Numba links a callee's code into each of
+its compiled callers and optimises it again there; through a pointer, the
+right-hand side (the largest function by far) is compiled once, in one
+place, and its callers are compiled without it. It takes two arrays
+rather than a tuple of ~60 (whose hundreds of scalar arguments made it
+twice as slow to compile) and builds its views of the fields itself
+(cheap: an address and a shape each). Its helpers that only compiled code
+calls have no wrapper for calls from Python. It uses NumPy's error model:
+a division by zero gives inf or nan (the steppers stop at a non-finite
+state) and nothing raises.
+"""
 
 from __future__ import annotations
 
-from numba import njit
+import ctypes
+
+import numpy as np
+from numba import carray, cfunc, njit, types
 
 from .flexible_body import cholesky_solve, flex_forces_body, flex_mass_body, flex_T
 from .inputs import input_value
 from .mount_laws import law_force
-from .storage import unpack
+from .storage import HEADER, view1 as _v1, view2 as _v2, view3 as _v3, view4 as _v4, view5 as _v5
 
-__all__ = ["evaluate", "evaluate_packed", "evaluate_many"]
+__all__ = ["evaluate", "rhs_function", "PROTOTYPE", "evaluate_many"]
+
+#: ctypes prototype of the compiled right-hand side:
+#: (t [s], seg_end [s], y, dy, F, I) → None, arrays by address.
+PROTOTYPE = ctypes.CFUNCTYPE(None, ctypes.c_double, ctypes.c_double, ctypes.c_void_p,
+                             ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
+_SIGNATURE = types.void(types.float64, types.float64, types.voidptr, types.voidptr,
+                        types.voidptr, types.voidptr)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _rotation(p, A):
     """A = Q(p)/|p|² (3, 3) for Euler parameters p (4,), scalar first."""
     e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
@@ -30,9 +57,11 @@ def _rotation(p, A):
     A[2, 1] = 2.0 * (e2 * e3 + e0 * e1) * s
 
 
-@njit(cache=True)
-def evaluate(t, seg_end, y, dy, d):
-    """dy/dt for the state y at time t.
+def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
+    """dy/dt for the state y at time t, on the packed storage (F, I).
+
+    Compiled once as the C function of :func:`rhs_function`; every array
+    comes by address.
 
     Parameters
     ----------
@@ -41,31 +70,92 @@ def evaluate(t, seg_end, y, dy, d):
     seg_end : float
         End of the segment being integrated (inputs give their left limits
         at and beyond it); ``inf`` for right-continuous inputs.
-    y : (ny,) float array
-        State (:mod:`dynamics.layout`).
-    dy : (ny,) float array
+    y_ptr : address of (ny,) float64
+        State (:mod:`dynamics.layout`); ny is in I's header.
+    dy_ptr : address of (ny,) float64
         Output, overwritten in full.
-    d : Compiled
-        The scene.
+    F_ptr, I_ptr : addresses of the float64 and int64 storage
+        The scene (:func:`.storage.pack`); the work arrays in F are written.
     """
-    nb, M, nf, mode = d.ints[0], d.ints[1], d.ints[2], d.ints[3]
-    qr, vr, qb, vb, w0 = d.ints[4], d.ints[5], d.ints[6], d.ints[7], d.ints[8]
-    g = d.gravity
-    A = d.w_A
-    base = d.w_base
+    head = carray(I_ptr, HEADER, np.int64)
+    y = carray(y_ptr, head[0], np.float64)
+    dy = carray(dy_ptr, head[0], np.float64)
+    meta = carray(I_ptr, (HEADER + 6 * head[3],), np.int64)[HEADER:].reshape((head[3], 6))
+    # the views of every field of FIELDS, in its order (checked by a test)
+    ints = _v1(I_ptr, meta[0], np.int64)
+    gravity = _v1(F_ptr, meta[1], np.float64)
+    mass = _v1(F_ptr, meta[2], np.float64)
+    J = _v3(F_ptr, meta[3], np.float64)
+    Jinv = _v3(F_ptr, meta[4], np.float64)
+    body_flex = _v1(I_ptr, meta[5], np.int64)
+    r0_base = _v1(F_ptr, meta[6], np.float64)
+    support = _v1(F_ptr, meta[7], np.float64)
+    body_i = _v1(I_ptr, meta[8], np.int64)
+    body_j = _v1(I_ptr, meta[9], np.int64)
+    S = _v2(F_ptr, meta[10], np.float64)
+    U = _v3(F_ptr, meta[11], np.float64)
+    d0 = _v2(F_ptr, meta[12], np.float64)
+    end_flex = _v1(I_ptr, meta[13], np.int64)
+    end_phi = _v3(F_ptr, meta[14], np.float64)
+    law_kind = _v1(I_ptr, meta[15], np.int64)
+    law_row = _v1(I_ptr, meta[16], np.int64)
+    lin_kc = _v2(F_ptr, meta[17], np.float64)
+    poly_k = _v2(F_ptr, meta[18], np.float64)
+    poly_c = _v2(F_ptr, meta[19], np.float64)
+    crv_b = _v3(F_ptr, meta[20], np.float64)
+    crv_o = _v3(F_ptr, meta[21], np.float64)
+    crv_c = _v4(F_ptr, meta[22], np.float64)
+    fx_ints = _v2(I_ptr, meta[23], np.int64)
+    fx_m = _v1(F_ptr, meta[24], np.float64)
+    fx_I2 = _v2(F_ptr, meta[25], np.float64)
+    fx_I3 = _v3(F_ptr, meta[26], np.float64)
+    fx_I4 = _v3(F_ptr, meta[27], np.float64)
+    fx_I5 = _v4(F_ptr, meta[28], np.float64)
+    fx_I6 = _v3(F_ptr, meta[29], np.float64)
+    fx_K = _v3(F_ptr, meta[30], np.float64)
+    fx_C = _v3(F_ptr, meta[31], np.float64)
+    fx_I7 = _v3(F_ptr, meta[32], np.float64)
+    fx_I8 = _v4(F_ptr, meta[33], np.float64)
+    fx_I9 = _v5(F_ptr, meta[34], np.float64)
+    in_ints = _v2(I_ptr, meta[35], np.int64)
+    in_sin = _v2(F_ptr, meta[36], np.float64)
+    in_b = _v3(F_ptr, meta[37], np.float64)
+    in_o = _v3(F_ptr, meta[38], np.float64)
+    in_c = _v4(F_ptr, meta[39], np.float64)
+    w_A = _v3(F_ptr, meta[40], np.float64)
+    w_P = _v2(F_ptr, meta[41], np.float64)
+    w_Pd = _v2(F_ptr, meta[42], np.float64)
+    w_ub = _v2(F_ptr, meta[43], np.float64)
+    w_dx = _v2(F_ptr, meta[44], np.float64)
+    w_dxd = _v2(F_ptr, meta[45], np.float64)
+    w_f = _v2(F_ptr, meta[46], np.float64)
+    w_F = _v2(F_ptr, meta[47], np.float64)
+    w_force = _v2(F_ptr, meta[48], np.float64)
+    w_torque = _v2(F_ptr, meta[49], np.float64)
+    w_flexQ = _v2(F_ptr, meta[50], np.float64)
+    w_acc = _v2(F_ptr, meta[51], np.float64)
+    w_base = _v2(F_ptr, meta[52], np.float64)
+    w_M = _v3(F_ptr, meta[53], np.float64)
+    w_Q = _v1(F_ptr, meta[54], np.float64)
+    w_T = _v3(F_ptr, meta[55], np.float64)
+    w_gb = _v1(F_ptr, meta[56], np.float64)
+    nb, M, nf, mode = ints[0], ints[1], ints[2], ints[3]
+    qr, vr, qb, vb, w0 = ints[4], ints[5], ints[6], ints[7], ints[8]
+    g = gravity
+    A = w_A
+    base = w_base
     # 1. the base
     for c in range(3):
-        base[0, c] = d.r0_base[c]
+        base[0, c] = r0_base[c]
         base[1, c] = 0.0
         base[2, c] = 0.0
-    Fx0 = d.support[0]
-    Fx1 = d.support[1]
-    Fx2 = d.support[2]
+    Fx0 = support[0]
+    Fx1 = support[1]
+    Fx2 = support[2]
     if mode == 2:
         for c in range(3):
             base[0, c] = y[qb + c]
             base[1, c] = y[vb + c]
-    in_ints, in_sin, in_b, in_o, in_c = d.in_ints, d.in_sin, d.in_b, d.in_o, d.in_c
     for i in range(in_ints.shape[0]):
         kind = in_ints[i, 0]
         c = in_ints[i, 1]
@@ -75,7 +165,10 @@ def evaluate(t, seg_end, y, dy, d):
                     base[2 - which, c] += input_value(kind, in_sin[i], in_b[i], in_o[i], in_c[i],
                                                  which, t, seg_end)
         elif mode == 2:
-            val = input_value(kind, in_sin[i], in_b[i], in_o[i], in_c[i], 0, t, seg_end)
+            # a load's value: which = role − 1 = 0, a number known at run time only
+            # (a literal 0 would compile input_value a second time)
+            val = input_value(kind, in_sin[i], in_b[i], in_o[i], in_c[i], in_ints[i, 2] - 1, t,
+                              seg_end)
             if c == 0:
                 Fx0 += val
             elif c == 1:
@@ -100,22 +193,22 @@ def evaluate(t, seg_end, y, dy, d):
         dy[q + 5] = 0.5 * (e0 * wy + e3 * wx - e1 * wz)
         dy[q + 6] = 0.5 * (e0 * wz + e1 * wy - e2 * wx)
     # 3. mount ends
-    P = d.w_P
-    Pd = d.w_Pd
-    ub = d.w_ub
+    P = w_P
+    Pd = w_Pd
+    ub = w_ub
     for e in range(2 * M):
         m = e % M
-        b = d.body_i[m] if e < M else d.body_j[m]
-        k = d.end_flex[e]
+        b = body_i[m] if e < M else body_j[m]
+        k = end_flex[e]
         for c in range(3):
-            ub[e, c] = d.S[e, c]
+            ub[e, c] = S[e, c]
         if k >= 0:
-            n = d.fx_ints[k, 1]
-            oa = d.fx_ints[k, 2]
+            n = fx_ints[k, 1]
+            oa = fx_ints[k, 2]
             for c in range(3):
                 s = 0.0
                 for j in range(n):
-                    s += d.end_phi[e, c, j] * y[oa + j]
+                    s += end_phi[e, c, j] * y[oa + j]
                 ub[e, c] += s
         if b == 0:
             for c in range(3):
@@ -130,31 +223,29 @@ def evaluate(t, seg_end, y, dy, d):
         ry = wz * ub[e, 0] - wx * ub[e, 2]
         rz = wx * ub[e, 1] - wy * ub[e, 0]
         if k >= 0:
-            n = d.fx_ints[k, 1]
-            ov = d.fx_ints[k, 3]
+            n = fx_ints[k, 1]
+            ov = fx_ints[k, 3]
             for j in range(n):
-                rx += d.end_phi[e, 0, j] * y[ov + j]
-                ry += d.end_phi[e, 1, j] * y[ov + j]
-                rz += d.end_phi[e, 2, j] * y[ov + j]
+                rx += end_phi[e, 0, j] * y[ov + j]
+                ry += end_phi[e, 1, j] * y[ov + j]
+                rz += end_phi[e, 2, j] * y[ov + j]
         Ab = A[b]
         for c in range(3):
             P[e, c] = y[q + c] + Ab[c, 0] * ub[e, 0] + Ab[c, 1] * ub[e, 1] + Ab[c, 2] * ub[e, 2]
             Pd[e, c] = y[v + c] + Ab[c, 0] * rx + Ab[c, 1] * ry + Ab[c, 2] * rz
     # 4. mounts
-    force = d.w_force
-    torque = d.w_torque
+    force = w_force
+    torque = w_torque
     for b in range(nb):
         for c in range(3):
             force[b, c] = 0.0
             torque[b, c] = 0.0
     for k in range(nf):
-        for c in range(d.w_flexQ.shape[1]):
-            d.w_flexQ[k, c] = 0.0
+        for c in range(w_flexQ.shape[1]):
+            w_flexQ[k, c] = 0.0
     p_mount = 0.0
-    law_kind, law_row, lin_kc = d.law_kind, d.law_row, d.lin_kc
-    poly_k, poly_c, crv_b, crv_o, crv_c = d.poly_k, d.poly_c, d.crv_b, d.crv_o, d.crv_c
     for m in range(M):
-        bi = d.body_i[m]
+        bi = body_i[m]
         Ai = A[bi]
         l0 = P[M + m, 0] - P[m, 0]
         l1 = P[M + m, 1] - P[m, 1]
@@ -173,15 +264,15 @@ def evaluate(t, seg_end, y, dy, d):
         Fb1 = 0.0
         Fb2 = 0.0
         for kd in range(3):
-            u0, u1, u2 = d.U[m, kd, 0], d.U[m, kd, 1], d.U[m, kd, 2]
-            x = u0 * lb0 + u1 * lb1 + u2 * lb2 - d.d0[m, kd]
+            u0, u1, u2 = U[m, kd, 0], U[m, kd, 1], U[m, kd, 2]
+            x = u0 * lb0 + u1 * lb1 + u2 * lb2 - d0[m, kd]
             xd = u0 * vb0 + u1 * vb1 + u2 * vb2
             il = 3 * m + kd
             f = law_force(law_kind[il], law_row[il], lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c,
                      x, xd)
-            d.w_dx[m, kd] = x
-            d.w_dxd[m, kd] = xd
-            d.w_f[m, kd] = f
+            w_dx[m, kd] = x
+            w_dxd[m, kd] = xd
+            w_f[m, kd] = f
             p_mount -= f * xd
             Fb0 += f * u0
             Fb1 += f * u1
@@ -190,12 +281,12 @@ def evaluate(t, seg_end, y, dy, d):
         F0 = Ai[0, 0] * Fb0 + Ai[0, 1] * Fb1 + Ai[0, 2] * Fb2
         F1 = Ai[1, 0] * Fb0 + Ai[1, 1] * Fb1 + Ai[1, 2] * Fb2
         F2 = Ai[2, 0] * Fb0 + Ai[2, 1] * Fb1 + Ai[2, 2] * Fb2
-        d.w_F[m, 0] = F0
-        d.w_F[m, 1] = F1
-        d.w_F[m, 2] = F2
+        w_F[m, 0] = F0
+        w_F[m, 1] = F1
+        w_F[m, 2] = F2
         for side in range(2):
             e = m + side * M
-            b = bi if side == 0 else d.body_j[m]
+            b = bi if side == 0 else body_j[m]
             sg = 1.0 if side == 0 else -1.0
             force[b, 0] += sg * F0
             force[b, 1] += sg * F1
@@ -213,65 +304,65 @@ def evaluate(t, seg_end, y, dy, d):
             torque[b, 0] += t0
             torque[b, 1] += t1
             torque[b, 2] += t2
-            k = d.end_flex[e]
+            k = end_flex[e]
             if k >= 0:
-                Qk = d.w_flexQ[k]
+                Qk = w_flexQ[k]
                 Qk[0] += g0
                 Qk[1] += g1
                 Qk[2] += g2
                 Qk[3] += t0
                 Qk[4] += t1
                 Qk[5] += t2
-                for j in range(d.fx_ints[k, 1]):
-                    Qk[6 + j] += (d.end_phi[e, 0, j] * g0 + d.end_phi[e, 1, j] * g1
-                                  + d.end_phi[e, 2, j] * g2)
+                for j in range(fx_ints[k, 1]):
+                    Qk[6 + j] += (end_phi[e, 0, j] * g0 + end_phi[e, 1, j] * g1
+                                  + end_phi[e, 2, j] * g2)
     # 5. Newton–Euler, rigid bodies (flexible ones are overwritten below)
-    acc = d.w_acc
+    acc = w_acc
     for b in range(1, nb):
-        if d.body_flex[b] >= 0:
+        if body_flex[b] >= 0:
             continue
         v = vr + 6 * (b - 1)
-        inv_m = 1.0 / d.mass[b]
+        inv_m = 1.0 / mass[b]
         for c in range(3):
             acc[b, c] = force[b, c] * inv_m + g[c]
         w = y[v + 3:v + 6]
-        J = d.J[b]
-        Jw0 = J[0, 0] * w[0] + J[0, 1] * w[1] + J[0, 2] * w[2]
-        Jw1 = J[1, 0] * w[0] + J[1, 1] * w[1] + J[1, 2] * w[2]
-        Jw2 = J[2, 0] * w[0] + J[2, 1] * w[1] + J[2, 2] * w[2]
+        Jb = J[b]
+        Jw0 = Jb[0, 0] * w[0] + Jb[0, 1] * w[1] + Jb[0, 2] * w[2]
+        Jw1 = Jb[1, 0] * w[0] + Jb[1, 1] * w[1] + Jb[1, 2] * w[2]
+        Jw2 = Jb[2, 0] * w[0] + Jb[2, 1] * w[1] + Jb[2, 2] * w[2]
         n0 = torque[b, 0] - (w[1] * Jw2 - w[2] * Jw1)
         n1 = torque[b, 1] - (w[2] * Jw0 - w[0] * Jw2)
         n2 = torque[b, 2] - (w[0] * Jw1 - w[1] * Jw0)
-        Ji = d.Jinv[b]
+        Ji = Jinv[b]
         acc[b, 3] = Ji[0, 0] * n0 + Ji[0, 1] * n1 + Ji[0, 2] * n2
         acc[b, 4] = Ji[1, 0] * n0 + Ji[1, 1] * n1 + Ji[1, 2] * n2
         acc[b, 5] = Ji[2, 0] * n0 + Ji[2, 1] * n1 + Ji[2, 2] * n2
     p_struct = 0.0
-    Mb = d.w_M
-    Q = d.w_Q
+    Q = w_Q
     for k in range(nf):
-        b = d.fx_ints[k, 0]
-        n = d.fx_ints[k, 1]
-        oa = d.fx_ints[k, 2]
-        ov = d.fx_ints[k, 3]
+        b = fx_ints[k, 0]
+        n = fx_ints[k, 1]
+        Mb = w_M[k]
+        oa = fx_ints[k, 2]
+        ov = fx_ints[k, 3]
         N = 6 + n
         v = vr + 6 * (b - 1)
         a = y[oa:oa + n]
         ad = y[ov:ov + n]
         Ab = A[b]
-        gb = d.w_gb
+        gb = w_gb
         for c in range(3):
             gb[c] = Ab[0, c] * g[0] + Ab[1, c] * g[1] + Ab[2, c] * g[2]
-        I3, I8, T = d.fx_I3[k], d.fx_I8[k], d.w_T
-        flex_T(I8, d.fx_I9[k], n, a, T)
-        flex_mass_body(d.fx_m[k], d.fx_I2[k], I3, d.fx_I4[k], d.fx_I5[k], d.fx_I6[k],
-                       d.fx_I7[k], I8, T, n, a, Mb)
-        flex_forces_body(d.fx_m[k], d.fx_I2[k], I3, d.fx_I5[k], d.fx_K[k], d.fx_C[k], T, n,
+        I3, I8, T = fx_I3[k], fx_I8[k], w_T
+        flex_T(I8, fx_I9[k], n, a, T)
+        flex_mass_body(fx_m[k], fx_I2[k], I3, fx_I4[k], fx_I5[k], fx_I6[k],
+                       fx_I7[k], I8, T, n, a, Mb)
+        flex_forces_body(fx_m[k], fx_I2[k], I3, fx_I5[k], fx_K[k], fx_C[k], T, n,
                          y[v + 3:v + 6], a, ad, gb, Mb, Q)
         for j in range(n):
             p_struct -= ad[j] * Q[N + j]
         for j in range(N):
-            Q[j] += d.w_flexQ[k, j]
+            Q[j] += w_flexQ[k, j]
         cholesky_solve(Mb, Q, N)
         for c in range(3):
             acc[b, c] = Ab[c, 0] * Q[0] + Ab[c, 1] * Q[1] + Ab[c, 2] * Q[2]
@@ -289,7 +380,7 @@ def evaluate(t, seg_end, y, dy, d):
     dy[w0 + 2] = 0.0
     dy[w0 + 3] = p_struct
     if mode == 2:
-        inv_mb = 1.0 / d.mass[0]
+        inv_mb = 1.0 / mass[0]
         Fx = (Fx0, Fx1, Fx2)
         for c in range(3):
             dy[qb + c] = y[vb + c]
@@ -299,21 +390,34 @@ def evaluate(t, seg_end, y, dy, d):
             dy[w0 + 1] += Fx[c] * y[vb + c]
     elif mode == 1:
         for c in range(3):
-            Fd = d.mass[0] * (base[2, c] - g[c]) - force[0, c]
+            Fd = mass[0] * (base[2, c] - g[c]) - force[0, c]
             dy[w0 + 2] += Fd * base[1, c]
     for c in range(3):
         acc[0, c] = base[2, c]
 
 
-@njit(cache=True)
-def evaluate_packed(t, seg_end, y, dy, F, I, meta):
-    """:func:`evaluate` on packed storage (the cheap call from Python)."""
-    evaluate(t, seg_end, y, dy, unpack(F, I, meta))
+_compiled = []
+
+
+def rhs_function():
+    """The compiled right-hand side as a ctypes function of :data:`PROTOTYPE`.
+
+    Compiled (or loaded from numba's cache) at the first call in a process.
+    Pass it to compiled code as an argument, not as a global: the address
+    of a global would be frozen into the machine code, which then could not
+    be cached.
+    """
+    if not _compiled:
+        c = cfunc(_SIGNATURE, cache=True, error_model="numpy")(evaluate)
+        _compiled.append((c, PROTOTYPE(c.address)))
+    return _compiled[0][1]
 
 
 @njit(cache=True)
-def evaluate_many(n, t, seg_end, y, dy, d):
-    """n calls of :func:`evaluate` in compiled code (the kernel's own cost,
-    as the compiled steppers see it, for the benchmark)."""
+def evaluate_many(n, t, seg_end, y, dy, kernel):
+    """n calls of the compiled right-hand side from compiled code, as the
+    steppers call it (the kernel's own cost, for the benchmark); kernel =
+    (:func:`rhs_function`, F, I)."""
+    fn, F, I = kernel
     for _ in range(n):
-        evaluate(t, seg_end, y, dy, d)
+        fn(t, seg_end, y.ctypes, dy.ctypes, F.ctypes, I.ctypes)

@@ -1,15 +1,16 @@
 """The kernel's scene storage: the arrays of :class:`Compiled`, packed into
-one float64 and one int64 array for cheap calls from Python (:func:`pack`),
-and their views rebuilt inside compiled code (:func:`unpack`)."""
+one float64 and one int64 array (:func:`pack`), and their views rebuilt
+inside compiled code (``view1`` … ``view5``)."""
 
 from __future__ import annotations
 
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
+from numba import carray, njit, types
+from numba.extending import intrinsic
 
-__all__ = ["Compiled", "FIELDS", "KINDS", "pack", "unpack"]
+__all__ = ["Compiled", "FIELDS", "KINDS", "HEADER", "pack", "view1", "view2", "view3", "view4", "view5"]
 
 #: at most nm modes, ni inputs; see System._compile for every entry).
 FIELDS = (
@@ -61,7 +62,8 @@ FIELDS = (
     "w_flexQ",          # (nf, 6 + nm) body-frame generalized mount forces
     "w_acc",            # (nb, 6): r̈ [m/s²] inertial, ω̄̇ [rad/s²] body frame
     "w_base",           # (3, 3): base r, ṙ, r̈
-    "w_M",              # (6 + nm, 6 + nm)
+    "w_M",              # (nf, 6 + nm, 6 + nm) M̄(a) of each flexible body, then its
+                        # Cholesky factor L (lower triangle; the upper keeps M̄)
     "w_Q",              # (6 + nm + nm,) Q̄ then C ȧ
     "w_T",              # (nm, 3, 3) T_k = I8_k + Σ_l a_l I9_kl
     "w_gb",             # (3,) Aᵀ g
@@ -83,130 +85,82 @@ KINDS = {
     "in_c": ("f", 4), "w_A": ("f", 3), "w_P": ("f", 2), "w_Pd": ("f", 2), "w_ub": ("f", 2),
     "w_dx": ("f", 2), "w_dxd": ("f", 2), "w_f": ("f", 2), "w_F": ("f", 2), "w_force": ("f", 2),
     "w_torque": ("f", 2), "w_flexQ": ("f", 2), "w_acc": ("f", 2), "w_base": ("f", 2),
-    "w_M": ("f", 2), "w_Q": ("f", 1), "w_T": ("f", 3), "w_gb": ("f", 1),
+    "w_M": ("f", 3), "w_Q": ("f", 1), "w_T": ("f", 3), "w_gb": ("f", 1),
 }
 
 
-@njit(cache=True)
-def _v1(a, meta, k):
-    o = meta[k, 0]
-    return a[o:o + meta[k, 1]]
+#: Entries of the header at the start of the int64 storage I: the state's
+#: size ny, the sizes of F and I, the number of fields; the fields' table
+#: (offset and shape of each) follows it, then the integer fields.
+HEADER = 4
 
 
-@njit(cache=True)
-def _v2(a, meta, k):
-    o = meta[k, 0]
-    return a[o:o + meta[k, 1] * meta[k, 2]].reshape((meta[k, 1], meta[k, 2]))
+@intrinsic
+def _advance(typingctx, address, nbytes):
+    """The address ``address`` (void *) advanced by ``nbytes`` bytes."""
+    def codegen(context, builder, signature, args):
+        return builder.gep(args[0], [args[1]])
+    return types.voidptr(types.voidptr, types.int64), codegen
 
 
-@njit(cache=True)
-def _v3(a, meta, k):
-    o = meta[k, 0]
-    s = (meta[k, 1], meta[k, 2], meta[k, 3])
-    return a[o:o + s[0] * s[1] * s[2]].reshape(s)
+# The view of one field in its storage at address a (F: float64, I: int64)
+# from its row m of the fields' table (offset, shape padded with 1), for 1
+# to 5 dimensions; no checks (pack wrote a consistent table).
+
+@njit(cache=True, no_cpython_wrapper=True)
+def view1(a, m, dtype):
+    return carray(_advance(a, 8 * m[0]), m[1], dtype)
 
 
-@njit(cache=True)
-def _v4(a, meta, k):
-    o = meta[k, 0]
-    s = (meta[k, 1], meta[k, 2], meta[k, 3], meta[k, 4])
-    return a[o:o + s[0] * s[1] * s[2] * s[3]].reshape(s)
+@njit(cache=True, no_cpython_wrapper=True)
+def view2(a, m, dtype):
+    return carray(_advance(a, 8 * m[0]), (m[1], m[2]), dtype)
 
 
-@njit(cache=True)
-def _v5(a, meta, k):
-    o = meta[k, 0]
-    s = (meta[k, 1], meta[k, 2], meta[k, 3], meta[k, 4], meta[k, 5])
-    return a[o:o + s[0] * s[1] * s[2] * s[3] * s[4]].reshape(s)
+@njit(cache=True, no_cpython_wrapper=True)
+def view3(a, m, dtype):
+    return carray(_advance(a, 8 * m[0]), (m[1], m[2], m[3]), dtype)
 
 
-@njit(cache=True)
-def unpack(F, I, meta):
-    """The :class:`Compiled` views of the packed storage (see :func:`pack`)."""
-    return Compiled(
-        _v1(I, meta, 0),
-        _v1(F, meta, 1),
-        _v1(F, meta, 2),
-        _v3(F, meta, 3),
-        _v3(F, meta, 4),
-        _v1(I, meta, 5),
-        _v1(F, meta, 6),
-        _v1(F, meta, 7),
-        _v1(I, meta, 8),
-        _v1(I, meta, 9),
-        _v2(F, meta, 10),
-        _v3(F, meta, 11),
-        _v2(F, meta, 12),
-        _v1(I, meta, 13),
-        _v3(F, meta, 14),
-        _v1(I, meta, 15),
-        _v1(I, meta, 16),
-        _v2(F, meta, 17),
-        _v2(F, meta, 18),
-        _v2(F, meta, 19),
-        _v3(F, meta, 20),
-        _v3(F, meta, 21),
-        _v4(F, meta, 22),
-        _v2(I, meta, 23),
-        _v1(F, meta, 24),
-        _v2(F, meta, 25),
-        _v3(F, meta, 26),
-        _v3(F, meta, 27),
-        _v4(F, meta, 28),
-        _v3(F, meta, 29),
-        _v3(F, meta, 30),
-        _v3(F, meta, 31),
-        _v3(F, meta, 32),
-        _v4(F, meta, 33),
-        _v5(F, meta, 34),
-        _v2(I, meta, 35),
-        _v2(F, meta, 36),
-        _v3(F, meta, 37),
-        _v3(F, meta, 38),
-        _v4(F, meta, 39),
-        _v3(F, meta, 40),
-        _v2(F, meta, 41),
-        _v2(F, meta, 42),
-        _v2(F, meta, 43),
-        _v2(F, meta, 44),
-        _v2(F, meta, 45),
-        _v2(F, meta, 46),
-        _v2(F, meta, 47),
-        _v2(F, meta, 48),
-        _v2(F, meta, 49),
-        _v2(F, meta, 50),
-        _v2(F, meta, 51),
-        _v2(F, meta, 52),
-        _v2(F, meta, 53),
-        _v1(F, meta, 54),
-        _v3(F, meta, 55),
-        _v1(F, meta, 56))
+@njit(cache=True, no_cpython_wrapper=True)
+def view4(a, m, dtype):
+    return carray(_advance(a, 8 * m[0]), (m[1], m[2], m[3], m[4]), dtype)
 
 
-def pack(fields: dict):
+@njit(cache=True, no_cpython_wrapper=True)
+def view5(a, m, dtype):
+    return carray(_advance(a, 8 * m[0]), (m[1], m[2], m[3], m[4], m[5]), dtype)
+
+
+def pack(fields: dict, ny: int):
     """Pack a scene's arrays into one float64 and one int64 array.
 
-    Calling compiled code with two arrays costs a microsecond; with the
-    ~60 arrays of :class:`Compiled` it costs tens. The kernel's entry point
-    from Python, :func:`evaluate_packed`, rebuilds the views inside
-    compiled code.
+    The compiled right-hand side (:func:`flexbed.dynamics.kernel.rhs.evaluate`)
+    is called with the state, its derivative and these two arrays only; it
+    rebuilds the views of every field inside compiled code (``view1`` …
+    ``view5``).
 
     Parameters
     ----------
     fields : dict
         Every name of :data:`FIELDS` → array (any shape of the declared
         number of dimensions, :data:`KINDS`).
+    ny : int
+        Size of the state.
 
     Returns
     -------
-    packed : tuple (F, I, meta)
-        F (·,) float64, I (·,) int64 storage; meta (len(FIELDS), 6) int64:
-        offset, then the shape padded with 1.
+    storage : tuple (F, I)
+        F (·,) float64; I (·,) int64: the header (:data:`HEADER` entries:
+        ny, F.size, I.size, len(FIELDS)), the fields' table (len(FIELDS), 6)
+        (offset into F or I, then the shape padded with 1), the integer
+        fields.
     views : Compiled
         NumPy views of every field into F and I (writes go to the storage).
     """
-    meta = np.zeros((len(FIELDS), 6), dtype=np.int64)
-    offsets = {"f": 0, "i": 0}
+    n = len(FIELDS)
+    meta = np.zeros((n, 6), dtype=np.int64)
+    offsets = {"f": 0, "i": HEADER + 6 * n}
     arrays = []
     for k, name in enumerate(FIELDS):
         kind, ndim = KINDS[name]
@@ -219,7 +173,9 @@ def pack(fields: dict):
         offsets[kind] += a.size
         arrays.append(a)
     F = np.zeros(max(offsets["f"], 1))
-    I = np.zeros(max(offsets["i"], 1), dtype=np.int64)
+    I = np.zeros(offsets["i"], dtype=np.int64)
+    I[:HEADER] = (ny, F.size, I.size, n)
+    I[HEADER:HEADER + 6 * n] = meta.reshape(-1)
     views = {}
     for k, name in enumerate(FIELDS):
         kind, ndim = KINDS[name]
@@ -229,6 +185,4 @@ def pack(fields: dict):
         v = store[o:o + int(np.prod(shape))].reshape(shape)
         v[...] = arrays[k]
         views[name] = v
-    return (F, I, meta), Compiled(**views)
-
-
+    return (F, I), Compiled(**views)

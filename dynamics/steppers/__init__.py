@@ -2,7 +2,7 @@
 
 SciPy's ``solve_ivp`` steppers spend hundreds of µs of Python per step; the
 steppers here run a whole segment [t_a, t_b] (or a chunk of it) inside one
-nopython call, calling the compiled right-hand side ``evaluate`` directly,
+nopython call, calling the compiled right-hand side through its pointer,
 so that a step costs a few µs beyond its right-hand-side evaluations.
 
 Methods
@@ -45,12 +45,12 @@ Interface
 ---------
 Every stepper is called once per segment (or per chunk of one)::
 
-    status, t, h, k_out = <method>_segment(t_a, t_b, z, shift, d, rtol, atol,
+    status, t, h, k_out = <method>_segment(t_a, t_b, z, shift, kernel, rtol, atol,
                                            dt_or_h0, h_max, grid, Y, k_out,
                                            max_steps, p_idx, n_motion,
                                            counts, work)
 
-and integrates the deviation z = y − shift (``evaluate`` receives
+and integrates the deviation z = y − shift (the right-hand side receives
 y = z + shift; shift is constant):
 
 t_a, t_b : float [s]
@@ -59,8 +59,11 @@ z : (ny,) float64
     State at t_a; overwritten with the state reached.
 shift : (ny,) float64
     Constant offset, y = z + shift.
-d : namedtuple of arrays
-    The compiled scene, passed to ``evaluate`` untouched.
+kernel : tuple (function, F, I)
+    The compiled right-hand side and the scene's packed storage
+    (:attr:`flexbed.dynamics.system.System.kernel`): the steppers call
+    ``function(t, seg_end, y, dy, F, I)`` through its pointer, so they are
+    compiled without the right-hand side's code and do not depend on it.
 rtol : float; atol : (ny,) float64
     Tolerances (atol = 1e30 marks a quadrature: integrated, but in effect
     out of the error control). rk4 ignores both.

@@ -9,27 +9,30 @@ import math
 import numba
 import numpy as np
 
-from ..kernel import evaluate
-
-__all__ = ["jit", "EPS", "SQRT_EPS", "rhs", "finite", "project", "normalise_row", "end_tol",
+__all__ = ["jit", "inner", "EPS", "SQRT_EPS", "rhs", "finite", "project", "normalise_row", "end_tol",
            "put_end", "initial_step"]
 
-#: the decorator of every compiled stepper function
+#: the decorator of the compiled steppers, called from Python
 jit = numba.njit(cache=True, error_model="numpy")
+#: the decorator of their helpers, called from compiled code only (no
+#: wrapper for calls from Python is compiled)
+inner = numba.njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 
 EPS = float(np.finfo(float).eps)
 SQRT_EPS = math.sqrt(EPS)
 
 
-@jit
-def rhs(t, seg_end, z, shift, ybuf, dz, d):
-    """dz = f(t, z + shift); ybuf (ny,) scratch."""
+@inner
+def rhs(t, seg_end, z, shift, ybuf, dz, kernel):
+    """dz = f(t, z + shift); ybuf (ny,) scratch; kernel = (function, F, I),
+    the compiled right-hand side and the scene's storage."""
     for i in range(z.size):
         ybuf[i] = z[i] + shift[i]
-    evaluate(t, seg_end, ybuf, dz, d)
+    fn, F, I = kernel
+    fn(t, seg_end, ybuf.ctypes, dz.ctypes, F.ctypes, I.ctypes)
 
 
-@jit
+@inner
 def finite(x):
     """Whether every entry of the 1-D array x is finite."""
     for i in range(x.size):
@@ -38,10 +41,11 @@ def finite(x):
     return True
 
 
-@jit
-def project(z, shift, p_idx, f, scale_f):
-    """Euler parameters of z + shift onto |p| = 1 (in z); if scale_f, the
-    same rows of f divided by the same |p|."""
+@inner
+def project(z, shift, p_idx, f):
+    """Euler parameters of z + shift onto |p| = 1 (in z), and the same rows
+    of f (the derivative kept at z; ṗ is linear in p) divided by the same
+    |p|. A caller that keeps no derivative passes scratch for f."""
     for b in range(p_idx.shape[0]):
         s = 0.0
         for k in range(4):
@@ -54,11 +58,10 @@ def project(z, shift, p_idx, f, scale_f):
         for k in range(4):
             j = p_idx[b, k]
             z[j] = (z[j] + shift[j]) / nrm - shift[j]
-            if scale_f:
-                f[j] /= nrm
+            f[j] /= nrm
 
 
-@jit
+@inner
 def normalise_row(Y, k, p_idx):
     """Euler parameters of the output row Y[k] onto |p| = 1."""
     for b in range(p_idx.shape[0]):
@@ -72,21 +75,21 @@ def normalise_row(Y, k, p_idx):
                 Y[k, p_idx[b, m]] /= nrm
 
 
-@jit
+@inner
 def end_tol(t_new):
     """Grid times within this of t_new take the step's end state."""
     return 1e-12 * max(1.0, abs(t_new))
 
 
-@jit
+@inner
 def put_end(Y, k, z_new, shift):
     """Y[k] = z_new + shift."""
     for i in range(z_new.size):
         Y[k, i] = z_new[i] + shift[i]
 
 
-@jit
-def initial_step(t0, t_b, z, f0, shift, d, rtol, atol, h_max, order, ybuf, z1, f1, counts):
+@inner
+def initial_step(t0, t_b, z, f0, shift, kernel, rtol, atol, h_max, order, ybuf, z1, f1, counts):
     """SciPy's ``select_initial_step`` (Hairer, Nørsett & Wanner I, II.4).
 
     order : error-estimator order (dop853: 7; radau: 3). One evaluation.
@@ -113,7 +116,7 @@ def initial_step(t0, t_b, z, f0, shift, d, rtol, atol, h_max, order, ybuf, z1, f
     h0 = min(h0, interval)
     for i in range(ny):
         z1[i] = z[i] + h0 * f0[i]
-    rhs(t0 + h0, t_b, z1, shift, ybuf, f1, d)
+    rhs(t0 + h0, t_b, z1, shift, ybuf, f1, kernel)
     counts[0] += 1
     d2 = 0.0
     for i in range(ny):

@@ -8,7 +8,7 @@ import math
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as _dop
 
-from .common import EPS, end_tol, finite, initial_step, jit, normalise_row, project, put_end, rhs
+from .common import inner, EPS, end_tol, finite, initial_step, jit, normalise_row, project, put_end, rhs
 
 __all__ = ["dop853_segment"]
 
@@ -22,7 +22,7 @@ _DD = np.ascontiguousarray(_dop.D, dtype=np.float64)          # (4, 16)
 
 
 
-@jit
+@inner
 def _combine(out, z, h, K, coef, n_rows):
     """out = z + h · Σ_{j < n_rows} coef[j] K[j] (zero coefficients skipped)."""
     ny = z.size
@@ -37,7 +37,7 @@ def _combine(out, z, h, K, coef, n_rows):
         out[i] = z[i] + out[i] * h
 
 
-@jit
+@inner
 def _dop853_error_norm(K, h, z, zn, rtol, atol, e5, e3):
     """SciPy's DOP853 error norm: |h|·‖e5‖² / sqrt((‖e5‖² + 0.01‖e3‖²)·ny),
     e5, e3 the 5th- and 3rd-order estimates scaled by atol + max(|z|, |zn|)·rtol."""
@@ -63,7 +63,7 @@ def _dop853_error_norm(K, h, z, zn, rtol, atol, e5, e3):
 
 
 @jit
-def dop853_segment(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_out, max_steps,
+def dop853_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid, Y, k_out, max_steps,
                    p_idx, n_motion, counts, work):
     """Dormand–Prince 8(5,3) over [t_a, t_b], SciPy's DOP853 step control.
 
@@ -80,15 +80,15 @@ def dop853_segment(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, 
     F = np.empty((7, ny))
     exponent = -1.0 / 8.0
 
-    project(z, shift, p_idx, f, False)
-    rhs(t_a, t_b, z, shift, ybuf, f, d)
+    project(z, shift, p_idx, f)                 # f: scratch until the rhs below
+    rhs(t_a, t_b, z, shift, ybuf, f, kernel)
     counts[0] += 1
     if not finite(f):
         return -2, t_a, dt_or_h0, k_out
     if dt_or_h0 > 0.0:
         h_abs = dt_or_h0
     else:
-        h_abs = initial_step(t_a, t_b, z, f, shift, d, rtol, atol, h_max, 7, ybuf, zt, ft, counts)
+        h_abs = initial_step(t_a, t_b, z, f, shift, kernel, rtol, atol, h_max, 7, ybuf, zt, ft, counts)
     t = t_a
     steps = 0
     while t < t_b:
@@ -114,9 +114,9 @@ def dop853_segment(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, 
                 K[0, i] = f[i]
             for s in range(1, 12):
                 _combine(zt, z, h, K, _DA[s], s)
-                rhs(t + _DC[s] * h, t_b, zt, shift, ybuf, K[s], d)
-            _combine(zn, z, h, K, _DB, 12)
-            rhs(t_new, t_b, zn, shift, ybuf, K[12], d)
+                rhs(t + _DC[s] * h, t_b, zt, shift, ybuf, K[s], kernel)
+            _combine(zn, z, h, K, _DB, _DB.size)
+            rhs(t_new, t_b, zn, shift, ybuf, K[12], kernel)
             counts[0] += 12
             if not (finite(zn) and finite(K[12])):
                 return -2, t, h_abs, k_out
@@ -149,7 +149,7 @@ def dop853_segment(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, 
                 if not have_dense:
                     for s in range(13, 16):
                         _combine(zt, z, h, K, _DA[s], s)
-                        rhs(t + _DC[s] * h, t_b, zt, shift, ybuf, K[s], d)
+                        rhs(t + _DC[s] * h, t_b, zt, shift, ybuf, K[s], kernel)
                     counts[0] += 3
                     for i in range(ny):
                         dz = zn[i] - z[i]
@@ -183,6 +183,6 @@ def dop853_segment(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, 
         for i in range(ny):
             z[i] = zn[i]
             f[i] = K[12, i]
-        project(z, shift, p_idx, f, True)
+        project(z, shift, p_idx, f)
         t = t_new
     return 0, t_b, h_abs, k_out

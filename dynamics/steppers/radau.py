@@ -8,7 +8,7 @@ import math
 import numpy as np
 from scipy.integrate._ivp import radau as _rad
 
-from .common import EPS, SQRT_EPS, end_tol, finite, initial_step, jit, normalise_row, project, put_end, rhs
+from .common import inner, EPS, SQRT_EPS, end_tol, finite, initial_step, jit, normalise_row, project, put_end, rhs
 from .lapack import LAPACK
 
 __all__ = ["radau_segment", "radau_workspace", "radau_reset"]
@@ -33,11 +33,29 @@ _KEEP_H_LOW = -math.inf
 # radau workspace: the scalar state vector's entries
 _S_RESUME, _S_T, _S_H_LU, _S_CURRENT_JAC, _S_HAS_OLD, _S_H_OLD, _S_ERR_OLD, \
     _S_HAS_SOL, _S_T_SOL, _S_H_SOL = range(10)
-_N_STATE = 10
+_N_RESET = 10                     # the entries above: a reset zeroes them
+_S_KEEP_LO, _S_SCIPY_LIKE = 10, 11     # the options (see radau_workspace)
+_N_STATE = 12
 
 
-def radau_workspace(ny: int) -> tuple:
+def radau_workspace(ny: int, *, keep_h_low: float = _KEEP_H_LOW, scipy_like: bool = False) -> tuple:
     """Workspace of :func:`radau_segment` for a state of ny components.
+
+    Parameters
+    ----------
+    ny : int
+    keep_h_low : float
+        h is kept (and the LU factors with it) when the proposed ratio
+        h_new/h lies in [keep_h_low, 1.2) and the Jacobian is not
+        recomputed: 1.0 would be Hairer's quot1; SciPy's ``Radau`` in
+        effect uses −inf (h kept for every ratio below 1.2), the default.
+    scipy_like : bool
+        For verification only: SciPy ``Radau``'s other choices where they
+        differ from this module's — the LU factors reused after a step was
+        cut at t_b (h changed), no extra error evaluation on a segment's
+        first step, no bounds on the accepted step's ratio nor on the error
+        remembered by the predictive controller (Hairer: ≥ 0.2, ≥ 1e-2).
+        With keep_h_low = −inf it takes SciPy's steps.
 
     Returns
     -------
@@ -46,26 +64,30 @@ def radau_workspace(ny: int) -> tuple:
         LUr (ny, ny) float64, pivr (ny,) int32: LU of μ_r/h I − J (Fortran
         order); LUc (ny, ny) complex128, pivc (ny,) int32: LU of μ_c/h I − J;
         Q (3, ny) float64, z_old (ny,) float64: the last step's dense output
-        z(t_old + x h) = z_old + Q[0] x + Q[1] x² + Q[2] x³; state (10,)
+        z(t_old + x h) = z_old + Q[0] x + Q[1] x² + Q[2] x³; state (12,)
         float64: flags and scalars (resume flag, time, h of the LU factors,
-        current-Jacobian flag, controller history, dense-output interval);
+        current-Jacobian flag, controller history, dense-output interval,
+        then the two options);
         (dgetrf, dgetrs, zgetrf, zgetrs) ctypes LAPACK functions).
         A new workspace (or :func:`radau_reset`) starts afresh.
     """
     ny = int(ny)
+    state = np.zeros(_N_STATE)
+    state[_S_KEEP_LO] = keep_h_low
+    state[_S_SCIPY_LIKE] = 1.0 if scipy_like else 0.0
     return (np.zeros((ny, ny)), np.zeros((ny, ny)), np.zeros(ny, np.int32),
             np.zeros((ny, ny), np.complex128), np.zeros(ny, np.int32),
-            np.zeros((3, ny)), np.zeros(ny), np.zeros(_N_STATE), LAPACK)
+            np.zeros((3, ny)), np.zeros(ny), state, LAPACK)
 
 
 def radau_reset(work: tuple) -> None:
     """Forget a paused call: the next :func:`radau_segment` starts afresh
     (new Jacobian, projection, no history)."""
-    work[7][:] = 0.0
+    work[7][:_N_RESET] = 0.0
 
 
-@jit
-def _jacobian(t, t_b, z, f0, shift, d, JT, n_motion, zj, ybuf, fj, counts):
+@inner
+def _jacobian(t, t_b, z, f0, shift, kernel, JT, n_motion, zj, ybuf, fj, counts):
     """Forward differences over z[:n_motion] at (t, z), f0 = f(t, z):
     JT[j, i] = ∂f_i/∂z_j, steps sqrt(eps)·max(1, |z_j + shift_j|); rows
     n_motion… are zero. n_motion evaluations."""
@@ -75,7 +97,7 @@ def _jacobian(t, t_b, z, f0, shift, d, JT, n_motion, zj, ybuf, fj, counts):
     for j in range(n_motion):
         zj[j] = z[j] + SQRT_EPS * max(1.0, abs(z[j] + shift[j]))
         delta = zj[j] - z[j]
-        rhs(t, t_b, zj, shift, ybuf, fj, d)
+        rhs(t, t_b, zj, shift, ybuf, fj, kernel)
         for i in range(ny):
             JT[j, i] = (fj[i] - f0[i]) / delta
         zj[j] = z[j]
@@ -86,7 +108,7 @@ def _jacobian(t, t_b, z, f0, shift, d, JT, n_motion, zj, ybuf, fj, counts):
     counts[3] += 1
 
 
-@jit
+@inner
 def _factor(h, JT, LUr, pivr, LUc, pivc, lapack, nn, info, counts):
     """LU of μ_r/h I − J and μ_c/h I − J (Fortran order: JT transposed).
     Returns whether both are regular."""
@@ -108,7 +130,7 @@ def _factor(h, JT, LUr, pivr, LUc, pivc, lapack, nn, info, counts):
     return ok
 
 
-@jit
+@inner
 def _rms3(dW, scale):
     """sqrt(mean((dW / scale)²)) over the (3, ny) array dW."""
     ny = scale.size
@@ -119,22 +141,22 @@ def _rms3(dW, scale):
     return math.sqrt(s / (3 * ny))
 
 
-@jit
+@inner
 def _solve_real(lapack, trans, nn, one, LU, piv, b, info):
     """b ← (LU)⁻¹ b with the real factors of :func:`_factor` (in place)."""
     lapack[1](trans.ctypes, nn.ctypes, one.ctypes, LU.ctypes, nn.ctypes, piv.ctypes, b.ctypes,
               nn.ctypes, info.ctypes)
 
 
-@jit
+@inner
 def _solve_complex(lapack, trans, nn, one, LU, piv, b, info):
     """b ← (LU)⁻¹ b with the complex factors of :func:`_factor` (in place)."""
     lapack[3](trans.ctypes, nn.ctypes, one.ctypes, LU.ctypes, nn.ctypes, piv.ctypes, b.ctypes,
               nn.ctypes, info.ctypes)
 
 
-@jit
-def _newton(t, t_b, z, h, Z0, scale, tol, shift, d, LUr, pivr, LUc, pivc, lapack, Z, W, F, dW,
+@inner
+def _newton(t, t_b, z, h, Z0, scale, tol, shift, kernel, LUr, pivr, LUc, pivc, lapack, Z, W, F, dW,
             ybuf, zt, br, bc, nn, one, info, trans, counts):
     """Simplified Newton iteration for the collocation system (SciPy's
     ``solve_collocation_system``), in the variables W = T⁻¹ Z.
@@ -159,7 +181,7 @@ def _newton(t, t_b, z, h, Z0, scale, tol, shift, d, LUr, pivr, LUc, pivc, lapack
         for r in range(3):
             for i in range(ny):
                 zt[i] = z[i] + Z[r, i]
-            rhs(t + h * _RC[r], t_b, zt, shift, ybuf, F[r], d)
+            rhs(t + h * _RC[r], t_b, zt, shift, ybuf, F[r], kernel)
         counts[0] += 3
         if not (finite(F[0]) and finite(F[1]) and finite(F[2])):
             break
@@ -195,7 +217,7 @@ def _newton(t, t_b, z, h, Z0, scale, tol, shift, d, LUr, pivr, LUc, pivc, lapack
     return converged, n_iter, rate
 
 
-@jit
+@inner
 def _rms(x, scale):
     """sqrt(mean((x / scale)²)) over the 1-D array x."""
     s = 0.0
@@ -204,7 +226,7 @@ def _rms(x, scale):
     return math.sqrt(s / x.size)
 
 
-@jit
+@inner
 def _predict_factor(h_abs, h_abs_old, err, err_old, has_old):
     """Predictive step-size factor (Gustafsson; Hairer & Wanner II, IV.8)."""
     if not has_old or err == 0.0:
@@ -217,24 +239,19 @@ def _predict_factor(h_abs, h_abs_old, err, err_old, has_old):
 
 
 @jit
-def _radau_core(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_out, max_steps,
-                p_idx, n_motion, counts, work, keep_lo, scipy_like):
-    """Radau IIA (order 5) over [t_a, t_b]; see :func:`radau_segment`.
+def radau_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid, Y, k_out, max_steps,
+                  p_idx, n_motion, counts, work):
+    """Radau IIA of order 5 over [t_a, t_b] (see the module docstring).
 
-    keep_lo : float
-        h is kept (and the LU factors with it) when the proposed ratio
-        h_new/h lies in [keep_lo, 1.2) and the Jacobian is not recomputed:
-        1.0 as Hairer's quot1 (:func:`radau_segment`); SciPy's ``Radau`` in
-        effect uses −inf (h kept for every ratio below 1.2).
-    scipy_like : bool
-        For verification only: SciPy ``Radau``'s other choices where they
-        differ from this module's — the LU factors reused after a step was
-        cut at t_b (h changed), no extra error evaluation on a segment's
-        first step, no bounds on the accepted step's ratio nor on the error
-        remembered by the predictive controller (Hairer: ≥ 0.2, ≥ 1e-2).
-        With keep_lo = −inf it takes SciPy's steps.
+    work : tuple from :func:`radau_workspace` (ny), with the options. A
+    call resumes the previous one (same Jacobian, LU factors, dense output
+    and controller history; no projection) when that one paused (status 1)
+    at t == t_a; otherwise it starts afresh: projects z, evaluates f and the
+    Jacobian at (t_a, z) (1 + n_motion evaluations).
     """
     JT, LUr, pivr, LUc, pivc, Q, z_sol, st, lapack = work
+    keep_lo = st[_S_KEEP_LO]
+    scipy_like = st[_S_SCIPY_LIKE] == 1.0
     ny = z.size
     if JT.shape[0] != ny or atol.size != ny or shift.size != ny:
         raise ValueError("radau_segment: workspace, atol or shift do not match the state size")
@@ -255,24 +272,24 @@ def _radau_core(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_o
     resume = st[_S_RESUME] == 1.0 and st[_S_T] == t_a
     st[_S_RESUME] = 0.0
     if not resume:
-        project(z, shift, p_idx, f, False)
+        project(z, shift, p_idx, f)             # f: scratch until the rhs below
         st[_S_HAS_SOL] = 0.0
         st[_S_HAS_OLD] = 0.0
         st[_S_H_LU] = 0.0
-    rhs(t_a, t_b, z, shift, ybuf, f, d)
+    rhs(t_a, t_b, z, shift, ybuf, f, kernel)
     counts[0] += 1
     if not finite(f):
         return -2, t_a, dt_or_h0, k_out
     if resume:
         current_jac = st[_S_CURRENT_JAC] == 1.0
     else:
-        _jacobian(t_a, t_b, z, f, shift, d, JT, n_motion, zj, ybuf, fj, counts)
+        _jacobian(t_a, t_b, z, f, shift, kernel, JT, n_motion, zj, ybuf, fj, counts)
         current_jac = True
     h_lu = st[_S_H_LU]                       # 0: no valid LU factors
     if dt_or_h0 > 0.0:
         h_abs = dt_or_h0
     else:
-        h_abs = initial_step(t_a, t_b, z, f, shift, d, rtol, atol, h_max, 3, ybuf, zt, fj,
+        h_abs = initial_step(t_a, t_b, z, f, shift, kernel, rtol, atol, h_max, 3, ybuf, zt, fj,
                               counts)
     newton_tol = max(10.0 * EPS / rtol, min(0.03, math.sqrt(rtol)))
     first = not resume
@@ -334,12 +351,12 @@ def _radau_core(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_o
                     h_lu = h if regular else 0.0
                 if regular:
                     converged, n_iter, rate = _newton(t, t_b, z, h, Z0, scale, newton_tol, shift,
-                                                      d, LUr, pivr, LUc, pivc, lapack, Z, W, F,
+                                                      kernel, LUr, pivr, LUc, pivc, lapack, Z, W, F,
                                                       dW, ybuf, zt, err, bc, nn, one, info, trans,
                                                       counts)
                 if converged or current_jac:
                     break
-                _jacobian(t, t_b, z, f, shift, d, JT, n_motion, zj, ybuf, fj, counts)
+                _jacobian(t, t_b, z, f, shift, kernel, JT, n_motion, zj, ybuf, fj, counts)
                 current_jac = True
                 h_lu = 0.0
             if not converged:
@@ -359,7 +376,7 @@ def _radau_core(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_o
             if (rejected or (first and not scipy_like)) and error_norm > 1.0:
                 for i in range(ny):
                     zt[i] = z[i] + err[i]
-                rhs(t, t_b, zt, shift, ybuf, fj, d)
+                rhs(t, t_b, zt, shift, ybuf, fj, kernel)
                 counts[0] += 1
                 for i in range(ny):
                     err[i] = fj[i] + ze[i]
@@ -385,7 +402,7 @@ def _radau_core(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_o
             factor = 1.0
         else:
             h_lu = 0.0
-        rhs(t_new, t_b, zn, shift, ybuf, fn, d)
+        rhs(t_new, t_b, zn, shift, ybuf, fn, kernel)
         counts[0] += 1
         if not (finite(zn) and finite(fn)):
             status = -2
@@ -421,7 +438,7 @@ def _radau_core(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_o
             f[i] = fn[i]
         t = t_new
         if recompute_jac:
-            _jacobian(t, t_b, z, f, shift, d, JT, n_motion, zj, ybuf, fj, counts)
+            _jacobian(t, t_b, z, f, shift, kernel, JT, n_motion, zj, ybuf, fj, counts)
             current_jac = True
         else:
             current_jac = False
@@ -440,18 +457,3 @@ def _radau_core(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_o
     if status == 0:
         t = t_b
     return status, t, h_abs, k_out
-
-
-@jit
-def radau_segment(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_out, max_steps,
-                  p_idx, n_motion, counts, work):
-    """Radau IIA of order 5 over [t_a, t_b] (see the module docstring).
-
-    work : tuple from :func:`radau_workspace` (ny). A call resumes the
-    previous one (same Jacobian, LU factors, dense output and controller
-    history; no projection) when that one paused (status 1) at t == t_a;
-    otherwise it starts afresh: projects z, evaluates f and the Jacobian at
-    (t_a, z) (1 + n_motion evaluations).
-    """
-    return _radau_core(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_out,
-                       max_steps, p_idx, n_motion, counts, work, _KEEP_H_LOW, False)

@@ -13,7 +13,7 @@ __all__ = ["rk4_segment"]
 
 
 @jit
-def rk4_segment(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_out, max_steps,
+def rk4_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid, Y, k_out, max_steps,
                 p_idx, n_motion, counts, work):
     """Classical RK4 over [t_a, t_b] in equal steps of at most min(dt_or_h0, h_max).
 
@@ -30,8 +30,8 @@ def rk4_segment(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_o
     ybuf, f, k2, k3, k4, zt, zn = buf[0], buf[1], buf[2], buf[3], buf[4], buf[5], buf[6]
     fn = np.empty(ny)
 
-    project(z, shift, p_idx, f, False)
-    rhs(t_a, t_b, z, shift, ybuf, f, d)
+    project(z, shift, p_idx, f)                 # f: scratch until the rhs below
+    rhs(t_a, t_b, z, shift, ybuf, f, kernel)
     counts[0] += 1
     if not finite(f):
         return -2, t_a, h, k_out
@@ -43,19 +43,19 @@ def rk4_segment(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_o
         hs = t_new - t
         for i in range(ny):
             zt[i] = z[i] + 0.5 * hs * f[i]
-        rhs(t + 0.5 * hs, t_b, zt, shift, ybuf, k2, d)
+        rhs(t + 0.5 * hs, t_b, zt, shift, ybuf, k2, kernel)
         for i in range(ny):
             zt[i] = z[i] + 0.5 * hs * k2[i]
-        rhs(t + 0.5 * hs, t_b, zt, shift, ybuf, k3, d)
+        rhs(t + 0.5 * hs, t_b, zt, shift, ybuf, k3, kernel)
         for i in range(ny):
             zt[i] = z[i] + hs * k3[i]
-        rhs(t_new, t_b, zt, shift, ybuf, k4, d)
+        rhs(t_new, t_b, zt, shift, ybuf, k4, kernel)
         for i in range(ny):
             zn[i] = z[i] + (hs / 6.0) * (f[i] + 2.0 * (k2[i] + k3[i]) + k4[i])
         counts[0] += 3
         if not finite(zn):
             return -2, t, h, k_out
-        rhs(t_new, t_b, zn, shift, ybuf, fn, d)
+        rhs(t_new, t_b, zn, shift, ybuf, fn, kernel)
         counts[0] += 1
         if not finite(fn):
             return -2, t, h, k_out
@@ -82,6 +82,6 @@ def rk4_segment(t_a, t_b, z, shift, d, rtol, atol, dt_or_h0, h_max, grid, Y, k_o
         for i in range(ny):
             z[i] = zn[i]
             f[i] = fn[i]
-        project(z, shift, p_idx, f, True)
+        project(z, shift, p_idx, f)
         t = t_new
     return 0, t_b, h, k_out

@@ -207,7 +207,7 @@ def kernel_cost(case: Case, seconds: float = 0.5, repeat: int = 5) -> float:
     t, y = probe_state(case)
     y = np.ascontiguousarray(y, dtype=float)
     dy = np.empty_like(y)
-    d = case.system.data
+    d = case.system.kernel
     evaluate_many(1, t, math.inf, y, dy, d)              # compile or load, outside the timing
     t0 = time.perf_counter()
     evaluate_many(100, t, math.inf, y, dy, d)

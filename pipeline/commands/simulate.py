@@ -32,7 +32,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", default=None, metavar="FILE",
                         help="results file (default: <scene file stem>-results.h5)")
     parser.add_argument("--integrator", choices=METHODS, default=None,
-                        help="time integrator (default: the scene's)")
+                        help="time integrator; auto: radau where dop853 would be "
+                             "stability-bound, else dop853 (default: the scene's)")
     parser.add_argument("--dt", type=float, default=None, metavar="DT", help="rk4 step [s]")
     parser.add_argument("--rtol", type=float, default=None, metavar="R",
                         help="relative tolerance (adaptive methods)")
@@ -152,6 +153,8 @@ def run(args: argparse.Namespace) -> int:
               f"({count(st.rhs_evaluations, 'right-hand side')})")
     else:
         rej = "n/a" if st.rejected < 0 else str(st.rejected)
+        if st.requested == "auto":
+            print(st.reason)
         print(f"{st.method}: {count(st.steps, 'step')} ({rej} rejected), "
               f"{count(st.rhs_evaluations, 'right-hand side')}, "
               f"{count(st.jacobian_evaluations, 'Jacobian')}, {count(st.segments, 'segment')}, "

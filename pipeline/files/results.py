@@ -21,7 +21,10 @@
   exact solution);
 - ``modal/``: ``coordinates``, ``rates``, ``accelerations`` (k, n_modal)
   of the flexible bodies [kg^1/2 m, /s, /s²] (empty with a rigid bed);
-- ``solver/`` attributes: method, settings and statistics;
+- ``solver/`` attributes: method, settings and statistics (``method`` is
+  the one that ran, ``method_requested`` and ``method_reason`` what was
+  asked and why that one ran; ``wall_time`` [s] the solve's own time,
+  ``load_time`` [s] loading the compiled code before it);
 - ``bed`` attributes: ``model``, ``plate_input_hash`` (the modes file's
   ``input_hash``), ``modes_file`` (its absolute path when written),
   ``modes_file_relative`` (from the results file's folder; 1.1),
@@ -239,7 +242,9 @@ def results_contents(sf: SceneFile, system: System, run: Run, *, start: str,
         "rejected_source": st.rejected_source, "rhs_evaluations": st.rhs_evaluations,
         "jacobian_evaluations": st.jacobian_evaluations,
         "lu_decompositions": st.lu_decompositions, "segments": st.segments,
-        "wall_time": st.wall_time, "t_reached": run.t_reached,
+        "wall_time": st.wall_time, "load_time": st.load_time,
+        "method_requested": st.requested or st.method, "method_reason": st.reason,
+        "t_reached": run.t_reached,
     }
     solver_attrs.update(model or {"model": "nonlinear", "model_requested": "nonlinear",
                                   "model_reason": "requested"})

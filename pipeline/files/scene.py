@@ -59,7 +59,7 @@ class SolverSection:
     """``[solver]``: see the README. Times [s], tolerances as stated there."""
 
     t_end: float = 3.0
-    integrator: str = "dop853"
+    integrator: str = "auto"
     dt: float = 1e-3
     rtol: float = 1e-8
     atol: float = 1e-10
