@@ -101,7 +101,8 @@ class Settings:
     state component]; output_dt : float > 0 [s]; max_steps : int;
     stiff_steps : int ≥ 0, the most steps over [0, t_end] that the stability
     of ``dop853`` may force before the run is refused as a stiff scene (0:
-    no stiffness check, for ``rk4`` either; see the module docstring).
+    no stiffness check, for ``rk4`` either; see the module docstring); with
+    ``auto``, more than that many makes radau run.
     """
 
     method: str = "auto"
