@@ -148,13 +148,7 @@ class Statics:
 
 
 def _statics_of(scene: SceneFile, system: System, eq: Equilibrium) -> Statics:
-    parts = system.layout.split(eq.y)
-    pos = np.array(system.initial_r, dtype=float)
-    pos[1:] = parts["r"]
-    if parts["r_base"] is not None:
-        pos[0] = parts["r_base"]
-    p = np.array(system.initial_p, dtype=float)
-    p[1:] = parts["p"]
+    pos, p = system.poses(eq.y)
     return Statics(scene, tuple(b.name for b in system.scene.bodies), pos, p,
                    np.degrees(angles_from_p(p)), eq, system)
 

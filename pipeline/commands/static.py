@@ -45,13 +45,7 @@ def add_modes_file_arg(parser: argparse.ArgumentParser) -> None:
 
 def equilibrium_table(system: System, y: np.ndarray) -> str:
     """Table 2: x, y, z [m], roll, pitch, yaw [deg] per body."""
-    parts = system.layout.split(y)
-    pos = np.array(system.initial_r, dtype=float)
-    pos[1:] = parts["r"]
-    if parts["r_base"] is not None:
-        pos[0] = parts["r_base"]
-    p = np.array(system.initial_p, dtype=float)
-    p[1:] = parts["p"]
+    pos, p = system.poses(y)
     ang = np.degrees(angles_from_p(p))
     names = [b.name for b in system.scene.bodies]
     w = max(4, max(len(n) for n in names))

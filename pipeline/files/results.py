@@ -80,13 +80,7 @@ def _scene_part(sf: SceneFile) -> tuple[dict, dict]:
 
 
 def _equilibrium_part(system: System, eq: Equilibrium, prefix: str) -> tuple[dict, dict]:
-    parts = system.layout.split(eq.y)
-    pos = np.array(system.initial_r, dtype=float)
-    pos[1:] = parts["r"]
-    if parts["r_base"] is not None:
-        pos[0] = parts["r_base"]
-    p = np.array(system.initial_p, dtype=float)
-    p[1:] = parts["p"]
+    pos, p = system.poses(eq.y)
     from flexbed.dynamics.rotation import angles_from_p
     ds = {
         f"{prefix}position": Dataset(pos, "m", "centre-of-mass positions at equilibrium"),
@@ -225,13 +219,7 @@ def results_contents(sf: SceneFile, system: System, run: Run, *, start: str,
     ds["modal/accelerations"] = Dataset(h["modal_acceleration"], "kg^1/2 m/s^2",
                                         "modal accelerations d2a/dt2")
     y0 = run.y[0] if len(run.t) else system.initial_state()
-    parts = system.layout.split(y0)
-    pos0 = np.array(system.initial_r, dtype=float)
-    pos0[1:] = parts["r"]
-    if parts["r_base"] is not None:
-        pos0[0] = parts["r_base"]
-    p0 = np.array(system.initial_p, dtype=float)
-    p0[1:] = parts["p"]
+    pos0, p0 = system.poses(y0)
     ds["initial/position"] = Dataset(pos0, "m", "positions at t = 0")
     ds["initial/euler_parameters"] = Dataset(p0, "1", "Euler parameters at t = 0")
     st = run.stats
