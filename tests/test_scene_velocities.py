@@ -4,7 +4,6 @@ a body launched on linear mounts against x(t) = v0/ω sin ωt (nonlinear
 integrator and linear fast path, from the static equilibrium), a free base
 drifting, the flexible bed's frame, and the refusals."""
 
-import math
 
 import numpy as np
 import pytest

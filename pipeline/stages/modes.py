@@ -4,10 +4,14 @@ made from the same plate inputs and holds the modes asked for, else computed."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file, write_modes_file
 from flexbed.files.scene import SceneFile
+
+if TYPE_CHECKING:
+    from flexbed.fem.bed import BedModes
 
 __all__ = ["default_modes_path", "ensure_modes", "compute_modes"]
 
