@@ -76,10 +76,9 @@ import time
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.integrate import BDF, LSODA
 
-from .steppers import (N_COUNTS, dop853_segment, radau_segment, radau_reset, radau_workspace,
-                       rk4_segment)
+from . import steppers
+from .steppers import N_COUNTS
 from .stiffness import (auto_method, jacobian_columns, motion_eigenvalues, segments, stable_step,
                         stiff_message)
 from .system import System
@@ -89,7 +88,14 @@ __all__ = ["Settings", "Stats", "Run", "integrate", "warm_up", "METHODS", "outpu
 
 
 METHODS = ("auto", "rk4", "adams", "bdf", "radau", "dop853")
-_SCIPY = {"adams": LSODA, "bdf": BDF}
+
+
+def _scipy_stepper(method: str):
+    """SciPy's LSODA (adams) or BDF class, imported when one of them runs:
+    ``scipy.integrate``'s ``__init__`` costs about 0.3 s of CPU that the
+    compiled methods do not need."""
+    from scipy.integrate import BDF, LSODA
+    return {"adams": LSODA, "bdf": BDF}[method]
 
 
 @dataclass(frozen=True, slots=True)
@@ -353,7 +359,9 @@ def warm_up(system: System, y0: np.ndarray, methods=None) -> None:
 #: reports progress and Python can take a Ctrl-C.
 CHUNK_STEPS = 50
 
-_COMPILED = {"rk4": rk4_segment, "dop853": dop853_segment, "radau": radau_segment}
+#: The compiled steppers' names in :mod:`dynamics.steppers`, looked up when
+#: a run needs one (radau's module is imported only then: see the package).
+_COMPILED = {"rk4": "rk4_segment", "dop853": "dop853_segment", "radau": "radau_segment"}
 
 
 def _first_step(system: System, t: float, tb: float) -> tuple[float, float]:
@@ -372,11 +380,11 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
     spent loading (or compiling) the stepper, by a call that takes no step,
     before the first one."""
     method = settings.method
-    step = _COMPILED[method]
+    step = getattr(steppers, _COMPILED[method])
     lay = system.layout
     p_idx = np.ascontiguousarray(lay.p_indices(), dtype=np.int64).reshape(-1, 4)
     n_motion = lay.nq + lay.nv
-    work = radau_workspace(z.size) if method == "radau" else ()
+    work = steppers.radau_workspace(z.size) if method == "radau" else ()
     kernel = system.kernel
     grid = np.ascontiguousarray(grid, dtype=float)
     load0 = time.perf_counter()
@@ -393,7 +401,7 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
         else:
             hmax, h = _first_step(system, t, tb)
         if method == "radau":
-            radau_reset(work)
+            steppers.radau_reset(work)
         while True:
             budget = min(CHUNK_STEPS, settings.max_steps - int(counts[1]))
             if budget <= 0:
@@ -444,7 +452,7 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
             extra = {"max_step": hmax, "first_step": h0} if h0 > 0 else {}
             if method == "bdf":
                 extra["jac"] = implicit_jac
-            stepper = _SCIPY[method](trial, t, z, tb, rtol=rtol, atol=atol, **extra)
+            stepper = _scipy_stepper(method)(trial, t, z, tb, rtol=rtol, atol=atol, **extra)
             while stepper.status == "running":
                 if stats.steps >= settings.max_steps:
                     raise _Stop(f"the maximum number of steps ({settings.max_steps}) was "

@@ -16,7 +16,7 @@ from __future__ import annotations
 from bisect import bisect_left, bisect_right
 
 import numpy as np
-from scipy.interpolate import CubicSpline
+from scipy.linalg import solve_banded   # loaded anyway by numba; scipy.interpolate is not
 
 __all__ = ["PiecewisePolynomial", "spline_with_tails", "END_CONDITIONS"]
 
@@ -142,19 +142,14 @@ def spline_with_tails(x, y, *, left: str, right: str, end: str = "not-a-knot",
     """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
-    if end == "clamped":
-        bc = ((1, float(slopes[0])), (1, float(slopes[1])))
-    elif end in END_CONDITIONS:
-        bc = end
-    else:
+    if end not in END_CONDITIONS:
         raise ValueError(f"unknown end condition {end!r}")
-    cs = CubicSpline(x, y, bc_type=bc)
-    interior = cs.c[::-1].T                          # (n - 1, 4) ascending
-    if end == "clamped":
-        end_slope = (float(slopes[0]), float(slopes[1]))
-    else:
-        d1 = cs.derivative()
-        end_slope = (float(d1(x[0])), float(d1(x[-1])))
+    s = _spline_slopes(x, y, end, slopes)
+    h = np.diff(x)
+    m = np.diff(y) / h
+    t = (s[:-1] + s[1:] - 2.0 * m) / h
+    interior = np.column_stack([y[:-1], s[:-1], (m - s[:-1]) / h - t, t / h])   # (n - 1, 4)
+    end_slope = (float(s[0]), float(s[-1]))
 
     def tail(rule: str, slope: float, value: float) -> list[float]:
         if rule == "zero":
@@ -168,3 +163,45 @@ def spline_with_tails(x, y, *, left: str, right: str, end: str = "not-a-knot",
     coeffs = np.vstack([tail(left, end_slope[0], y[0]), interior,
                         tail(right, end_slope[1], y[-1])])
     return PiecewisePolynomial(x, coeffs)
+
+
+def _spline_slopes(x: np.ndarray, y: np.ndarray, end: str, slopes) -> np.ndarray:
+    """The slopes s_i = f'(x_i), shape (n,), of the C² cubic spline through
+    (x, y) with end conditions ``end`` (see :func:`spline_with_tails`).
+
+    Continuity of f'' at the interior samples gives, with h_i = x_{i+1} − x_i
+    and the secant slopes m_i = (y_{i+1} − y_i)/h_i, the tridiagonal rows
+    h_i s_{i−1} + 2(h_{i−1} + h_i) s_i + h_{i−1} s_{i+1} = 3(h_i m_{i−1} + h_{i−1} m_i),
+    i = 1 … n−2; the end rows are not-a-knot (f''' continuous at x_1 and
+    x_{n−2}, in de Boor's form, which stays in the band), natural (f'' = 0
+    at both ends) or clamped (s_0 and s_{n−1} given: the interior rows alone
+    are solved).
+    """
+    n = x.size
+    if n < 4 or y.shape != (n,):
+        raise ValueError(f"a spline needs x and y of one length n >= 4, got {x.shape}, {y.shape}")
+    h = np.diff(x)
+    m = np.diff(y) / h
+    ab = np.zeros((3, n))             # solve_banded's layout: ab[1 + i - j, j] = A[i, j]
+    r = np.empty(n)
+    ab[2, :-2] = h[1:]                # A[i, i-1] = h_i
+    ab[1, 1:-1] = 2.0 * (h[:-1] + h[1:])
+    ab[0, 2:] = h[:-1]                # A[i, i+1] = h_{i-1}
+    r[1:-1] = 3.0 * (h[1:] * m[:-1] + h[:-1] * m[1:])
+    if end == "clamped":
+        s = np.empty(n)
+        s[0], s[-1] = float(slopes[0]), float(slopes[1])
+        r[1] -= h[1] * s[0]
+        r[-2] -= h[-2] * s[-1]
+        s[1:-1] = solve_banded((1, 1), ab[:, 1:-1], r[1:-1])
+        return s
+    if end == "natural":              # f''(x_0) = f''(x_{n-1}) = 0
+        ab[1, 0], ab[0, 1], r[0] = 2.0, 1.0, 3.0 * m[0]
+        ab[2, -2], ab[1, -1], r[-1] = 1.0, 2.0, 3.0 * m[-1]
+    else:                             # not-a-knot
+        d0, d1 = h[0] + h[1], x[-1] - x[-3]
+        ab[1, 0], ab[0, 1] = h[1], d0
+        r[0] = ((h[0] + 2.0 * d0) * h[1] * m[0] + h[0] ** 2 * m[1]) / d0
+        ab[2, -2], ab[1, -1] = d1, h[-2]
+        r[-1] = (h[-1] ** 2 * m[-2] + (2.0 * d1 + h[-1]) * h[-2] * m[-1]) / d1
+    return solve_banded((1, 1), ab, r)

@@ -41,8 +41,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate import DOP853
 
+from .dop853_tableau import dop853_coefficients
 from .system import System
 
 __all__ = ["motion_eigenvalues", "stable_step", "stable_step_at_start", "stiff_message",
@@ -63,10 +63,12 @@ def _stability_polynomial(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array(g)
 
 
-# R(z) of the explicit methods, highest power first (for np.polyval)
+# R(z) of the explicit methods, highest power first (for np.polyval);
+# DOP853's 12 stages are SciPy's DOP853.A and .B
+_DOP = dop853_coefficients()
 _STABILITY = {
     "rk4": np.array([1.0 / math.factorial(k) for k in range(4, -1, -1)]),
-    "dop853": _stability_polynomial(DOP853.A, DOP853.B)[::-1].copy(),
+    "dop853": _stability_polynomial(_DOP.A[:_DOP.N_STAGES, :_DOP.N_STAGES], _DOP.B)[::-1].copy(),
 }
 
 #: Bounds [lo, hi] of the radius |hλ| at which each method's |R(hλ)| first

@@ -28,9 +28,9 @@ sys.exit(code)
 """
 
 
-def probe(*argv, cwd=None):
-    """(exit code, stdout, the heavy packages imported) of ``flexbed argv``."""
-    p = subprocess.run([sys.executable, "-c", PROBE.format(heavy=HEAVY), *argv], cwd=cwd,
+def probe(*argv, cwd=None, watch=HEAVY):
+    """(exit code, stdout, the modules of ``watch`` imported) of ``flexbed argv``."""
+    p = subprocess.run([sys.executable, "-c", PROBE.format(heavy=watch), *argv], cwd=cwd,
                        capture_output=True, text=True, timeout=300)
     line = [s for s in p.stderr.splitlines() if s.startswith("IMPORTED:")]
     assert line, p.stderr
@@ -54,6 +54,18 @@ def test_simulate_does_not_import_plotting_or_fem(tmp_path):
                                 "--no-progress", cwd=tmp_path)
     assert code == 0 and "wrote" in out
     assert not imported & {"matplotlib", "skfem", "meshio"}, imported
+
+
+def test_a_whole_simulate_of_the_built_in_scene_skips_scipy_integrate_and_interpolate(tmp_path):
+    """The built-in scene's run (auto → dop853, curve data through our own
+    spline) needs neither scipy.integrate's package (SciPy's DOP853
+    coefficients are read from their file alone) nor scipy.interpolate: the
+    two cost about 0.3 s of CPU to import."""
+    code, out, imported = probe("simulate", "-o", str(tmp_path / "r.h5"), "--no-progress",
+                                cwd=tmp_path, watch=("scipy.integrate", "scipy.interpolate",
+                                                     "scipy.optimize", "h5py"))
+    assert code == 0 and "wrote" in out and "dop853" in out
+    assert imported == {"h5py"}, imported   # h5py: the probe sees imports
 
 
 def test_help_lists_every_command_and_each_commands_options(capsys):

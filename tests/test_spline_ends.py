@@ -1,7 +1,7 @@
 """Spline end conditions of curve data (``end_condition`` = "not-a-knot" |
 "natural" | "clamped", ``end_slopes``): the end conditions hold, each
-reproduces a function that satisfies them exactly, not-a-knot is today's
-spline bit for bit, the tails keep their rules, the scene file checks the
+reproduces a function that satisfies them exactly, each is SciPy's
+CubicSpline with that bc_type to round-off, the tails keep their rules, the scene file checks the
 keys, and a run with each works end to end."""
 
 import numpy as np
@@ -87,21 +87,54 @@ def test_clamped_has_the_given_slopes_and_reproduces_a_cubic_with_them(slopes):
     assert f(X[0] - 0.1) - f(X[0]) == pytest.approx(-0.1 * slopes[0], abs=1e-9)
 
 
-def test_not_a_knot_is_the_default_and_unchanged_bit_for_bit():
-    """The default is SciPy's not-a-knot spline as before, coefficient for
-    coefficient, and reproduces a cubic."""
+def scipy_close(coeffs, cs):
+    """Interior coefficients (n − 1, 4) equal to SciPy's CubicSpline ``cs``
+    to 1e-13 of each power's largest coefficient (our own tridiagonal
+    solve, not SciPy's: equal up to round-off, not bit for bit)."""
+    ref = cs.c[::-1].T
+    scale = np.abs(ref).max(axis=0)
+    return np.all(np.abs(coeffs - ref) <= 1e-13 * scale)
+
+
+def test_not_a_knot_is_the_default_and_scipys():
+    """The default is SciPy's not-a-knot spline, coefficient for coefficient
+    to round-off, and reproduces a cubic."""
     y = RNG.normal(size=X.size)
     f = Curve(X, y).compile().value
     cs = CubicSpline(X, y, bc_type="not-a-knot")
-    assert np.array_equal(f.coeffs[1:-1], cs.c[::-1].T)
+    assert scipy_close(f.coeffs[1:-1], cs)
     assert np.array_equal(f.coeffs[-1], [y[-1], 0, 0, 0]) and not np.any(f.coeffs[0])
     law = LawBank([CurveLaw((X, y))])
     d1 = cs.derivative()
-    assert np.array_equal(law.curve_springs[0].coeffs[0], [y[0], d1(X[0]), 0, 0])
+    tail = law.curve_springs[0].coeffs[0]
+    assert tail[0] == y[0] and np.array_equal(tail[2:], [0, 0])
+    assert tail[1] == pytest.approx(d1(X[0]), rel=1e-13)
+    # the tail's slope is the first piece's slope at X[0]: C¹ exactly
+    assert tail[1] == law.curve_springs[0].coeffs[1, 1]
     p = np.polynomial.Polynomial([0.3, -2.0, 40.0, -90.0])
     g = SplineEnds().spline(X, p(X), left="zero", right="hold")
     xs = np.linspace(X[0], X[-1], 501)
     assert np.abs(g.evaluate(xs) - p(xs)).max() < 1e-13
+
+
+@pytest.mark.parametrize("n", [4, 5, 9])
+@pytest.mark.parametrize("ends,bc_type", [
+    (SplineEnds(), "not-a-knot"),
+    (SplineEnds("natural"), "natural"),
+    (SplineEnds("clamped", (0.0, 0.0)), ((1, 0.0), (1, 0.0))),
+    (SplineEnds("clamped", (-3.0e4, 2.5e5)), ((1, -3.0e4), (1, 2.5e5))),
+])
+def test_each_end_condition_is_scipys_cubic_spline(ends, bc_type, n):
+    """Each end condition against SciPy's CubicSpline with the matching
+    bc_type, on uneven samples (n = 4 is the fewest a scene allows)."""
+    x = np.sort(RNG.uniform(0.0, 1.0, n)) * 0.04 + np.linspace(0.0, 0.2, n)
+    y = RNG.normal(size=n) * 1e3
+    f = ends.spline(x, y, left="linear", right="linear")
+    cs = CubicSpline(x, y, bc_type=bc_type)
+    assert scipy_close(f.coeffs[1:-1], cs)
+    d1 = cs.derivative()
+    assert f.coeffs[0, 1] == pytest.approx(d1(x[0]), rel=1e-12, abs=1e-9)
+    assert f.coeffs[-1, 1] == pytest.approx(d1(x[-1]), rel=1e-12, abs=1e-9)
 
 
 @pytest.mark.parametrize("ends", [SplineEnds(), SplineEnds("natural"),

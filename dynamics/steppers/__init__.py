@@ -114,7 +114,13 @@ compiled with ``error_model="numpy"``: a division by zero gives inf or nan
 Modules
 -------
 :mod:`.common` (what the steppers share), :mod:`.rk4`, :mod:`.dop853`,
-:mod:`.radau` with :mod:`.lapack` (its LAPACK entry points).
+:mod:`.radau` with :mod:`.lapack` (its LAPACK entry points). :mod:`.radau`
+is imported when one of its names is first asked for (``radau_segment``
+etc. from this package), not with the package: it takes SciPy's Radau
+constants from ``scipy.integrate._ivp.radau``, and importing that runs
+``scipy.integrate``'s ``__init__`` (about 0.3 s of CPU) that a dop853 run
+does not need. numba's cache is per function and source file, so a late
+import loads the same cached code.
 """
 
 from __future__ import annotations
@@ -124,7 +130,6 @@ from ..jitcache import refresh as _refresh
 _refresh()   # before any compiled function is loaded (flexbed.dynamics.jitcache)
 
 from .dop853 import dop853_segment
-from .radau import radau_reset, radau_segment, radau_workspace
 from .rk4 import rk4_segment
 
 __all__ = ["rk4_segment", "dop853_segment", "radau_segment", "radau_workspace", "radau_reset",
@@ -133,3 +138,13 @@ __all__ = ["rk4_segment", "dop853_segment", "radau_segment", "radau_workspace", 
 N_COUNTS = 5
 STATUS = {0: "reached t_b", 1: "paused (max_steps)", -1: "step size too small",
           -2: "non-finite state"}
+
+_RADAU_NAMES = ("radau_segment", "radau_workspace", "radau_reset")
+
+
+def __getattr__(name: str):
+    """The radau names, imported on first use (see Modules above)."""
+    if name in _RADAU_NAMES:
+        from . import radau
+        return getattr(radau, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

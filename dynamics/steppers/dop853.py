@@ -6,13 +6,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate._ivp import dop853_coefficients as _dop
 
+from ..dop853_tableau import dop853_coefficients
 from .common import inner, EPS, end_tol, finite, initial_step, jit, normalise_row, project, put_end, rhs
 
 __all__ = ["dop853_segment"]
 
 # --- DOP853 coefficients (SciPy's) -------------------------------------------
+_dop = dop853_coefficients()   # SciPy's file, without scipy.integrate's __init__
 _DA = np.ascontiguousarray(_dop.A, dtype=np.float64)          # (16, 16)
 _DC = np.ascontiguousarray(_dop.C, dtype=np.float64)          # (16,)
 _DB = np.ascontiguousarray(_dop.B, dtype=np.float64)          # (12,)
