@@ -10,19 +10,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from flexbed.files.destination import atomic_write  # noqa: E402
+
 STYLES = {"rigid": dict(color="k", lw=1.2), "flexible": dict(color="tab:blue", lw=1.0, ls="--"),
           "damped": dict(color="tab:red", lw=1.0), "x": dict(color="tab:green", lw=1.0),
           "y": dict(color="tab:orange", lw=1.0), "z": dict(color="k", lw=1.2)}
 
 
 def save_figure(fig, path: Path) -> Path:
-    """Write a figure as PNG atomically (temporary file, then rename) and close it."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp.png")
-    fig.savefig(tmp, dpi=120)
-    plt.close(fig)
-    tmp.replace(path)
-    return path
+    """Write a figure as PNG atomically (:mod:`flexbed.files.destination`) and close it."""
+    try:
+        return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
+    finally:
+        plt.close(fig)
 
 
 def plot_responses(path: Path, title: str, curves: dict[str, tuple[np.ndarray, np.ndarray]],

@@ -28,6 +28,7 @@ import numba
 import numpy as np
 import scipy
 
+from flexbed.files.destination import write_text
 from flexbed.bench.cases import CASES, CaseSpec, kernel_cost, rhs_cost
 from flexbed.bench.fastpath import section_linear, section_modes_auto
 from flexbed.bench.context import FULL, QUICK, BenchContext
@@ -416,9 +417,7 @@ def write_report(out_dir: str | Path, *, scene: str | Path | None = None, quick:
     elapsed = time.perf_counter() - t0
     text = _header(ctx, [s.name for s in chosen], elapsed, load, command) + "\n" + "\n".join(texts)
     path = out / filename
-    tmp_path = path.with_name(f".{path.name}.tmp")
-    tmp_path.write_text(text)
-    tmp_path.replace(path)
+    write_text(path, text)
     # files this run did not write are never touched: an earlier report's
     # PNGs that this one does not draw are only named
     stale = sorted(p for p in out.glob("bench-*.png") if p not in ctx.figures) \

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from flexbed.analyses.compare import (CASES, LABELS, comparison_rows, csv_table, markdown_table,
                                       relative_vertical, run_case)
+from flexbed.files.destination import write_text
 from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile, load_scene
 from flexbed.plots import plot_responses, plot_series
@@ -72,7 +73,7 @@ def compare_scene(sf: SceneFile, out: Path, *, force: bool = False, log=print) -
     rows = comparison_rows(runs, names, equipment)
     files = []
     table = markdown_table(rows)
-    (out / f"{name}-compare.csv").write_text(csv_table(rows))
+    write_text(out / f"{name}-compare.csv", csv_table(rows))
     files.append(out / f"{name}-compare.csv")
     for i in equipment:
         curves = {c: (runs[c].t, 1e3 * relative_vertical(runs[c], i)) for c in CASES}

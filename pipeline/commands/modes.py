@@ -12,6 +12,7 @@ import sys
 import time
 from pathlib import Path
 
+from flexbed.files.destination import check_destination
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.files.scene import load_scene
@@ -86,6 +87,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     sf = load_scene(args.scene)
     path = Path(args.output) if args.output else default_modes_path(sf)
+    check_destination(path)          # refused before any work, not after
     t0 = time.perf_counter()
     data, reused = ensure_modes(sf, path, n_modes=args.modes, fmax=args.fmax, force=args.force,
                                 log=lambda m: print(m, file=sys.stderr))

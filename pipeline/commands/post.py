@@ -17,6 +17,7 @@ from pathlib import Path
 
 from flexbed.analyses.points import (Run, motion_csv, motion_table, mount_csv, mount_table,
                                      parse_point)
+from flexbed.files.destination import write_text
 from flexbed.errors import InputError
 
 
@@ -74,11 +75,11 @@ def run(args: argparse.Namespace) -> int:
         for m in motions:
             suffix = "" if m.frame == "inertial" else f"-rel-{m.frame.replace(' ', '_')}"
             f = out / f"point-{m.point.name.replace(' ', '_')}{suffix}.csv"
-            f.write_text(motion_csv(r.t, m))
+            write_text(f, motion_csv(r.t, m))
             print(f"wrote {f}")
         if args.mounts:
             f = out / "mounts.csv"
-            f.write_text(mount_csv(r))
+            write_text(f, mount_csv(r))
             print(f"wrote {f}")
     if args.plot and (motions or args.mounts):
         from flexbed.plots import plot_mount_forces, plot_responses   # matplotlib

@@ -24,6 +24,7 @@ from flexbed.commands.compare import add_solver_args, compare_scene, with_solver
 from flexbed.commands.modes import auto_line, modes_table
 from flexbed.commands.static import equilibrium_csv, equilibrium_table
 from flexbed.dynamics.statics import solve_statics
+from flexbed.files.destination import write_text
 from flexbed.errors import NumericalError
 from flexbed.fem.export import write_modes_vtu
 from flexbed.files.results import write_equilibrium
@@ -93,14 +94,14 @@ def run(args: argparse.Namespace) -> int:
     data_rows = ["mode,frequency_Hz,shape,symmetry"] + [
         f"{k + 1},{f:.10g},{lab},{sym}" for k, (f, lab, sym)
         in enumerate(zip(data.frequency, data.labels, data.symmetry))]
-    (out / f"{name}-modes.csv").write_text("\n".join(data_rows) + "\n")
-    (out / f"{name}-equilibrium.csv").write_text(equilibrium_csv(system, eq.y))
+    write_text(out / f"{name}-modes.csv", "\n".join(data_rows) + "\n")
+    write_text(out / f"{name}-equilibrium.csv", equilibrium_csv(system, eq.y))
     res["files"] += [out / f"{name}-modes.csv", out / f"{name}-equilibrium.csv"]
     for case, cr in res["runs"].items():
         r = Run(cr.path)
         if r.mount_names:
             f = out / f"{name}-{case}-mounts.csv"
-            f.write_text(mount_peaks_csv(r))
+            write_text(f, mount_peaks_csv(r))
             res["files"] += [f, plot_mount_forces(
                 out / f"{name}-{case}-mount-forces.png", f"mount forces ({LABELS[case]})",
                 r.t, r.mounts["force"], r.mount_names, r.mount_body_i, r.mount_body_j)]
@@ -125,7 +126,7 @@ def run(args: argparse.Namespace) -> int:
             for m in motions:
                 suffix = "" if m.frame == "inertial" else f"-rel-{m.frame.replace(' ', '_')}"
                 f = out / f"{name}-{case}-point-{m.point.name.replace(' ', '_')}{suffix}.csv"
-                f.write_text(motion_csv(r.t, m))
+                write_text(f, motion_csv(r.t, m))
                 res["files"].append(f)
             point_tables.append((case, motion_table(motions)))
         print(f"[4/{STAGES}] points of interest: {count(len(sf.points), 'point')} x "
@@ -154,7 +155,7 @@ def run(args: argparse.Namespace) -> int:
     files = [data.path, vtu, Path(eq_path)] + [r.path for r in res["runs"].values()] + \
         res["files"]
     lines += [f"- `{Path(f).name}`" for f in files]
-    summary.write_text("\n".join(lines) + "\n")
+    write_text(summary, "\n".join(lines) + "\n")
     print(f"[5/{STAGES}] summary -> {summary.name}")
     print(f"done in {time.perf_counter() - t_start:.1f} s; outputs in {out}/")
     return 0

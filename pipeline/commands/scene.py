@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from flexbed.files.destination import write_text
 from flexbed.errors import InputError
 from flexbed.files.builtin import builtin_scene_text
 
@@ -25,6 +26,6 @@ def run(args: argparse.Namespace) -> int:
     path = Path(args.output)
     if path.exists():
         raise InputError(f"{path}: already exists; choose another name")
-    path.write_text(text)
+    write_text(path, text)
     print(f"wrote {path}")
     return 0

@@ -16,6 +16,7 @@ from flexbed.dynamics.rotation import angles_from_p
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
 
+from flexbed.files.destination import check_destination
 from flexbed.errors import InputError, NumericalError
 from flexbed.stages.system import compile_scene
 from flexbed.files.results import write_equilibrium
@@ -72,6 +73,8 @@ def equilibrium_csv(system: System, y: np.ndarray) -> str:
 
 def run(args: argparse.Namespace) -> int:
     sf = load_scene(args.scene)
+    out = Path(args.output) if args.output else Path(f"{sf.output_name}-equilibrium.h5")
+    check_destination(out)          # refused before any work, not after
     system = compile_scene(sf, args.modes_file)
     tol = sf.solver.static_tol if args.tol is None else args.tol
     if not (tol > 0):
@@ -79,7 +82,6 @@ def run(args: argparse.Namespace) -> int:
     eq = solve_statics(system, tol=tol, sag=sf.bed.static_sag)
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")
-    out = Path(args.output) if args.output else Path(f"{sf.output_name}-equilibrium.h5")
     print(f"Static equilibrium of '{sf.scene.name}' (Newton–Raphson, tolerance {tol:g}, "
           f"base held)")
     print(equilibrium_table(system, eq.y))

@@ -15,7 +15,6 @@ to attribute dictionaries. Attribute values are str, int, float, bool or
 from __future__ import annotations
 
 import os
-import tempfile
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from importlib import metadata
@@ -26,6 +25,7 @@ import h5py
 import numpy as np
 
 from flexbed.errors import InputError
+from flexbed.files.destination import atomic_write
 
 
 def package_version() -> str:
@@ -92,7 +92,8 @@ def write_file(path: str | os.PathLike, *, schema: str, version: str,
     Parameters
     ----------
     path : path-like
-        Destination; its folder is created if needed.
+        Destination (absent or a regular file, :mod:`flexbed.files.destination`);
+        its folder is created if needed.
     schema : str
         Schema name, e.g. "flexbed.modes".
     version : str
@@ -107,11 +108,7 @@ def write_file(path: str | os.PathLike, *, schema: str, version: str,
     Path
         The path written.
     """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
+    def fill(tmp: Path) -> None:
         with h5py.File(tmp, "w") as f:
             f.attrs["schema"] = schema
             f.attrs["schema_version"] = version
@@ -137,15 +134,7 @@ def write_file(path: str | os.PathLike, *, schema: str, version: str,
                 g = f.require_group(group) if group else f
                 for key, value in values.items():
                     g.attrs[key] = value
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)     # mkstemp makes it private; use the usual mode
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    return atomic_write(path, fill)
 
 
 def _decode(value: Any) -> Any:

@@ -27,6 +27,7 @@ from xml.sax.saxutils import escape, quoteattr
 
 import numpy as np
 
+from flexbed.files.destination import check_destination, write_text
 from flexbed.files.store import Dataset, write_file
 
 __all__ = ["write_bed_motion", "BED_MOTION_SCHEMA"]
@@ -66,8 +67,8 @@ def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarr
     Path
         The XDMF file.
     """
-    path = Path(path)
-    h5 = path.with_suffix(".h5")
+    path = check_destination(path)
+    h5 = check_destination(path.with_suffix(".h5"))
     nodes = np.asarray(nodes, dtype=float)
     cells = np.asarray(cells, dtype=np.int64)
     times = np.asarray(times, dtype=float)
@@ -120,7 +121,4 @@ def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarr
                   "        </Attribute>",
                   "      </Grid>"]
     lines += ["    </Grid>", "  </Domain>", "</Xdmf>"]
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text("\n".join(lines) + "\n")
-    tmp.replace(path)
-    return path
+    return write_text(path, "\n".join(lines) + "\n")
