@@ -56,7 +56,7 @@ from .linear_model import Coordinates, Linearisation, linearise
 from .system import System
 
 __all__ = ["Coordinates", "Linearisation", "LinearRun", "linearise", "propagate",
-           "run_linear", "estimate_error"]
+           "run_linear", "estimate_error", "unstable_rate"]
 
 _DEG = 5                                   # degree of the inputs' local polynomials
 _NODES = 0.5 - 0.5 * np.cos((2 * np.arange(_DEG + 1) + 1) * np.pi / (2 * (_DEG + 1)))
@@ -298,6 +298,19 @@ class LinearRun:
         return self.time_linearise + self.time_propagate
 
 
+def unstable_rate(lin: Linearisation) -> float | None:
+    """The fastest growth rate [1/s] of the linearisation's motion when the
+    equilibrium is unstable (an eigenvalue of A with a real part above
+    1e-6 of the largest |λ|, which is far above the central differences'
+    noise and leaves the neutral modes of a free base alone), else None."""
+    lam = np.linalg.eigvals(lin.A)
+    if not lam.size:
+        return None
+    scale = float(np.max(np.abs(lam)))
+    rate = float(np.max(lam.real))
+    return rate if rate > 1e-6 * max(scale, 1.0) else None
+
+
 def run_linear(system: System, y_eq: np.ndarray, y0: np.ndarray,
                settings: Settings) -> LinearRun:
     """Linearise about ``y_eq``, propagate from ``y0`` (ny,) to
@@ -307,6 +320,21 @@ def run_linear(system: System, y_eq: np.ndarray, y0: np.ndarray,
     w0 = time.perf_counter()
     lin = linearise(system, y_eq)
     w1 = time.perf_counter()
+    growth = unstable_rate(lin)
+    if growth is not None:
+        # an unstable equilibrium: the linear model's motion grows without
+        # bound and says nothing of the nonlinear one; nothing is propagated
+        y_start = np.asarray(y0, dtype=float)[None, :].copy()
+        stats = Stats(method="linear", rhs_evaluations=lin.evaluations, jacobian_evaluations=1,
+                      wall_time=w1 - w0, rejected_source="none (not propagated)")
+        message = (f"unstable equilibrium: the linearisation has a growing mode (rate "
+                   f"{growth:.3g} 1/s, doubling in {math.log(2.0) / growth:.3g} s); the linear "
+                   f"model does not apply")
+        run = Run(t=np.zeros(1), y=y_start, complete=False, message=message, stats=stats,
+                  settings=settings, t_reached=0.0)
+        est = ErrorEstimate(math.inf, math.inf, 0.0, np.zeros((1, lin.coords.nz)), False,
+                            0, np.zeros((1, system.layout.work.stop - system.layout.work.start)))
+        return LinearRun(run, est, lin, w1 - w0, 0.0, 0.0, 0)
     z0 = lin.coords.to_z(np.asarray(y0, dtype=float))
     t, Z, pieces = propagate(lin, z0, settings.t_end, settings.output_dt)
     w2 = time.perf_counter()

@@ -187,3 +187,53 @@ def test_a_spinning_body_is_not_taken_for_linear():
     run = flexbed.simulate(scene, model="auto")
     assert run.solver["model"] == "nonlinear"
     assert run.solver["linear_estimated_error"] > 1e-3
+
+
+UNSTABLE = """
+[scene]
+name = "unstable"
+gravity = [0.0, 0.0, 0.0]
+
+[[body]]
+name = "base"
+mass = 1000.0
+inertia = [100.0, 100.0, 100.0]
+position = [0.0, 0.0, 0.0]
+
+[[body]]
+name = "mass"
+mass = 10.0
+inertia = [1.0, 1.0, 1.0]
+position = [0.0, 0.0, 0.5]
+
+[solver]
+t_end = 0.5
+""" + "".join(f"""
+[[mount]]
+name = "M{i}"
+body_i = "base"
+body_j = "mass"
+point_i = [{x}, {y}, 0.5]
+point_j = [{x}, {y}, 0.0]
+law = "polynomial"
+stiffness = [[0.0, 1.0e4], [0.0, 1.0e4], [0.0, -1.0e4, 0.0, 1.0e8]]
+""" for i, (x, y) in enumerate([(-0.2, -0.2), (0.2, -0.2), (0.2, 0.2), (-0.2, 0.2)], 1))
+
+
+def test_an_unstable_equilibrium_is_reported_not_propagated(tmp_path):
+    """Four mounts of negative vertical stiffness (−1e4 N/m each, hardening
+    cubically) hold 10 kg at an equilibrium that is unstable: the linear
+    model reports the growing mode, sqrt(4k/m) = 63.2 1/s, and propagates
+    nothing (no NaN); auto integrates the nonlinear model instead."""
+    import flexbed
+    path = tmp_path / "unstable.toml"
+    path.write_text(UNSTABLE)
+    scene = flexbed.load_scene(path)
+    lin = flexbed.simulate(scene, model="linear")
+    assert not lin.complete and "unstable equilibrium" in lin.message
+    rate = float(lin.message.split("rate ")[1].split(" ")[0])
+    assert rate == pytest.approx(math.sqrt(4 * 1e4 / 10.0), rel=1e-3)
+    assert lin.t.shape == (1,) and np.all(np.isfinite(lin.position))
+    auto = flexbed.simulate(scene, model="auto")
+    assert auto.complete and auto.solver["model"] == "nonlinear"
+    assert "unstable equilibrium" in auto.solver["model_reason"]

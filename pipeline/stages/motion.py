@@ -84,6 +84,13 @@ def solve_motion(system: System, y_eq: np.ndarray | None, y0: np.ndarray, settin
         raise ValueError("the linear model needs the static equilibrium")
     lin = run_linear(system, y_eq, y0, settings)
     est = lin.estimate
+    if not lin.run.complete:                # an unstable equilibrium: nothing propagated
+        if model == "linear":
+            return Motion(lin.run, "linear", model, f"requested; {lin.run.message}", lin,
+                          linear_tol)
+        run = integrate(system, y0, settings, progress=progress)
+        return Motion(run, "nonlinear", model, f"nonlinear: {lin.run.message}", lin,
+                      linear_tol)
     if model == "linear":
         return Motion(lin.run, "linear", model,
                       f"requested; estimated error {est.position:.2e} m", lin, linear_tol)
