@@ -18,6 +18,7 @@ from flexbed.stages.modes import ensure_modes
 from flexbed.stages.system import compile_scene
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
+from scene_text import base_and_body
 
 SDOF = Path(__file__).parent / "scenes" / "linear_sdof.toml"
 
@@ -189,22 +190,7 @@ def test_a_spinning_body_is_not_taken_for_linear():
     assert run.solver["linear_estimated_error"] > 1e-3
 
 
-UNSTABLE = """
-[scene]
-name = "unstable"
-gravity = [0.0, 0.0, 0.0]
-
-[[body]]
-name = "base"
-mass = 1000.0
-inertia = [100.0, 100.0, 100.0]
-position = [0.0, 0.0, 0.0]
-
-[[body]]
-name = "mass"
-mass = 10.0
-inertia = [1.0, 1.0, 1.0]
-position = [0.0, 0.0, 0.5]
+UNSTABLE = base_and_body("unstable", gravity=0.0, mass=10.0, inertia="[1.0, 1.0, 1.0]") + """
 
 [solver]
 t_end = 0.5

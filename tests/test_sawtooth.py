@@ -20,6 +20,7 @@ from flexbed.errors import InputError
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
 from flexbed.stages.system import compile_scene
+from scene_text import base_and_body
 
 P, T, S = 200.0, 0.011, 0.0023        # peak [m/s²], rise [s], start [s]
 M, K, C = 50.0, 1.25e5, 20.0          # body [kg]; per mount, z: [N/m], [N s/m]
@@ -66,22 +67,7 @@ def exact_isolator(t, omega, zeta):
     return np.where(t < S, 0.0, np.where(t < S + T, z_on, free))
 
 
-SCENE = f"""
-[scene]
-name = "sawtooth"
-gravity = [0.0, 0.0, -9.81]
-
-[[body]]
-name = "base"
-mass = 1000.0
-inertia = [100.0, 100.0, 100.0]
-position = [0.0, 0.0, 0.0]
-
-[[body]]
-name = "mass"
-mass = {M}
-inertia = [2.0, 3.0, 4.0]
-position = [0.0, 0.0, 0.5]
+SCENE = base_and_body("sawtooth", mass=M) + f"""
 
 [base]
 motion = "driven"

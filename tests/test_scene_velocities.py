@@ -18,6 +18,7 @@ from flexbed.files.results import read_results
 from flexbed.files.scene import builtin_scene_path, load_scene
 from flexbed.stages.modes import ensure_modes
 from flexbed.stages.system import compile_scene
+from scene_text import base_and_body
 
 TOP = """
 [scene]
@@ -84,23 +85,7 @@ def test_symmetric_top_from_a_scene_file_spins_as_the_closed_form(tmp_path):
     assert err_w < 5e-10 and err_r < 1e-13 and err_T < 2e-12 and err_L < 3e-11
 
 
-LAUNCH = """
-[scene]
-name = "launch"
-gravity = [0.0, 0.0, -9.81]
-
-[[body]]
-name = "base"
-mass = 1000.0
-inertia = [100.0, 100.0, 100.0]
-position = [0.0, 0.0, 0.0]
-
-[[body]]
-name = "mass"
-mass = 50.0
-inertia = [2.0, 3.0, 4.0]
-position = [0.0, 0.0, 0.5]
-velocity = [0.2, -0.1, -0.5]
+LAUNCH = base_and_body("launch", body_extra="velocity = [0.2, -0.1, -0.5]\n") + """
 
 [solver]
 t_end = 0.3

@@ -15,6 +15,7 @@ from flexbed.dynamics.shapes import Curve, SplineEnds
 from flexbed.errors import InputError
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
+from scene_text import base_and_body
 
 RNG = np.random.default_rng(11)
 X = np.sort(RNG.uniform(0.0, 1.0, 9)) * 0.04 + np.linspace(0.0, 0.2, 9)   # uneven spacing
@@ -168,22 +169,7 @@ def test_spline_ends_checked_in_the_dataclass():
         SplineEnds("clamped", (0.0, 1.0, 2.0))
 
 
-SCENE = """
-[scene]
-name = "ends"
-gravity = [0.0, 0.0, -9.81]
-
-[[body]]
-name = "base"
-mass = 1000.0
-inertia = [100.0, 100.0, 100.0]
-position = [0.0, 0.0, 0.0]
-
-[[body]]
-name = "mass"
-mass = 50.0
-inertia = [2.0, 3.0, 4.0]
-position = [0.0, 0.0, 0.5]
+SCENE = base_and_body("ends") + """
 
 [base]
 motion = "driven"
