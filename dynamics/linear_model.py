@@ -40,7 +40,7 @@ import numpy as np
 from .piecewise import PiecewisePolynomial
 from .system import System
 
-__all__ = ["Coordinates", "Linearisation", "linearise"]
+__all__ = ["Coordinates", "Linearisation", "linearise", "difference_steps"]
 
 _SINE_PIECE = 0.2                          # longest piece of an analytic sinusoid: 0.2/ω
 
@@ -232,22 +232,47 @@ class Linearisation:
         return np.stack([c.values(t) for c in self.channels], axis=1) - self.u0
 
 
-def linearise(system: System, y_eq: np.ndarray) -> Linearisation:
-    """Linearise the system about its static equilibrium ``y_eq`` (ny,).
-
-    Central differences of the right-hand side with steps of 1e-6 in each
-    coordinate (m, rad, m/s, rad/s; modal coordinates scaled by the square
-    root of the body's mass, which is their unit's size for a unit
-    displacement); see the module docstring for the inputs' columns.
-    """
-    coords = Coordinates(system, y_eq)
-    nz = coords.nz
-    nfev0 = system.nfev
-    step = np.full(nz, 1e-6)
+def difference_steps(system: System, coords: Coordinates, rate_step: float = 1e-6,
+                     translation_step: float = 1e-6) -> np.ndarray:
+    """The central-difference steps of :func:`linearise` (nz,): 1e-6 in each
+    rotation and modal coordinate, ``translation_step`` in each translation,
+    ``rate_step`` in each rate, modal ones times √(body mass);
+    a translation's or modal coordinate's step is the increment that y_eq's
+    entry can take exactly (``(y + h) − y`` in floating point), so that the
+    difference quotient divides by the step the state really took."""
+    step = np.full(coords.nz, 1e-6)
+    step[coords.n_pos:] = rate_step
+    step[coords.base_index] = translation_step
+    step[coords.r_index.ravel()] = translation_step
     if coords.a_index.size:
         scale = math.sqrt(max(float(fc.eom.m) for fc in system.flex_compiled))
         step[coords.a_index] *= scale
         step[coords.ad_index] *= scale
+    y = coords.y_eq
+    for iz, iy in ((coords.base_index, coords.y_base), (coords.r_index.ravel(), coords.y_r.ravel()),
+                   (coords.a_index, coords.y_a)):
+        step[iz] = (y[iy] + step[iz]) - y[iy]
+    return step
+
+
+def linearise(system: System, y_eq: np.ndarray, rate_step: float = 1e-6,
+              translation_step: float = 1e-6) -> Linearisation:
+    """Linearise the system about its static equilibrium ``y_eq`` (ny,).
+
+    Central differences of the right-hand side with steps of 1e-6 in each
+    coordinate (m, rad; ``translation_step`` [m] and ``rate_step`` [m/s,
+    rad/s] if given; modal coordinates scaled by the square root of the
+    body's mass, which is their unit's size for a unit displacement); see
+    the module docstring for the inputs' columns. At rest the forces are at
+    most quadratic in the rates (linear dampers, gyroscopic terms) and, with
+    linear mount laws, linear in the translations, so larger steps there
+    (1e-4, as the frequency analyses take) lose nothing and keep those
+    columns clear of the round-off of the preloads and positions.
+    """
+    coords = Coordinates(system, y_eq)
+    nz = coords.nz
+    nfev0 = system.nfev
+    step = difference_steps(system, coords, rate_step, translation_step)
 
     system.set_segment(None)
     Zp = np.vstack([np.zeros(nz), np.diag(step), -np.diag(step)])      # (2 nz + 1, nz)

@@ -49,7 +49,7 @@ from flexbed.stages.system import compile_scene
 from flexbed.threads import limited
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-           "Statics", "Results", "Comparison"]
+           "modal", "frf", "Statics", "Results", "Comparison", "Modal", "Transmissibility"]
 
 
 def _pinned(fn):
@@ -413,3 +413,11 @@ def compare(scene: SceneFile, *, modes: ModesData | None = None, **settings) -> 
     bed = scene.bed.body or names[1]
     equipment = [i for i in range(1, len(names)) if names[i] != bed]
     return Comparison(comparison_rows(cases, names, equipment), runs)
+
+
+# ---------------------------------------------------- the frequency domain
+from flexbed.frequency_api import Modal, Transmissibility  # noqa: E402
+from flexbed.frequency_api import frf as _frf, modal as _modal  # noqa: E402
+
+modal = _pinned(_modal)
+frf = _pinned(_frf)

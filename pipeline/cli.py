@@ -34,6 +34,8 @@ COMMANDS = {
     "scene": "print the built-in reference scene as TOML",
     "modes": "free-free modes and invariants of the bed -> modes file",
     "static": "static equilibrium (paper Table 2) -> equilibrium file",
+    "modal": "mounted-system modes, energy table, effective masses",
+    "frf": "transmissibility to points, mounts and the base",
     "simulate": "time integration of the mount system -> results file",
     "compare": "rigid vs flexible vs damped flexible bed -> tables and plots",
     "post": "points of interest and mount forces from a results file",

@@ -1,0 +1,168 @@
+"""Modes of the mounted system: frequencies, damping, shapes, energy tables,
+effective masses.
+
+Undamped modes solve ``K φ = ω² M φ`` (:class:`~dynamics.mounted.MountedSystem`).
+The mounts of eq. 1–6 push along axes fixed in body i, which makes K
+unsymmetric when they carry a preload (their axes turn with the body, the
+force does not add the torque of that turn), so the general eigenproblem is
+solved with its left vectors ψ as well (``ψᴴ K = ω² ψᴴ M``).
+
+With damping (mount dampers, Rayleigh or modal bed damping) the modes are
+the complex ones of the first-order form ``[[0, I], [−M⁻¹K, −M⁻¹C]]``:
+each underdamped pair ``λ = −ζ ωₙ ± i ωₙ √(1 − ζ²)`` gives ``ωₙ = |λ|``,
+``ζ = −Re λ / |λ|`` and the complex shape φ (the position half of its
+eigenvector); an overdamped mode shows as real λ, each listed once
+(ζ = 1 marks them).
+
+Tables, per mode (shape φ, complex or real):
+
+- kinetic energy share of coordinate j, time-averaged:
+  ``e_j = Re(φ̄_j (M φ)_j) / Re(φᴴ M φ)`` — they sum to 1; for a block
+  diagonal M (rigid bodies about their centres of mass) each is ≥ 0;
+- strain energy share of each mount axis, ``½ k_t |D φ|²``, and of the
+  flexible bodies' elastic deformation, ``½ Re(φᴴ K_el φ)``, over their sum
+  (k_t the mount's tangent stiffness at rest);
+- modal effective mass for a base translation along X, Y, Z (undamped
+  modes): ``m_k,d = (ψ_kᴴ M ι_d)(ι_dᵀ M φ_k) / (ψ_kᴴ M φ_k)``; by the
+  biorthogonality of φ and ψ, ``Σ_k m_k,d = ι_dᵀ M ι_d``, the moving mass
+  (everything but the base), exactly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+
+from .mounted import MountedSystem
+
+__all__ = ["Modes", "solve_modes"]
+
+
+@dataclass(frozen=True)
+class Modes:
+    """The mounted system's modes, ordered by natural frequency.
+
+    Attributes (m modes, n coordinates, M mounts)
+    ----------
+    frequency : (m,) array
+        Natural frequency ωₙ/2π [Hz] (undamped: √(eig)/2π).
+    damping_ratio : (m,) array
+        ζ [1] (0 when undamped; 1 for an overdamped real mode).
+    damped_frequency : (m,) array
+        ωₙ√(1 − ζ²)/2π [Hz].
+    shapes : (m, n) complex array
+        φ, scaled so that its largest |component| is 1 + 0i.
+    undamped_frequency : (n,) array
+        √(eig(K, M))/2π [Hz], ascending (NaN for a negative eigenvalue).
+    undamped_shapes : (n, n) array
+        Undamped φ_k (rows), unit modal mass ``|ψ_kᴴ M φ_k| = 1`` with ψ
+        scaled alike.
+    energy : (m, n) array
+        Kinetic energy share [1] of each coordinate per mode.
+    strain_mounts : (m, M, 3) array
+        Strain energy share [1] of each mount axis per mode.
+    strain_elastic : (m,) array
+        Share [1] of the flexible bodies' own deformation.
+    effective_mass : (n, 3) array
+        Modal effective mass [kg] of the undamped modes for base
+        translation along X, Y, Z.
+    moving_mass : float
+        Σ of the effective masses along each axis [kg].
+    """
+
+    frequency: np.ndarray
+    damping_ratio: np.ndarray
+    damped_frequency: np.ndarray
+    shapes: np.ndarray
+    undamped_frequency: np.ndarray
+    undamped_shapes: np.ndarray
+    energy: np.ndarray
+    strain_mounts: np.ndarray
+    strain_elastic: np.ndarray
+    effective_mass: np.ndarray
+    moving_mass: float
+
+    @property
+    def cumulative_mass_fraction(self) -> np.ndarray:
+        """(n, 3) cumulative effective mass over the moving mass [1]."""
+        return np.cumsum(self.effective_mass, axis=0) / self.moving_mass
+
+
+def _unit_phase(phi: np.ndarray) -> np.ndarray:
+    """Rows scaled so that their largest |component| is 1 + 0i."""
+    k = np.argmax(np.abs(phi), axis=1)
+    return phi / phi[np.arange(phi.shape[0]), k][:, None]
+
+
+def _undamped(ms: MountedSystem):
+    lam, vl, vr = scipy.linalg.eig(ms.K, ms.M, left=True, right=True)
+    order = np.argsort(lam.real)
+    lam, vl, vr = lam[order], vl[:, order], vr[:, order]
+    phi = _unit_phase(vr.T)                       # (n, n), real up to round-off
+    psi = _unit_phase(vl.T)
+    if np.abs(phi.imag).max() <= 1e-9 * max(np.abs(phi).max(), 1.0):
+        phi, psi = phi.real, psi.real
+    mu = np.einsum("ki,ij,kj->k", psi.conj(), ms.M, phi)          # ψᴴ M φ
+    s = np.sqrt(np.abs(mu))
+    phi = phi / s[:, None]
+    psi = psi / (mu / s)[:, None].conj()          # now ψ_kᴴ M φ_k = 1
+    w2 = lam.real
+    f = np.where(w2 >= 0.0, np.sqrt(np.abs(w2)), np.nan) / (2.0 * np.pi)
+    return f, phi, psi
+
+
+def _damped(ms: MountedSystem):
+    n = ms.n
+    Minv = np.linalg.solve(ms.M, np.hstack([ms.K, ms.C]))
+    S = np.zeros((2 * n, 2 * n))
+    S[:n, n:] = np.eye(n)
+    S[n:, :n] = -Minv[:, :n]
+    S[n:, n:] = -Minv[:, n:]
+    lam, V = np.linalg.eig(S)
+    scale = np.abs(lam).max() if lam.size else 1.0
+    osc = lam.imag > 1e-12 * scale
+    real = np.abs(lam.imag) <= 1e-12 * scale
+    lam = np.concatenate([lam[osc], lam[real].real + 0j])
+    V = np.concatenate([V[:n, osc], V[:n, real]], axis=1)
+    wn = np.abs(lam)
+    zeta = np.where(wn > 0.0, -lam.real / np.where(wn > 0.0, wn, 1.0), 0.0)
+    zeta[osc.sum():] = 1.0
+    order = np.argsort(wn, kind="stable")
+    return wn[order], zeta[order], np.abs(lam.imag[order]), _unit_phase(V[:, order].T)
+
+
+def energy_shares(ms: MountedSystem, phi: np.ndarray) -> np.ndarray:
+    """Kinetic energy share of each coordinate (m, n) for shapes φ (m, n)."""
+    Mphi = phi @ ms.M.T
+    e = (phi.conj() * Mphi).real
+    return e / e.sum(axis=1, keepdims=True)
+
+
+def strain_shares(ms: MountedSystem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Strain energy shares (m, M, 3) of the mount axes and (m,) of the
+    flexible bodies' deformation for shapes φ (m, n)."""
+    dx = phi @ ms.D.T                                             # (m, 3M)
+    mounts = 0.5 * ms.k_tangent[None, :] * np.abs(dx) ** 2
+    elastic = 0.5 * np.einsum("ki,ij,kj->k", phi.conj(), ms.K_elastic, phi).real
+    total = mounts.sum(axis=1) + elastic
+    total = np.where(total != 0.0, total, 1.0)
+    return (mounts / total[:, None]).reshape(phi.shape[0], -1, 3), elastic / total
+
+
+def solve_modes(ms: MountedSystem) -> Modes:
+    """Frequencies, damping ratios, shapes and tables of the mounted system."""
+    f0, phi0, psi0 = _undamped(ms)
+    if ms.damped:
+        wn, zeta, wd, shapes = _damped(ms)
+        freq, fd = wn / (2.0 * np.pi), wd / (2.0 * np.pi)
+    else:
+        freq, zeta, fd, shapes = f0, np.zeros_like(f0), f0, _unit_phase(phi0 + 0j)
+    Mi = ms.M @ ms.iota                                           # (n, 3)
+    eff = ((psi0.conj() @ Mi) * (phi0 @ Mi)).real                 # (n, 3)
+    mounts, elastic = strain_shares(ms, shapes)
+    return Modes(frequency=freq, damping_ratio=zeta, damped_frequency=fd, shapes=shapes,
+                 undamped_frequency=f0, undamped_shapes=np.asarray(phi0),
+                 energy=energy_shares(ms, shapes), strain_mounts=mounts,
+                 strain_elastic=elastic, effective_mass=eff, moving_mass=ms.moving_mass)

@@ -1,0 +1,115 @@
+"""Points of interest in the linear mounted system: the Jacobian of a point's
+position over [base translation (3), q (n)], computed by the very point
+machinery of :mod:`flexbed.analyses.points` (rigid points, points on the
+flexible bed moving with its modes, offsets off the mid-surface, motion
+relative to a body in its frame) applied to states about the equilibrium.
+
+A point's position is linear in translations and modal coordinates, so
+their columns are differenced over ±1 mm (exact but for round-off); the
+rotations' columns over ±1e-6 rad (central differences, O(1e-12))."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from flexbed.analyses.points import Point, Run
+from flexbed.dynamics.mounted import MountedSystem
+from flexbed.dynamics.system import System
+from flexbed.files.modes import ModesData
+from flexbed.files.scene import SceneFile
+from flexbed.files.store import Dataset, in_memory
+
+__all__ = ["PointJacobians", "point_jacobians"]
+
+_H_LINEAR = 1e-3          # translations [m] and modal coordinates [kg^1/2 m]
+_H_ROTATION = 1e-6        # rotations [rad]
+
+
+class PointJacobians:
+    """The perturbed states of one mounted system opened as a run, so that
+    any point's Jacobian costs one pass of the point machinery.
+
+    Parameters
+    ----------
+    sf : SceneFile
+    system : System
+    ms : MountedSystem
+    modes : ModesData, optional
+        A flexible bed's modes.
+    """
+
+    def __init__(self, sf: SceneFile, system: System, ms: MountedSystem,
+                 modes: ModesData | None = None):
+        n = ms.n
+        h = np.where(_rotation_mask(ms.labels), _H_ROTATION, _H_LINEAR)
+        cols = 3 + n
+        k = 2 * cols
+        pos = np.empty((k, system.nb, 3))
+        eul = np.empty((k, system.nb, 4))
+        na = system.layout.n_modal
+        modal = np.zeros((k, na))
+        step = np.empty(cols)
+        for c in range(cols):
+            for side, sgn in ((0, 1.0), (1, -1.0)):
+                q = np.zeros(n)
+                if c >= 3:
+                    q[c - 3] = sgn * h[c - 3]
+                y = ms.state(q)
+                r, p = system.poses(y)
+                if c < 3:
+                    r = r.copy()
+                    r[0, c] += sgn * _H_LINEAR
+                pos[2 * c + side], eul[2 * c + side] = r, p
+                modal[2 * c + side] = y[system.layout.q_modal]
+            if c < 3:
+                step[c] = pos[2 * c, 0, c] - pos[2 * c + 1, 0, c]
+            else:
+                step[c] = 2.0 * h[c - 3]
+        # translations and modal coordinates: the step the state really took
+        for c in range(3, cols):
+            lab = ms.labels[c - 3]
+            if lab.endswith((" x", " y", " z")):
+                b, axis = int(ms.body[c - 3]), "xyz".index(lab[-1])
+                step[c] = pos[2 * c, b, axis] - pos[2 * c + 1, b, axis]
+        self.step = step
+        zeros = np.zeros((k, system.nb, 3))
+        ds = {
+            "time": Dataset(np.arange(k, dtype=float), "s"),
+            "bodies/names": Dataset(np.array([b.name for b in system.scene.bodies]), ""),
+            "bodies/position": Dataset(pos, "m"),
+            "bodies/euler_parameters": Dataset(eul, "1"),
+            "bodies/velocity": Dataset(zeros, "m/s"),
+            "bodies/acceleration": Dataset(zeros, "m/s^2"),
+            "bodies/angular_velocity": Dataset(zeros, "rad/s"),
+            "bodies/angular_acceleration": Dataset(zeros, "rad/s^2"),
+            "modal/coordinates": Dataset(modal, "kg^1/2 m"),
+            "modal/rates": Dataset(np.zeros_like(modal), "kg^1/2 m/s"),
+            "modal/accelerations": Dataset(np.zeros_like(modal), "kg^1/2 m/s^2"),
+            "scene/toml": Dataset(sf.text, ""),
+        }
+        flex = dict(system.scene.flexible)
+        for fb in flex.values():
+            if fb.basis is not None:
+                ds["modal/basis"] = Dataset(fb.basis, "1")
+        attrs = {"bed": {"model": "flexible" if flex else "rigid",
+                         "plate_input_hash": sf.bed.plate.digest(),
+                         "n_modes": int(sum(fb.n_modes for fb in flex.values()))}}
+        self.run = Run(in_memory(ds, attrs), modes=modes if flex else None)
+        self.n = n
+
+    def jacobian(self, point: Point, relative_to: str | None = None) -> np.ndarray:
+        """(3, 3 + n): the point's position [m] (inertial, or in the frame of
+        ``relative_to``) per unit base translation and per unit q."""
+        m = self.run.relative(point, relative_to) if relative_to else self.run.absolute(point)
+        P = m.position
+        return ((P[0::2] - P[1::2]) / self.step[:, None]).T
+
+
+def _rotation_mask(labels) -> np.ndarray:
+    return np.array([lab.endswith((" roll", " pitch", " yaw")) for lab in labels], dtype=bool)
+
+
+def point_jacobians(sf: SceneFile, system: System, ms: MountedSystem,
+                    modes: ModesData | None = None) -> PointJacobians:
+    """See :class:`PointJacobians`."""
+    return PointJacobians(sf, system, ms, modes)

@@ -1,0 +1,129 @@
+"""``flexbed frf [SCENE]``: transmissibility of the mounted system about its
+static equilibrium: magnitude and phase from a base acceleration (or a
+force on a body) to points of interest, to every mount's forces and to the
+total force on the base, on a grid that resolves every resonance.
+
+Writes ``PREFIX.h5`` (``flexbed.frf``), ``PREFIX.csv`` and
+``PREFIX-bode.png`` (points) and ``PREFIX-forces.png`` (base force)
+(PREFIX default ``<scene stem>-frf``).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from flexbed.commands.modal import load_mounted
+from flexbed.commands.static import add_modes_file_arg
+from flexbed.errors import InputError
+from flexbed.files.destination import check_destination
+from flexbed.files.scene import load_scene
+from flexbed.words import count
+
+__all__ = ["add_args", "run"]
+
+
+def add_args(parser: argparse.ArgumentParser) -> None:
+    parser.description = ("Transmissibility (magnitude, phase) of the mounted system from a "
+                          "base acceleration or a force to points, mount forces and the force "
+                          "on the base, with every resonance in the band resolved.")
+    parser.add_argument("scene", nargs="?", default=None,
+                        help="scene file (TOML); default: the built-in reference scene")
+    parser.add_argument("-o", "--output", default=None, metavar="PREFIX",
+                        help="prefix of the files written (default: <scene stem>-frf)")
+    parser.add_argument("--input", default="base z", metavar="WHAT",
+                        help="'base x|y|z': unit base acceleration (default 'base z'); "
+                             "'force x|y|z' with --force-at: unit force")
+    parser.add_argument("--force-at", default=None, metavar="BODY:x,y,z",
+                        help="where the force of --input force acts (body frame) [m]")
+    parser.add_argument("--point", action="append", default=[], metavar="NAME=BODY:x,y,z",
+                        help="a point of interest (repeatable; default: the scene's [[point]] "
+                             "tables, else every body's centre of mass)")
+    parser.add_argument("--relative-to", default=None, metavar="BODY",
+                        help="the --point motions relative to this body, in its frame")
+    parser.add_argument("--band", default=None, metavar="FMIN,FMAX",
+                        help="frequency band [Hz] (default: a quarter of the lowest natural "
+                             "frequency to twice the highest)")
+    parser.add_argument("-n", type=int, default=400, metavar="N",
+                        help="log-spaced frequencies of the base grid (default 400); each "
+                             "resonance adds its own")
+    parser.add_argument("--equilibrium", default=None, metavar="FILE",
+                        help="equilibrium file from 'flexbed static' (default: solve it here)")
+    parser.add_argument("--no-plots", action="store_true", help="write no PNG")
+    add_modes_file_arg(parser)
+
+
+def _band(text):
+    if text is None:
+        return None
+    try:
+        lo, hi = (float(v) for v in text.split(","))
+    except ValueError:
+        raise InputError(f"--band {text!r}: expected FMIN,FMAX in Hz") from None
+    if not (np.isfinite(lo) and np.isfinite(hi) and 0.0 < lo < hi):
+        raise InputError(f"--band {text!r}: needs 0 < FMIN < FMAX")
+    return lo, hi
+
+
+def run(args: argparse.Namespace) -> int:
+    from flexbed.analyses.frf import frequency_response, frf_csv, parse_input
+    from flexbed.analyses.points import parse_point
+    from flexbed.files.destination import write_text
+    from flexbed.files.frequency import write_frf
+
+    sf = load_scene(args.scene)
+    kind, _ = parse_input(args.input)
+    band = _band(args.band)
+    if args.n < 2:
+        raise InputError(f"-n {args.n}: needs at least 2 frequencies")
+    force_at = None
+    if kind == "force":
+        if args.force_at is None:
+            raise InputError("--input force needs --force-at BODY:x,y,z")
+        force_at = parse_point(f"force={args.force_at}")
+    points = [(parse_point(p), args.relative_to) for p in args.point] or None
+    prefix = args.output or f"{sf.output_name}-frf"
+    out = {"h5": check_destination(Path(prefix + ".h5")),
+           "csv": check_destination(Path(prefix + ".csv"))}
+    if not args.no_plots:
+        out["bode"] = check_destination(Path(prefix + "-bode.png"))
+        out["forces"] = check_destination(Path(prefix + "-forces.png"))
+    mt = load_mounted(args, sf)
+    r = frequency_response(sf, mt, input=args.input, force_at=force_at, points=points,
+                           band=band, n=args.n)
+    print(f"FRF of '{sf.scene.name}': {r.input}; {r.frequency.size} frequencies on "
+          f"{r.frequency[0]:.4g}–{r.frequency[-1]:.4g} Hz, {count(r.resonances.size, 'mode')} "
+          f"in the band, {count(r.peaks.shape[0], 'peak')} resolved to 0.1 % of its "
+          f"half-power bandwidth")
+    iso_cols = np.flatnonzero(r.isolation_columns)
+    for j in iso_cols:
+        below = r.magnitude[:, j] < 1.0
+        last = np.flatnonzero(~below)
+        f_iso = r.frequency[last[-1] + 1] if last.size and last[-1] + 1 < below.size else None
+        peak = int(np.argmax(r.magnitude[:, j]))
+        print(f"  {r.names[j]}: peak |T| {r.magnitude[peak, j]:.4g} at "
+              f"{r.frequency[peak]:.4f} Hz; " +
+              (f"isolation (|T| < 1) above {f_iso:.4g} Hz, "
+               f"{100 * (1 - r.magnitude[-1, j]):.2f} % at {r.frequency[-1]:.4g} Hz"
+               if f_iso is not None else "no isolation in the band"))
+    print(f"solve time: {r.solve_time:.4f} s CPU for {r.evaluations} frequencies "
+          f"(linearisation and modes: {mt.solve_time:.4f} s)")
+    write_frf(out["h5"], sf, r)
+    write_text(out["csv"], frf_csv(r))
+    if "bode" in out:
+        from flexbed.frequency_plots import plot_bode
+        acc = [j for j, u in enumerate(r.units) if u in ("1", "m/s^2/N")]
+        top = max((float(r.magnitude[:, j].max()) for j in acc), default=0.0)
+        acc = [j for j in acc if r.magnitude[:, j].max() >= 1e-6 * top]    # not round-off
+        unit = r.units[acc[0]] if acc else "1"
+        iso = r.isolation[:, iso_cols[0]] if iso_cols.size else None
+        plot_bode(out["bode"], f"{sf.scene.name}: {r.input}", r.frequency, r.H[:, acc],
+                  [r.names[j] for j in acc], unit, r.resonances, iso)
+        fb = [r.names.index(f"base F{c}") for c in "XYZ"]
+        plot_bode(out["forces"], f"{sf.scene.name}: force on the base, {r.input}",
+                  r.frequency, r.H[:, fb], [r.names[j] for j in fb], r.units[fb[0]],
+                  r.resonances)
+    print("wrote " + ", ".join(str(p) for p in out.values()))
+    return 0

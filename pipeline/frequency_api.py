@@ -1,0 +1,175 @@
+"""The frequency-domain analyses as library calls (exported by :mod:`flexbed.api`).
+
+>>> import flexbed
+>>> scene = flexbed.load_scene()
+>>> m = flexbed.modal(scene)                                   # doctest: +SKIP
+>>> m.frequency, m.damping_ratio, m.energy, m.effective_mass   # doctest: +SKIP
+>>> m.save("lee1999-modal")                                    # doctest: +SKIP
+>>> t = flexbed.frf(scene, input="base z", band=(1, 40))       # doctest: +SKIP
+>>> t.magnitude[:, t.column("A top az")]                       # doctest: +SKIP
+>>> t.save("lee1999-frf")                                      # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from flexbed.analyses import frf as afrf
+from flexbed.analyses import modal as amodal
+from flexbed.analyses.points import Point
+from flexbed.errors import InputError
+from flexbed.files.destination import check_destination, write_text
+from flexbed.files.frequency import write_frf, write_modal
+from flexbed.files.modes import ModesData
+from flexbed.files.scene import SceneFile
+
+__all__ = ["modal", "frf", "Modal", "Transmissibility"]
+
+
+class Modal:
+    """The mounted system's modes (:func:`modal`).
+
+    Arrays (m modes, n coordinates, M mounts): ``frequency``,
+    ``damped_frequency`` (m,) [Hz], ``damping_ratio`` (m,) [1], ``shapes``
+    (m, n) complex, ``labels`` (n,) what each coordinate is, ``energy``
+    (m, n) kinetic energy shares [1], ``strain_mounts`` (m, M, 3) and
+    ``strain_elastic`` (m,) strain energy shares [1], ``undamped_frequency``
+    (n,) [Hz], ``effective_mass`` (n, 3) [kg], ``cumulative_mass`` (n, 3)
+    [1], ``moving_mass`` [kg], ``M``, ``K``, ``C`` (n, n); ``solve_time``
+    [s CPU]; ``mounted``: the :class:`flexbed.analyses.modal.Mounted`.
+    """
+
+    def __init__(self, scene: SceneFile, mt: amodal.Mounted):
+        self.scene = scene
+        self.mounted = mt
+        md, ms = mt.modes, mt.ms
+        self.frequency, self.damped_frequency = md.frequency, md.damped_frequency
+        self.damping_ratio, self.shapes, self.labels = md.damping_ratio, md.shapes, ms.labels
+        self.energy, self.strain_mounts = md.energy, md.strain_mounts
+        self.strain_elastic = md.strain_elastic
+        self.undamped_frequency, self.effective_mass = md.undamped_frequency, md.effective_mass
+        self.cumulative_mass = md.cumulative_mass_fraction
+        self.moving_mass = md.moving_mass
+        self.M, self.K, self.C = ms.M, ms.K, ms.C
+        self.solve_time = mt.solve_time
+
+    def energy_table(self) -> str:
+        """The decoupling table (Markdown)."""
+        return amodal.energy_text(self.mounted.ms, self.mounted.modes,
+                                  [b.name for b in self.mounted.system.scene.bodies])
+
+    def save(self, prefix: str | Path) -> list[Path]:
+        """Write ``PREFIX.h5`` and the CSV tables (as ``flexbed modal -o PREFIX``,
+        without the plot); returns the paths."""
+        prefix = str(prefix)
+        mt, md = self.mounted, self.mounted.modes
+        paths = [check_destination(Path(prefix + s)) for s in
+                 (".h5", "-modes.csv", "-energy.csv", "-strain.csv", "-effective-mass.csv")]
+        write_modal(paths[0], self.scene, mt)
+        write_text(paths[1], amodal.modes_csv(md))
+        write_text(paths[2], amodal.energy_csv(mt.ms, md))
+        write_text(paths[3], amodal.strain_csv([m.name for m in mt.system.scene.mounts], md))
+        write_text(paths[4], amodal.effective_mass_csv(md))
+        return paths
+
+
+class Transmissibility:
+    """A frequency response (:func:`frf`): ``frequency`` (k,) [Hz], ``names``,
+    ``units`` (o,), ``H`` (k, o) complex, ``magnitude``, ``phase_deg``,
+    ``isolation`` (k, o) [1], ``resonances`` (m,) [Hz], ``peaks`` (P, 3),
+    ``solve_time`` [s CPU]; ``column(name)`` the index of an output."""
+
+    def __init__(self, scene: SceneFile, r: afrf.FRF):
+        self.scene = scene
+        self.result = r
+        for key in ("frequency", "names", "units", "H", "resonances", "damping_ratio", "peaks",
+                    "solve_time", "evaluations", "input"):
+            setattr(self, key, getattr(r, key))
+        self.magnitude, self.phase_deg, self.isolation = r.magnitude, r.phase_deg, r.isolation
+
+    def column(self, name: str) -> int:
+        return self.result.column(name)
+
+    def save(self, prefix: str | Path) -> list[Path]:
+        """Write ``PREFIX.h5`` and ``PREFIX.csv`` (as ``flexbed frf -o PREFIX``,
+        without the plots); returns the paths."""
+        h5, csv = (check_destination(Path(str(prefix) + s)) for s in (".h5", ".csv"))
+        write_frf(h5, self.scene, self.result)
+        write_text(csv, afrf.frf_csv(self.result))
+        return [h5, csv]
+
+
+def _mounted(api, scene: SceneFile, modes: ModesData | None, equilibrium) -> amodal.Mounted:
+    if scene.bed.flexible and modes is None:
+        modes = api.modes(scene)
+    if equilibrium is not None and not isinstance(equilibrium, (str, Path)):
+        return amodal.mounted(scene, equilibrium.system, y_eq=equilibrium.equilibrium.y,
+                              bed_modes=modes)
+    system = api._system(scene, modes)
+    return amodal.mounted(scene, system, equilibrium_file=equilibrium, bed_modes=modes)
+
+
+def modal(scene: SceneFile, *, modes: ModesData | None = None, equilibrium=None) -> Modal:
+    """Modes of the mounted system about its static equilibrium, base held.
+
+    Parameters
+    ----------
+    scene : SceneFile
+    modes : ModesData, optional
+        A flexible bed's modes (default: computed in memory).
+    equilibrium : Statics or path, optional
+        From :func:`flexbed.statics`, or an equilibrium file (default:
+        solved here).
+    """
+    from flexbed import api
+    return Modal(scene, _mounted(api, scene, modes, equilibrium))
+
+
+def frf(scene: SceneFile, *, input: str = "base z",
+        force_at: tuple[str, Sequence[float]] | None = None,
+        points: Sequence[tuple] | None = None, band: tuple[float, float] | None = None,
+        n: int = 400, frequencies: Sequence[float] | None = None,
+        modes: ModesData | None = None, equilibrium=None) -> Transmissibility:
+    """Transmissibility of the mounted system.
+
+    Parameters
+    ----------
+    scene : SceneFile
+    input : str
+        "base x|y|z": unit base acceleration [m/s²]; "force x|y|z": unit
+        force [N] at ``force_at`` = (body, position [m] in its frame).
+    points : sequence of (name, body, position) or (name, body, position,
+        relative_to), optional
+        Default: the scene's [[point]] tables, else every body's centre of mass.
+    band : (f_min, f_max) [Hz], optional
+    n : int
+        Log-spaced frequencies of the base grid (each resonance adds its own).
+    frequencies : sequence [Hz], optional
+        Exactly these frequencies, no refinement.
+    modes, equilibrium : as in :func:`modal`.
+    """
+    from flexbed import api
+    pts = None
+    if points is not None:
+        pts = []
+        for p in points:
+            if len(p) not in (3, 4):
+                raise InputError(f"point {p!r}: expected (name, body, position[, relative_to])")
+            xyz = np.asarray(p[2], dtype=float)
+            if xyz.shape != (3,) or not np.all(np.isfinite(xyz)):
+                raise InputError(f"point {p[0]!r}: position {p[2]!r} must be 3 finite numbers")
+            pts.append((Point(str(p[0]), str(p[1]), xyz), p[3] if len(p) == 4 else None))
+    at = None
+    if force_at is not None:
+        at = Point("force", str(force_at[0]), np.asarray(force_at[1], dtype=float))
+    if n < 2:
+        raise InputError(f"n = {n!r}: needs at least 2 frequencies")
+    freqs = None if frequencies is None else np.asarray(frequencies, dtype=float)
+    if freqs is not None and not (freqs.ndim == 1 and freqs.size and np.all(freqs > 0)):
+        raise InputError("frequencies must be a non-empty list of positive numbers [Hz]")
+    mt = _mounted(api, scene, modes, equilibrium)
+    return Transmissibility(scene, afrf.frequency_response(
+        scene, mt, input=input, force_at=at, points=pts, band=band, n=n, frequencies=freqs))
