@@ -11,8 +11,9 @@ With damping (mount dampers, Rayleigh or modal bed damping) the modes are
 the complex ones of the first-order form ``[[0, I], [−M⁻¹K, −M⁻¹C]]``:
 each underdamped pair ``λ = −ζ ωₙ ± i ωₙ √(1 − ζ²)`` gives ``ωₙ = |λ|``,
 ``ζ = −Re λ / |λ|`` and the complex shape φ (the position half of its
-eigenvector); an overdamped mode shows as real λ, each listed once
-(ζ = 1 marks them).
+eigenvector). Overdamped motions (a flexible bed's high modes under
+stiffness-proportional damping) give real roots λ < 0 instead, which are
+no modes: they are listed apart as decay rates −λ.
 
 Tables, per mode (shape φ, complex or real):
 
@@ -49,7 +50,7 @@ class Modes:
     frequency : (m,) array
         Natural frequency ωₙ/2π [Hz] (undamped: √(eig)/2π).
     damping_ratio : (m,) array
-        ζ [1] (0 when undamped; 1 for an overdamped real mode).
+        ζ [1] (0 when undamped).
     damped_frequency : (m,) array
         ωₙ√(1 − ζ²)/2π [Hz].
     shapes : (m, n) complex array
@@ -70,6 +71,8 @@ class Modes:
         translation along X, Y, Z.
     moving_mass : float
         Σ of the effective masses along each axis [kg].
+    overdamped_rates : (r,) array
+        Decay rates −λ [1/s] of the real roots (overdamped motions), ascending.
     """
 
     frequency: np.ndarray
@@ -83,6 +86,7 @@ class Modes:
     strain_elastic: np.ndarray
     effective_mass: np.ndarray
     moving_mass: float
+    overdamped_rates: np.ndarray
 
     @property
     def cumulative_mass_fraction(self) -> np.ndarray:
@@ -124,13 +128,12 @@ def _damped(ms: MountedSystem):
     scale = np.abs(lam).max() if lam.size else 1.0
     osc = lam.imag > 1e-12 * scale
     real = np.abs(lam.imag) <= 1e-12 * scale
-    lam = np.concatenate([lam[osc], lam[real].real + 0j])
-    V = np.concatenate([V[:n, osc], V[:n, real]], axis=1)
+    rates = np.sort(-lam[real].real)
+    lam, V = lam[osc], V[:n, osc]
     wn = np.abs(lam)
-    zeta = np.where(wn > 0.0, -lam.real / np.where(wn > 0.0, wn, 1.0), 0.0)
-    zeta[osc.sum():] = 1.0
+    zeta = -lam.real / wn
     order = np.argsort(wn, kind="stable")
-    return wn[order], zeta[order], np.abs(lam.imag[order]), _unit_phase(V[:, order].T)
+    return wn[order], zeta[order], lam.imag[order], _unit_phase(V[:, order].T), rates
 
 
 def energy_shares(ms: MountedSystem, phi: np.ndarray) -> np.ndarray:
@@ -155,14 +158,16 @@ def solve_modes(ms: MountedSystem) -> Modes:
     """Frequencies, damping ratios, shapes and tables of the mounted system."""
     f0, phi0, psi0 = _undamped(ms)
     if ms.damped:
-        wn, zeta, wd, shapes = _damped(ms)
+        wn, zeta, wd, shapes, rates = _damped(ms)
         freq, fd = wn / (2.0 * np.pi), wd / (2.0 * np.pi)
     else:
         freq, zeta, fd, shapes = f0, np.zeros_like(f0), f0, _unit_phase(phi0 + 0j)
+        rates = np.zeros(0)
     Mi = ms.M @ ms.iota                                           # (n, 3)
     eff = ((psi0.conj() @ Mi) * (phi0 @ Mi)).real                 # (n, 3)
     mounts, elastic = strain_shares(ms, shapes)
     return Modes(frequency=freq, damping_ratio=zeta, damped_frequency=fd, shapes=shapes,
                  undamped_frequency=f0, undamped_shapes=np.asarray(phi0),
                  energy=energy_shares(ms, shapes), strain_mounts=mounts,
-                 strain_elastic=elastic, effective_mass=eff, moving_mass=ms.moving_mass)
+                 strain_elastic=elastic, effective_mass=eff, moving_mass=ms.moving_mass,
+                 overdamped_rates=rates)

@@ -38,7 +38,8 @@ class Modal:
     (m, n) kinetic energy shares [1], ``strain_mounts`` (m, M, 3) and
     ``strain_elastic`` (m,) strain energy shares [1], ``undamped_frequency``
     (n,) [Hz], ``effective_mass`` (n, 3) [kg], ``cumulative_mass`` (n, 3)
-    [1], ``moving_mass`` [kg], ``M``, ``K``, ``C`` (n, n); ``solve_time``
+    [1], ``moving_mass`` [kg], ``overdamped_rates`` (r,) [1/s] (real roots:
+    overdamped motions, no modes), ``M``, ``K``, ``C`` (n, n); ``solve_time``
     [s CPU]; ``mounted``: the :class:`flexbed.analyses.modal.Mounted`.
     """
 
@@ -53,6 +54,7 @@ class Modal:
         self.undamped_frequency, self.effective_mass = md.undamped_frequency, md.effective_mass
         self.cumulative_mass = md.cumulative_mass_fraction
         self.moving_mass = md.moving_mass
+        self.overdamped_rates = md.overdamped_rates
         self.M, self.K, self.C = ms.M, ms.K, ms.C
         self.solve_time = mt.solve_time
 

@@ -185,3 +185,13 @@ def test_bench_positionals_target_then_scene(capsys):
     assert main(["bench", "nonsense"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "target 'nonsense' is not one of all, modes" in err[0]
+
+
+def test_frequency_section_times_modal_and_frf_on_both_beds(report):
+    res = report.ctx.results["frequency"]
+    assert "## The mounted system in the frequency domain" in report.path.read_text()
+    rigid, flexible = res["rigid bed"], res["flexible bed, 6 modes"]
+    assert (rigid["coordinates"], flexible["coordinates"]) == (18, 24)
+    # 5 scene points (3, and 2 relative to the bed) × 3 axes, 12 mounts × 3 axes, the base
+    assert rigid["outputs"] == flexible["outputs"] == 15 + 36 + 3
+    assert flexible["adaptive_frequencies"] > 400

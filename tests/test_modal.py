@@ -113,6 +113,17 @@ def test_one_stage_isolator_against_closed_forms(tmp_path):
     np.testing.assert_allclose(t.H[:, t.column("base FZ")], -M1 * H, rtol=1e-10)
     iso = t.isolation[:, t.column("c az")]
     assert np.isnan(iso[0]) and iso[-1] == pytest.approx(1 - abs(exact[-1]), rel=1e-10)
+    # the vertical mode strains the four mounts' third axes alone, equally
+    vert = int(np.flatnonzero(where == 2)[0])
+    np.testing.assert_allclose(m.strain_mounts[vert][:, 2], 0.25, rtol=1e-10)
+    assert m.strain_mounts[vert][:, :2].max() < 1e-12 and m.strain_elastic[vert] == 0.0
+    # the grid finds the peak of |T|, ωₚ = ωₙ √(√(1 + 8ζ²) − 1) / (2ζ), to 0.1 % of 2ζfₙ
+    z = beta * w[2] / 2
+    fp = w[2] * math.sqrt(math.sqrt(1 + 8 * z**2) - 1) / (2 * z) / (2 * math.pi)
+    t = flexbed.frf(scene, points=[("c", "mass", [0, 0, 0])], band=(1.0, 40.0), n=60)
+    peaks = t.peaks[t.peaks[:, 0] == t.column("c az")]
+    assert peaks.shape[0] == 1
+    assert abs(peaks[0, 1] - fp) <= 0.5e-3 * 2 * z * w[2] / (2 * math.pi)
     # a unit force on the body: accelerance −ω²/G and force transmissibility (k + iωc)/G
     t = flexbed.frf(scene, input="force z", force_at=("mass", [0.0, 0.0, 0.0]),
                     points=[("c", "mass", [0, 0, 0])], frequencies=f)
@@ -263,6 +274,15 @@ def test_flexible_bed_tends_to_the_rigid_bed_as_its_stiffness_grows():
         assert np.all(md.undamped_frequency[18:] > 100 * rigid[-1] / 10)
     assert errors[-1] < 1e-5
     assert 9.0 < errors[1] / errors[2] < 11.0                 # first order in 1/s
+    # the mode shapes for ParaView: the bed's mesh deforms in its own modes
+    from flexbed.analyses.mode_shapes import mode_shape_meshes
+    bed_mesh = mode_shape_meshes(flex, mt)[0]
+    assert bed_mesh.name == bed and bed_mesh.nodes.shape == data.nodes.shape
+    x = np.column_stack([np.ones(len(bed_mesh.nodes)), bed_mesh.nodes[:, :2]])
+    for k in (0, 18):
+        w = bed_mesh.displacement[k, :, 2]
+        rest = w - x @ np.linalg.lstsq(x, w, rcond=None)[0]      # all but a rigid tilt
+        assert (np.abs(rest).max() > 0.1) == (k == 18), k
 
 
 def test_modal_and_frf_commands_write_their_files(tmp_path):
@@ -280,6 +300,11 @@ def test_modal_and_frf_commands_write_their_files(tmp_path):
     c = read_file(tmp_path / "m.h5", schema="flexbed.modal", major=1)
     assert c.get("energy/kinetic").shape == (6, 6)
     assert c.attrs[""]["equilibrium_source"] == str(eq)
+    import xml.etree.ElementTree as ET
+    shapes = read_file(tmp_path / "m-shapes.h5", schema="flexbed.mode_shapes", major=1)
+    fields = [e.text.split(":/")[1] for e in ET.parse(tmp_path / "m-shapes.xdmf").iter("DataItem")]
+    assert len(fields) == 2 + 6 and all(f in shapes.datasets for f in fields)
+    assert shapes.get("bodies/0/cells").shape == (1, 8)          # the body as its box
     rows = (tmp_path / "m-effective-mass.csv").read_text().splitlines()
     assert rows[0].startswith("mode,frequency_Hz,mass_X_kg") and len(rows) == 7
     assert main(["frf", str(scene), "-o", str(tmp_path / "f"), "--band", "1,40", "-n", "50",

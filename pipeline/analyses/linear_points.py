@@ -97,6 +97,11 @@ class PointJacobians:
         self.run = Run(in_memory(ds, attrs), modes=modes if flex else None)
         self.n = n
 
+    def position(self, point: Point) -> np.ndarray:
+        """(3,) the point's inertial position at the equilibrium [m] (the
+        first sample: the base moved, the bodies not)."""
+        return self.run.absolute(point).position[0].copy()
+
     def jacobian(self, point: Point, relative_to: str | None = None) -> np.ndarray:
         """(3, 3 + n): the point's position [m] (inertial, or in the frame of
         ``relative_to``) per unit base translation and per unit q."""

@@ -3,8 +3,9 @@ static equilibrium: magnitude and phase from a base acceleration (or a
 force on a body) to points of interest, to every mount's forces and to the
 total force on the base, on a grid that resolves every resonance.
 
-Writes ``PREFIX.h5`` (``flexbed.frf``), ``PREFIX.csv`` and
-``PREFIX-bode.png`` (points) and ``PREFIX-forces.png`` (base force)
+Writes ``PREFIX.h5`` (``flexbed.frf``), ``PREFIX.csv``,
+``PREFIX-bode.png`` (the points' accelerations along the input's axis) and
+``PREFIX-forces.png`` (the force on the base)
 (PREFIX default ``<scene stem>-frf``).
 """
 
@@ -74,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     from flexbed.files.frequency import write_frf
 
     sf = load_scene(args.scene)
-    kind, _ = parse_input(args.input)
+    kind, axis = parse_input(args.input)
     band = _band(args.band)
     if args.n < 2:
         raise InputError(f"-n {args.n}: needs at least 2 frequencies")
@@ -95,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
                            band=band, n=args.n)
     print(f"FRF of '{sf.scene.name}': {r.input}; {r.frequency.size} frequencies on "
           f"{r.frequency[0]:.4g}–{r.frequency[-1]:.4g} Hz, {count(r.resonances.size, 'mode')} "
-          f"in the band, {count(r.peaks.shape[0], 'peak')} resolved to 0.1 % of its "
+          f"in the band, {count(r.peaks.shape[0], 'peak')}, each located to 0.1 % of its "
           f"half-power bandwidth")
     iso_cols = np.flatnonzero(r.isolation_columns)
     for j in iso_cols:
@@ -114,7 +115,9 @@ def run(args: argparse.Namespace) -> int:
     write_text(out["csv"], frf_csv(r))
     if "bode" in out:
         from flexbed.frequency_plots import plot_bode
-        acc = [j for j, u in enumerate(r.units) if u in ("1", "m/s^2/N")]
+        # along the input's axis (the cross-axis responses are in the CSV and HDF5)
+        acc = [j for j, (u, n) in enumerate(zip(r.units, r.names))
+               if u in ("1", "m/s^2/N") and n.endswith(f" a{'xyz'[axis]}")]
         top = max((float(r.magnitude[:, j].max()) for j in acc), default=0.0)
         acc = [j for j in acc if r.magnitude[:, j].max() >= 1e-6 * top]    # not round-off
         unit = r.units[acc[0]] if acc else "1"

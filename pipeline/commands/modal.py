@@ -3,8 +3,10 @@ equilibrium (base held): natural frequencies, damping ratios, the kinetic
 energy (decoupling) table, strain energy per mount, modal effective masses.
 
 Writes ``PREFIX.h5`` (``flexbed.modal``), ``PREFIX-modes.csv``,
-``PREFIX-energy.csv``, ``PREFIX-strain.csv``, ``PREFIX-effective-mass.csv``
-and ``PREFIX-energy.png`` (PREFIX default ``<scene stem>-modal``).
+``PREFIX-energy.csv``, ``PREFIX-strain.csv``, ``PREFIX-effective-mass.csv``,
+``PREFIX-energy.png`` and the mode shapes for ParaView,
+``PREFIX-shapes.xdmf`` over ``PREFIX-shapes.h5`` (``flexbed.mode_shapes``)
+(PREFIX default ``<scene stem>-modal``).
 """
 
 from __future__ import annotations
@@ -50,7 +52,8 @@ def load_mounted(args, sf):
 
 def outputs(prefix: str, plots: bool) -> dict[str, Path]:
     names = {"h5": ".h5", "modes": "-modes.csv", "energy": "-energy.csv",
-             "strain": "-strain.csv", "mass": "-effective-mass.csv"}
+             "strain": "-strain.csv", "mass": "-effective-mass.csv",
+             "xdmf": "-shapes.xdmf", "shapes_h5": "-shapes.h5"}
     if plots:
         names["png"] = "-energy.png"
     return {k: check_destination(Path(prefix + v)) for k, v in names.items()}
@@ -69,6 +72,9 @@ def run(args: argparse.Namespace) -> int:
     print(f"Modes of '{sf.scene.name}' about its static equilibrium ({mt.source}), base held: "
           f"{count(ms.n, 'coordinate')}, {'damped (complex modes)' if ms.damped else 'undamped'}")
     print(modes_text(ms, md))
+    if md.overdamped_rates.size:
+        print(f"overdamped (real roots, no modes): decay rates "
+              f"{', '.join(f'{r:.4g}' for r in md.overdamped_rates)} 1/s")
     print("\nKinetic energy distribution [%] (the decoupling table):")
     print(energy_text(ms, md, names))
     print("\nModal effective mass, base translation (undamped modes):")
@@ -80,6 +86,9 @@ def run(args: argparse.Namespace) -> int:
     write_text(out["energy"], energy_csv(ms, md))
     write_text(out["strain"], strain_csv([m.name for m in mt.system.scene.mounts], md))
     write_text(out["mass"], effective_mass_csv(md))
+    from flexbed.analyses.mode_shapes import mode_shape_meshes
+    from flexbed.files.mode_shapes import write_mode_shapes
+    write_mode_shapes(out["xdmf"], mode_shape_meshes(sf, mt), md.frequency, md.damping_ratio)
     if "png" in out:
         from flexbed.frequency_plots import plot_energy
         plot_energy(out["png"], f"{sf.scene.name}: kinetic energy per mode", ms.labels,

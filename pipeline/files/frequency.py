@@ -10,6 +10,8 @@
 - ``modes/frequency``, ``modes/damped_frequency`` (m,) [Hz],
   ``modes/damping_ratio`` (m,) [1], ``modes/shape_real``,
   ``modes/shape_imag`` (m, n): complex shapes, largest component 1;
+  ``modes/overdamped_rates`` (r,) [1/s]: decay rates of the real roots
+  (overdamped motions: no modes);
 - ``energy/kinetic`` (m, n) [1]: kinetic energy share per coordinate;
   ``energy/strain_mounts`` (m, M, 3) [1] per mount axis,
   ``energy/strain_elastic`` (m,) [1] of the bed's deformation;
@@ -59,6 +61,8 @@ def write_modal(path, sf, mt) -> Path:
         "modes/damping_ratio": Dataset(md.damping_ratio, "1", "damping ratio"),
         "modes/shape_real": Dataset(md.shapes.real, "SI", "mode shapes, real part"),
         "modes/shape_imag": Dataset(md.shapes.imag, "SI", "mode shapes, imaginary part"),
+        "modes/overdamped_rates": Dataset(md.overdamped_rates, "1/s",
+                                          "decay rates of the real roots (overdamped motions)"),
         "energy/kinetic": Dataset(md.energy, "1", "kinetic energy share per coordinate"),
         "energy/strain_mounts": Dataset(md.strain_mounts, "1",
                                         "strain energy share per mount axis"),
