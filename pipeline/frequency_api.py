@@ -166,7 +166,10 @@ def frf(scene: SceneFile, *, input: str = "base z",
             pts.append((Point(str(p[0]), str(p[1]), xyz), p[3] if len(p) == 4 else None))
     at = None
     if force_at is not None:
-        at = Point("force", str(force_at[0]), np.asarray(force_at[1], dtype=float))
+        xyz = np.asarray(force_at[1], dtype=float) if len(force_at) == 2 else None
+        if xyz is None or xyz.shape != (3,) or not np.all(np.isfinite(xyz)):
+            raise InputError(f"force_at {force_at!r}: expected (body, [x, y, z]) in metres")
+        at = Point("force", str(force_at[0]), xyz)
     if n < 2:
         raise InputError(f"n = {n!r}: needs at least 2 frequencies")
     freqs = None if frequencies is None else np.asarray(frequencies, dtype=float)

@@ -97,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"FRF of '{sf.scene.name}': {r.input}; {r.frequency.size} frequencies on "
           f"{r.frequency[0]:.4g}–{r.frequency[-1]:.4g} Hz, {count(r.resonances.size, 'mode')} "
           f"in the band, {count(r.peaks.shape[0], 'peak')}, each located to 0.1 % of its "
-          f"half-power bandwidth")
+          f"mode's half-power bandwidth")
     iso_cols = np.flatnonzero(r.isolation_columns)
     for j in iso_cols:
         below = r.magnitude[:, j] < 1.0
