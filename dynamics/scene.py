@@ -303,6 +303,13 @@ class Scene:
             raise SceneError(f"body {base.name!r}: angular_velocity = "
                              f"{base.angular_velocity.tolist()} must be zero: the base's "
                              f"orientation is locked")
+        for b in bodies[1:]:        # the base's orientation is locked: its inertia plays no part
+            J = np.linalg.eigvalsh(b.inertia)
+            if J[0] + J[1] < J[2] * (1.0 - 1e-9):
+                raise SceneError(f"body {b.name!r}: inertia has principal moments "
+                                 f"{J[0]:.6g}, {J[1]:.6g}, {J[2]:.6g} kg m^2, which break the "
+                                 f"triangle inequality J1 + J2 >= J3 ({J[0] + J[1]:.6g} < "
+                                 f"{J[2]:.6g}): no body has them")
         mounts = tuple(self.mounts)
         mnames = []
         for i, m in enumerate(mounts):

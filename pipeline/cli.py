@@ -21,6 +21,7 @@ import importlib
 import os
 import sys
 
+from flexbed.console import run_command
 from flexbed.errors import EXIT_INPUT, FlexbedError
 from flexbed.threads import limited, pin_environment
 
@@ -128,7 +129,7 @@ def main(argv: list[str] | None = None) -> int:
         module = importlib.import_module(f"flexbed.commands.{args.command}")
         try:
             with limited():
-                code = int(module.run(args) or 0)
+                code = run_command(module, args)
         except FlexbedError as exc:
             print(f"flexbed {args.command}: {exc}", file=sys.stderr)
             return exc.exit_code

@@ -4,7 +4,8 @@ Every file written here carries, at its root, the attributes ``schema``,
 ``schema_version`` ("MAJOR.MINOR"), ``creator`` ("flexbed X.Y.Z") and
 ``created`` (ISO 8601, UTC); every dataset carries a ``units`` attribute.
 Files are written atomically: to a temporary file in the same folder, then
-renamed, so a reader never sees half a file.
+renamed, so a reader never sees half a file; a dataset holding a
+non-finite value (NaN, ±inf) is refused (NumericalError) and nothing is written.
 
 A file is described as a flat mapping from dataset paths ("group/name") to
 :class:`Dataset` values, plus a mapping from group paths ("" for the root)
@@ -24,7 +25,7 @@ from typing import Any, Mapping
 import h5py
 import numpy as np
 
-from flexbed.errors import InputError
+from flexbed.errors import InputError, NumericalError
 from flexbed.files.destination import atomic_write
 
 
@@ -108,6 +109,16 @@ def write_file(path: str | os.PathLike, *, schema: str, version: str,
     Path
         The path written.
     """
+    for name, ds in datasets.items():
+        if not isinstance(ds.data, str):
+            arr = np.asarray(ds.data)
+            if arr.dtype.kind in "fc" and not np.all(np.isfinite(arr)):
+                bad = np.argwhere(~np.isfinite(arr))[0]
+                raise NumericalError(f"{path}: not written: dataset '{name}' holds "
+                                     f"{int(np.sum(~np.isfinite(arr)))} non-finite values "
+                                     f"(first at index {tuple(int(i) for i in bad)}; a "
+                                     f"floating-point overflow or a diverging solution)")
+
     def fill(tmp: Path) -> None:
         with h5py.File(tmp, "w") as f:
             f.attrs["schema"] = schema
