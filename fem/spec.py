@@ -38,7 +38,11 @@ class PlateSpecError(ValueError):
 
 
 def _short(n: int) -> str:
-    return str(n) if n < 10 ** 12 else f"{n:.3g}"
+    return str(n) if n < 10 ** 12 else f"<an integer of {int(n.bit_length() * 0.30103) + 1} digits>"
+
+
+def _gib(n: int) -> str:
+    return f"{n / 2 ** 30:.3g}" if n < 10 ** 300 else "> 1e290"
 
 
 def _positive(entry: str, value: float) -> None:
@@ -104,10 +108,10 @@ class PlateSpec:
                 raise PlateSpecError(entry, f"{entry} = {n!r} must be an integer >= 1")
         dofs, band_bytes = mesh_size(self.nx, self.ny)
         if dofs > MAX_DOFS or band_bytes > MAX_BAND_BYTES:
-            shown = f"{dofs:,}" if dofs < 10 ** 15 else f"{dofs:.3g}"
+            shown = f"{dofs:,}" if dofs < 10 ** 15 else _short(dofs)
             raise PlateSpecError("nx", f"nx = {_short(self.nx)}, ny = {_short(self.ny)} give "
                                        f"{shown} degrees of freedom (banded factor "
-                                       f"{band_bytes / 2 ** 30:.3g} GiB); the limits are "
+                                       f"{_gib(band_bytes)} GiB); the limits are "
                                        f"{MAX_DOFS:,} and {MAX_BAND_BYTES / 2 ** 30:g} GiB")
         if not isinstance(self.rotary_inertia, bool):
             raise PlateSpecError("rotary_inertia",

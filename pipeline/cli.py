@@ -44,11 +44,11 @@ COMMANDS = {
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse that reports usage errors as exit code 2 (bad input)."""
+    """argparse that reports usage errors as exit code 2 (bad input), in one
+    line (the usage is in ``--help``)."""
 
     def error(self, message: str):  # pragma: no cover - argparse's own path
-        self.print_usage(sys.stderr)
-        self.exit(EXIT_INPUT, f"{self.prog}: {message}\n")
+        self.exit(EXIT_INPUT, f"{self.prog}: {message} (see '{self.prog} --help')\n")
 
 
 class _Version(argparse.Action):

@@ -15,6 +15,7 @@ to attribute dictionaries. Attribute values are str, int, float, bool or
 
 from __future__ import annotations
 
+import io
 import os
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -120,31 +121,40 @@ def write_file(path: str | os.PathLike, *, schema: str, version: str,
                                      f"floating-point overflow or a diverging solution)")
 
     def fill(tmp: Path) -> None:
-        with h5py.File(tmp, "w") as f:
-            f.attrs["schema"] = schema
-            f.attrs["schema_version"] = version
-            f.attrs["creator"] = f"flexbed {package_version()}"
-            f.attrs["created"] = datetime.now(timezone.utc).isoformat(timespec="seconds")
-            for name, ds in datasets.items():
-                data = ds.data
-                if isinstance(data, str):
-                    d = f.create_dataset(name, data=data, dtype=h5py.string_dtype())
+        # built in memory, then written with plain file I/O: a full disk or a
+        # size limit is then an OSError of one write, where HDF5's own
+        # writes fail again on closing (and crash the process at exit)
+        buffer = io.BytesIO()
+        with h5py.File(buffer, "w") as f:
+            _fill(f)
+        with open(tmp, "wb") as out:
+            out.write(buffer.getbuffer())
+
+    def _fill(f) -> None:
+        f.attrs["schema"] = schema
+        f.attrs["schema_version"] = version
+        f.attrs["creator"] = f"flexbed {package_version()}"
+        f.attrs["created"] = datetime.now(timezone.utc).isoformat(timespec="seconds")
+        for name, ds in datasets.items():
+            data = ds.data
+            if isinstance(data, str):
+                d = f.create_dataset(name, data=data, dtype=h5py.string_dtype())
+            else:
+                arr = np.asarray(data)
+                if arr.dtype.kind in "US":
+                    d = f.create_dataset(name, data=arr.astype(object),
+                                         dtype=h5py.string_dtype())
                 else:
-                    arr = np.asarray(data)
-                    if arr.dtype.kind in "US":
-                        d = f.create_dataset(name, data=arr.astype(object),
-                                             dtype=h5py.string_dtype())
-                    else:
-                        d = f.create_dataset(name, data=arr)
-                d.attrs["units"] = ds.units
-                if ds.description:
-                    d.attrs["description"] = ds.description
-                for key, value in (ds.attrs or {}).items():
-                    d.attrs[key] = value
-            for group, values in (attrs or {}).items():
-                g = f.require_group(group) if group else f
-                for key, value in values.items():
-                    g.attrs[key] = value
+                    d = f.create_dataset(name, data=arr)
+            d.attrs["units"] = ds.units
+            if ds.description:
+                d.attrs["description"] = ds.description
+            for key, value in (ds.attrs or {}).items():
+                d.attrs[key] = value
+        for group, values in (attrs or {}).items():
+            g = f.require_group(group) if group else f
+            for key, value in values.items():
+                g.attrs[key] = value
     return atomic_write(path, fill)
 
 

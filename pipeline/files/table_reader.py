@@ -109,6 +109,7 @@ class TableReader:
 def short_repr(value: Any, limit: int = 60) -> str:
     """``repr(value)``, cut to ``limit`` characters with the length said
     (a 300-digit number is not echoed whole)."""
-    text = repr(value) if not isinstance(value, int) else (
-        str(value) if abs(value) < 10 ** limit else f"{value:.3e}")
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10 ** limit:
+        return f"<an integer of {int(abs(value).bit_length() * 0.30103) + 1} digits>"
+    text = repr(value)
     return text if len(text) <= limit else f"{text[:limit - 12]}… ({len(text)} characters)"
