@@ -15,6 +15,7 @@ to attribute dictionaries. Attribute values are str, int, float, bool or
 
 from __future__ import annotations
 
+import functools
 import io
 import os
 from dataclasses import dataclass, field
@@ -30,8 +31,10 @@ from flexbed.errors import InputError, NumericalError
 from flexbed.files.destination import atomic_write
 
 
+@functools.cache
 def package_version() -> str:
-    """Version string of the installed flexbed distribution."""
+    """Version string of the installed flexbed distribution (looked up once:
+    reading the distribution's metadata costs milliseconds)."""
     try:
         return metadata.version("flexbed")
     except metadata.PackageNotFoundError:  # running from a source tree
