@@ -223,6 +223,26 @@ CASES = [
          _with_files({"s.toml": scene()}, lambda d: ["modes", str(d / "s.toml"), "-o",
                                                      str(d / "s.toml")]), 2,
          ("s.toml", "input file")),
+    Case("simulate-results-over-4-GiB",
+         lambda d: ["simulate", "--output-dt", "1e-6", "-o", str(d / "r.h5"), "--no-progress"],
+         2, ("3e+06 output samples", "GiB", "the limit is 4 GiB")),
+    Case("simulate-output-dt-option-1e-12",
+         _with_files({"s.toml": scene()}, lambda d: ["simulate", str(d / "s.toml"),
+                                                     "--output-dt", "1e-12", "-o",
+                                                     str(d / "r.h5")]), 2,
+         ("output_dt = 1e-12", "3e+12 output samples", "limit is 1e+07")),
+    Case("simulate-out-is-the-scene",
+         _with_files({"s.toml": scene()}, lambda d: ["simulate", str(d / "s.toml"), "-o",
+                                                     str(d / "s.toml")]), 2,
+         ("s.toml", "input file")),
+    Case("run-out-is-a-file",
+         _with_files({"s.toml": scene(), "taken": "keep"},
+                     lambda d: ["run", str(d / "s.toml"), "-o", str(d / "taken")]), 2,
+         ("-o", "taken", "not a folder")),
+    Case("compare-out-is-a-file",
+         _with_files({"s.toml": scene(), "taken": "keep"},
+                     lambda d: ["compare", str(d / "s.toml"), "-o", str(d / "taken")]), 2,
+         ("-o", "taken", "not a folder")),
     # accepted, with what the README promises
     Case("scene-out-missing-folder", lambda d: ["scene", "-o", str(d / "new" / "dir" / "x.toml")],
          0, (), writes=("new/dir/x.toml",)),
@@ -477,3 +497,26 @@ def test_an_unwritable_compiled_cache_falls_back_to_a_temporary_folder(tmp_path)
         f"is cached in {spare} (set NUMBA_CACHE_DIR to a writable folder to choose)"]
     assert r.stdout.strip().startswith(str(spare))
     assert oct(spare.stat().st_mode & 0o777) == "0o700"
+
+
+def test_floating_point_warnings_become_the_cause_in_one_line(capsys):
+    """NumPy's RuntimeWarnings are not printed; a numerical failure that
+    follows names the first of them as its cause."""
+    import types
+    import argparse
+
+    from flexbed.console import run_command
+    from flexbed.errors import NumericalError
+
+    def run(args):
+        with np.errstate(over="warn"):
+            np.float64(1e308) * np.float64(10.0)
+            np.float64(1e308) * np.float64(10.0)
+        raise NumericalError("no static equilibrium")
+
+    module = types.SimpleNamespace(run=run)
+    with pytest.raises(NumericalError) as caught:
+        run_command(module, argparse.Namespace(command="static"))
+    assert str(caught.value) == ("no static equilibrium (after a floating-point error: "
+                                 "overflow encountered in scalar multiply)")
+    assert capsys.readouterr().err == ""
