@@ -43,6 +43,9 @@ def _vector(where: str, name: str, value, shape) -> np.ndarray:
 def _name(where: str, value) -> str:
     if not isinstance(value, str) or not value.strip():
         raise SceneError(f"{where}: name = {value!r} must be a non-empty string")
+    if any(ord(c) < 32 or ord(c) == 127 for c in value):
+        raise SceneError(f"{where}: name = {value!r} holds a control character (a line break, "
+                         f"a tab, …); names are one line of text")
     return value
 
 

@@ -186,6 +186,8 @@ CASES = [
     Case("scene-no-body", _static("[scene]\nname = \"x\"\n"), 2, ("s.toml", "[[body]]")),
     Case("body-missing-mass", _static(scene().replace("mass = 50.0\n", "", 1)), 2,
          ("body 'mass'", "'mass' is required")),
+    Case("body-name-line-break", _static(scene().replace('name = "mass"', 'name = "ma\\rss"', 1)),
+         2, ("body 'ma\\rss'", "name = 'ma\\rss'", "control character")),
     Case("mount-unknown-law", _static(scene().replace('law = "linear"', 'law = "magic"', 1)), 2,
          ("mount 'M1'", "law = 'magic'")),
     Case("mount-unknown-body", _static(scene().replace('body_j = "mass"', 'body_j = "x"', 1)), 2,

@@ -5,6 +5,7 @@ user typed into a number, a list or a choice, or into a one-line
 from __future__ import annotations
 
 import math
+import unicodedata
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -96,6 +97,9 @@ class TableReader:
     def string(self, where, key, value, choices=None) -> str:
         if not isinstance(value, str):
             self.fail(where, f"{key} = {short_repr(value)} must be a string")
+        if key != "description" and any(unicodedata.category(c) == "Cc" for c in value):
+            self.fail(where, f"{key} = {short_repr(value)} holds a control character (a line "
+                             f"break, a tab, …); names are one line of text")
         if choices is not None and value not in choices:
             self.fail(where, f"{key} = {short_repr(value)} must be one of {', '.join(map(repr, choices))}")
         return value
