@@ -14,9 +14,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import tomllib
-import warnings
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -34,7 +32,8 @@ from flexbed.dynamics.shapes import SplineEnds
 from flexbed.files.builtin import BUILTIN, builtin_scene_path, builtin_scene_text  # noqa: F401
 from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
 from flexbed.files.shapes import ALL_SHAPE_KEYS, ShapeReader
-from flexbed.errors import FlexbedWarning, InputError
+from flexbed.errors import InputError
+from flexbed.files.sanity import warn_far_points
 
 __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse_scene",
            "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
@@ -54,9 +53,6 @@ _SOLVER_KEYS = ("t_end", "integrator", "dt", "rtol", "atol", "output_dt", "start
                 "model", "linear_tol")
 MODELS = ("nonlinear", "linear", "auto")
 _POINT_KEYS = ("name", "body", "position", "relative_to")
-#: a mount point further than this many times its body's size from the
-#: body's centre of mass is warned about (not refused)
-FAR_POINT = 10.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -177,7 +173,8 @@ class _Reader(ShapeReader):
             scene = Scene(tuple(bodies), base, tuple(mounts), np.array(gravity), name)
         except SceneError as exc:
             self.fail("", str(exc))
-        self.warn_far_points(scene, bodies_raw[at]["name"] if at is not None else None, bed)
+        warn_far_points(self.label, scene, bodies_raw[at]["name"] if at is not None else None,
+                        bed)
         if bed.auto == ():
             bed = self.resolve_auto_modes(scene, bed, solver)
         digest = _digest(data, self.csv)
@@ -187,34 +184,6 @@ class _Reader(ShapeReader):
         return SceneFile(scene=scene, bed=bed, solver=solver, points=tuple(points),
                          source=path, text=text, digest=digest,
                          statics_digest=_digest(statics, {}))
-
-    def warn_far_points(self, scene: Scene, bed_body: str | None, bed: BedSection) -> None:
-        """A :class:`~flexbed.errors.FlexbedWarning` for each mount point more
-        than :data:`FAR_POINT` times its body's size from the body's centre
-        of mass (not the base's: its orientation is locked, so its inertia
-        says nothing of its size). The size: the bed's plate, half its
-        diagonal; another body, the half-diagonal of the uniform box with
-        its mass and inertia, sqrt(1.5 trace(J) / m)."""
-        sizes = {}
-        for b in scene.bodies[1:]:
-            if b.name == bed_body:
-                p = bed.plate
-                sizes[b.name] = 0.5 * math.sqrt(p.length_x ** 2 + p.length_y ** 2
-                                                + p.thickness ** 2)
-            else:
-                sizes[b.name] = math.sqrt(1.5 * float(np.trace(b.inertia)) / b.mass)
-        for m in scene.mounts:
-            for key, body, point in (("point_i", m.body_i, m.point_i),
-                                     ("point_j", m.body_j, m.point_j)):
-                if body not in sizes:
-                    continue
-                d = float(np.linalg.norm(point))
-                if d > FAR_POINT * sizes[body]:
-                    warnings.warn(FlexbedWarning(
-                        f"{self.label}: mount {m.name!r}: {key} = {np.asarray(point).tolist()} "
-                        f"is {d:.3g} m from the centre of body {body!r}, more than "
-                        f"{FAR_POINT:g} x its size ({sizes[body]:.3g} m): a point in the "
-                        f"wrong frame or unit?"), stacklevel=2)
 
     def resolve_auto_modes(self, scene: Scene, bed: BedSection, solver) -> BedSection:
         """``[bed] modes = "auto"`` → fmax = f_cut (see :mod:`flexbed.stages.modes_auto`)."""
