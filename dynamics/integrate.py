@@ -98,6 +98,18 @@ def _scipy_stepper(method: str):
     return {"adams": LSODA, "bdf": BDF}[method]
 
 
+#: the most output samples a run may ask for (t_end / output_dt + 1): each
+#: sample holds the whole state and the history computed from it (of the
+#: reference scene, about 2.4 kB), so 1e7 samples are some 24 GB; refused
+#: before anything is allocated or solved
+MAX_OUTPUT_SAMPLES = 10_000_000
+
+
+def output_samples(t_end: float, output_dt: float) -> float:
+    """How many output samples [0, t_end] every output_dt [s] holds."""
+    return t_end / output_dt + 1.0
+
+
 @dataclass(frozen=True, slots=True)
 class Settings:
     """Integration settings.
@@ -128,6 +140,11 @@ class Settings:
             if not (math.isfinite(v) and v > 0.0):
                 raise ValueError(f"{key} = {v!r} must be > 0")
             object.__setattr__(self, key, v)
+        n = output_samples(self.t_end, self.output_dt)
+        if n > MAX_OUTPUT_SAMPLES:
+            raise ValueError(f"output_dt = {self.output_dt:g} s over t_end = {self.t_end:g} s "
+                             f"gives {n:.3g} output samples; the limit is "
+                             f"{MAX_OUTPUT_SAMPLES:.0e} (a larger output_dt, or a shorter t_end)")
         if int(self.max_steps) < 1:
             raise ValueError(f"max_steps = {self.max_steps!r} must be >= 1")
         if int(self.stiff_steps) < 0:

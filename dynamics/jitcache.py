@@ -14,15 +14,27 @@ files are removed; numba compiles afresh and writes new ones).
 or :mod:`flexbed.dynamics.steppers` is first imported, before any compiled
 function is called (numba reads a function's cache at its first call).
 It reads files only: no compiled module needs to be imported for it.
+
+Where no cache location numba knows is writable (``NUMBA_CACHE_DIR``
+unwritable and the package's ``__pycache__`` read-only and no writable
+user-wide cache), numba would refuse to import the compiled modules at
+all; :func:`refresh` then points numba at a private folder in the
+temporary directory, ``flexbed-numba-<uid>`` (created with mode 0700 and
+used only if it is a directory this user owns), and says so in one line
+on stderr. A ``NUMBA_CACHE_DIR`` that is not writable while another
+location is gets one line naming the one numba uses instead.
 """
 
 from __future__ import annotations
 
 import hashlib
 import os
+import stat
+import sys
+import tempfile
 from pathlib import Path
 
-__all__ = ["COMPILED", "refresh", "stamp", "cache_dir"]
+__all__ = ["COMPILED", "refresh", "stamp", "cache_dir", "fallback_dir"]
 
 #: Every module of flexbed.dynamics that holds numba-compiled functions
 #: (relative names); a test checks that none is missing.
@@ -58,14 +70,76 @@ def cache_dir(source: str | os.PathLike) -> str | None:
     """The folder where numba caches the functions of a source file, as
     numba chooses it (``NUMBA_CACHE_DIR``, the ``__pycache__`` beside the
     file, or the user-wide cache), or None if none is writable."""
-    from numba.core import caching
-
-    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")
-    for cls in impl._locator_classes:
+    for cls in _locator_classes():
         locator = cls.from_function(_probe, str(source))
         if locator is not None:
             return locator.get_cache_path()
     return None
+
+
+def _locator_classes() -> list:
+    """numba's cache locators in the order it tries them (its default list,
+    or the one ``NUMBA_CACHE_LOCATOR_CLASSES`` names)."""
+    from numba.core import caching, config
+
+    names = getattr(config, "CACHE_LOCATOR_CLASSES", "") or ""
+    if names:
+        found = [getattr(caching, n.strip().rsplit(".", 1)[-1], None) for n in names.split(",")]
+        if all(found):
+            return found
+    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")
+    return list(impl._locator_classes)
+
+
+def fallback_dir() -> Path | None:
+    """The private cache folder used when no other is writable:
+    ``<tempdir>/flexbed-numba-<uid>``, created 0700 if absent; None if it
+    cannot be used (not a directory owned by this user, or not writable)."""
+    uid = os.getuid() if hasattr(os, "getuid") else 0
+    path = Path(tempfile.gettempdir()) / f"flexbed-numba-{uid}"
+    try:
+        path.mkdir(mode=0o700, exist_ok=True)
+        st = os.lstat(path)
+        if (not stat.S_ISDIR(st.st_mode) or st.st_uid != uid
+                or st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)):
+            return None
+        tempfile.TemporaryFile(dir=path).close()
+    except OSError:
+        return None
+    return path
+
+
+def _writable(folder: str) -> bool:
+    try:
+        os.makedirs(folder, exist_ok=True)
+        tempfile.TemporaryFile(dir=folder).close()
+    except OSError:
+        return False
+    return True
+
+
+def _choose_location(source: Path) -> str | None:
+    """Make sure numba has a writable cache location for ``source``;
+    return the folder, saying in one line on stderr when it is not the one
+    asked for (``NUMBA_CACHE_DIR``) or numba's own choices all failed."""
+    from numba.core import config
+
+    asked = config.CACHE_DIR
+    found = cache_dir(source)
+    if asked and not _writable(asked) and found is not None:
+        print(f"flexbed: note: NUMBA_CACHE_DIR = {asked} is not writable; compiled code is "
+              f"cached in {found} instead", file=sys.stderr)
+    if found is not None:
+        return found
+    spare = fallback_dir()
+    if spare is None:
+        return None
+    config.CACHE_DIR = str(spare)
+    os.environ["NUMBA_CACHE_DIR"] = str(spare)
+    where = f"NUMBA_CACHE_DIR = {asked}" if asked else "the package's folder"
+    print(f"flexbed: note: {where} is not writable; compiled code is cached in {spare} "
+          f"(set NUMBA_CACHE_DIR to a writable folder to choose)", file=sys.stderr)
+    return cache_dir(source)
 
 
 def refresh(force: bool = False) -> bool:
@@ -85,8 +159,8 @@ def refresh(force: bool = False) -> bool:
     if _done and not force:
         return False
     _done = True
+    home = _choose_location(_source(COMPILED[0]))
     dirs = {name: cache_dir(_source(name)) for name in COMPILED}
-    home = dirs[COMPILED[0]]
     if home is None:
         return False
     stamp_path = Path(home) / _STAMP_FILE

@@ -43,6 +43,9 @@ def _vector(where: str, name: str, value, shape) -> np.ndarray:
 def _name(where: str, value) -> str:
     if not isinstance(value, str) or not value.strip():
         raise SceneError(f"{where}: name = {value!r} must be a non-empty string")
+    if any(ord(c) < 32 or ord(c) == 127 for c in value):
+        raise SceneError(f"{where}: name = {value!r} holds a control character (a line break, "
+                         f"a tab, …); names are one line of text")
     return value
 
 
@@ -303,6 +306,13 @@ class Scene:
             raise SceneError(f"body {base.name!r}: angular_velocity = "
                              f"{base.angular_velocity.tolist()} must be zero: the base's "
                              f"orientation is locked")
+        for b in bodies[1:]:        # the base's orientation is locked: its inertia plays no part
+            J = np.linalg.eigvalsh(b.inertia)
+            if J[0] + J[1] < J[2] * (1.0 - 1e-9):
+                raise SceneError(f"body {b.name!r}: inertia has principal moments "
+                                 f"{J[0]:.6g}, {J[1]:.6g}, {J[2]:.6g} kg m^2, which break the "
+                                 f"triangle inequality J1 + J2 >= J3 ({J[0] + J[1]:.6g} < "
+                                 f"{J[2]:.6g}): no body has them")
         mounts = tuple(self.mounts)
         mnames = []
         for i, m in enumerate(mounts):

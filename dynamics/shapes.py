@@ -173,8 +173,17 @@ class Sinusoid:
         return _grid(self.start, self.end, dt)
 
 
+#: the most samples ``sample`` may make of one shape (as many as the
+#: longest output a run may have, :data:`integrate.MAX_OUTPUT_SAMPLES`)
+MAX_SAMPLES = 10_000_000
+
+
 def _grid(a: float, b: float, dt: float) -> np.ndarray:
     dt = _positive("sample", dt)
+    count = (b - a) / dt + 1.0
+    if not count <= MAX_SAMPLES:
+        raise SceneError(f"sample = {dt:g} s over {b - a:g} s gives {count:.3g} samples; "
+                         f"the limit is {MAX_SAMPLES:.0e} (a larger sample)")
     n = int(math.floor((b - a) / dt + 1e-9))
     t = a + dt * np.arange(n + 1)
     if b - t[-1] > 1e-9 * dt:

@@ -182,6 +182,11 @@ def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 
             Jac[:, c] = (_residual(system, _apply(system, y, e), sag)
                          - _residual(system, _apply(system, y, -e), sag)) / (2 * fd_step)
         njev += 1
+        if not (np.all(np.isfinite(Jac)) and np.all(np.isfinite(R))):
+            bad = int(np.argmax(~np.isfinite(Jac).all(axis=0) | ~np.isfinite(R)))
+            return result(False, f"no static equilibrium: the forces on {name_of(bad)} are not "
+                          f"finite (floating-point overflow: a mass, stiffness or load too "
+                          f"large for double precision)", it - 1, res, step, R, njev, history)
         singular = _singular_direction(Jac)
         if singular is not None:
             return result(False, f"no static equilibrium: {name_of(singular, 'is free in')} "
@@ -212,6 +217,14 @@ def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 
     else:
         if converged_at is None:
             worst = int(np.argmax(np.abs(R) / scale))
+            rounding = 4 * np.finfo(float).eps * (1.0 + float(np.max(np.abs(start_r))))
+            if step <= rounding:
+                return result(False, f"no static equilibrium: the residual on {name_of(worst)} "
+                              f"({float(np.abs(R)[worst]):.3g}) cannot be reduced: the Newton "
+                              f"steps ({step:.3g}) are below the rounding of the coordinates "
+                              f"({rounding:.2g}; a stiffness out of scale with the loads, too "
+                              f"large for double precision)", max_iter, res, step, R, njev,
+                              history)
             return result(False, f"no static equilibrium after {max_iter} Newton–Raphson "
                           f"iterations: largest residual on {name_of(worst)} "
                           f"({float(np.abs(R)[worst]):.3g}); step {step:.3g}", max_iter, res,

@@ -12,12 +12,37 @@ import math
 from dataclasses import asdict, dataclass
 
 
+#: the most degrees of freedom a plate mesh may have (4 per node: w, its two
+#: slopes and the twist): 250 x 250 elements, whose banded factor takes
+#: about 4 GiB; a mesh past it is refused before anything is allocated
+MAX_DOFS = 250_000
+#: the most memory the banded factor of the stiffness may take [bytes]
+MAX_BAND_BYTES = 4 * 2 ** 30
+
+
+def mesh_size(nx: int, ny: int) -> tuple[int, int]:
+    """(degrees of freedom, bytes of the banded factor) of an nx x ny mesh:
+    4 unknowns per node, a band about 8 x the nodes across the short side
+    (the reverse Cuthill-McKee ordering of :mod:`fem.banded`)."""
+    dofs = 4 * (nx + 1) * (ny + 1)
+    band = 8 * (min(nx, ny) + 1)
+    return dofs, 8 * dofs * (band + 1)
+
+
 class PlateSpecError(ValueError):
     """A plate input out of its range; ``entry`` names the key."""
 
     def __init__(self, entry: str, message: str):
         super().__init__(message)
         self.entry = entry
+
+
+def _short(n: int) -> str:
+    return str(n) if n < 10 ** 12 else f"<an integer of {int(n.bit_length() * 0.30103) + 1} digits>"
+
+
+def _gib(n: int) -> str:
+    return f"{n / 2 ** 30:.3g}" if n < 10 ** 300 else "> 1e290"
 
 
 def _positive(entry: str, value: float) -> None:
@@ -81,6 +106,13 @@ class PlateSpec:
             n = getattr(self, entry)
             if isinstance(n, bool) or not isinstance(n, int) or n < 1:
                 raise PlateSpecError(entry, f"{entry} = {n!r} must be an integer >= 1")
+        dofs, band_bytes = mesh_size(self.nx, self.ny)
+        if dofs > MAX_DOFS or band_bytes > MAX_BAND_BYTES:
+            shown = f"{dofs:,}" if dofs < 10 ** 15 else _short(dofs)
+            raise PlateSpecError("nx", f"nx = {_short(self.nx)}, ny = {_short(self.ny)} give "
+                                       f"{shown} degrees of freedom (banded factor "
+                                       f"{_gib(band_bytes)} GiB); the limits are "
+                                       f"{MAX_DOFS:,} and {MAX_BAND_BYTES / 2 ** 30:g} GiB")
         if not isinstance(self.rotary_inertia, bool):
             raise PlateSpecError("rotary_inertia",
                                  f"rotary_inertia = {self.rotary_inertia!r} must be true or false")

@@ -21,6 +21,7 @@ import importlib
 import os
 import sys
 
+from flexbed.console import run_command
 from flexbed.errors import EXIT_INPUT, FlexbedError
 from flexbed.threads import limited, pin_environment
 
@@ -45,11 +46,11 @@ COMMANDS = {
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse that reports usage errors as exit code 2 (bad input)."""
+    """argparse that reports usage errors as exit code 2 (bad input), in one
+    line (the usage is in ``--help``)."""
 
     def error(self, message: str):  # pragma: no cover - argparse's own path
-        self.print_usage(sys.stderr)
-        self.exit(EXIT_INPUT, f"{self.prog}: {message}\n")
+        self.exit(EXIT_INPUT, f"{self.prog}: {message} (see '{self.prog} --help')\n")
 
 
 class _Version(argparse.Action):
@@ -130,7 +131,7 @@ def main(argv: list[str] | None = None) -> int:
         module = importlib.import_module(f"flexbed.commands.{args.command}")
         try:
             with limited():
-                code = int(module.run(args) or 0)
+                code = run_command(module, args)
         except FlexbedError as exc:
             print(f"flexbed {args.command}: {exc}", file=sys.stderr)
             return exc.exit_code

@@ -25,3 +25,8 @@ class NumericalError(FlexbedError):
     """A computation that did not succeed (no equilibrium, solver failure)."""
 
     exit_code = EXIT_NUMERICAL
+
+
+class FlexbedWarning(UserWarning):
+    """Input that is accepted but probably not meant (e.g. a mount point far
+    from its body); the command line prints it as one line on stderr."""

@@ -122,7 +122,7 @@ def test_failed_write_leaves_nothing_behind(tmp_path, bed, monkeypatch):
     def broken(*args, **kwargs):
         raise OSError("disk full")
     monkeypatch.setattr(h5py.Group, "create_dataset", broken)
-    with pytest.raises(OSError):
+    with pytest.raises(InputError, match="m.h5: cannot write it .disk full.; nothing was written"):
         write_modes_file(tmp_path / "m.h5", bed)
     assert list(tmp_path.iterdir()) == []
 

@@ -33,6 +33,7 @@ from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.files.results import read_results
 from flexbed.files.store import Contents
+from flexbed.files.store import Contents
 
 
 @dataclass(frozen=True)
@@ -144,6 +145,19 @@ def find_modes_file(results: Path, bed: dict, modes_file=None):
                      f"--modes-file FILE (or re-run 'flexbed modes' and the simulation)")
 
 
+def numeric(c: Contents, name: str, shape: tuple) -> np.ndarray:
+    """Dataset ``name`` of ``c`` as a float array of ``shape`` (None: any
+    length), or InputError naming the file and the dataset."""
+    a = np.asarray(c.get(name))
+    if a.dtype.kind not in "biuf":
+        what = "text" if a.dtype.kind in "OSU" else f"values of type {a.dtype}"
+        raise InputError(f"{c.path}: dataset '{name}' holds {what}, not numbers")
+    if a.ndim != len(shape) or any(s is not None and s != n for s, n in zip(shape, a.shape)):
+        want = "(" + ", ".join("k" if s is None else str(s) for s in shape) + ")"
+        raise InputError(f"{c.path}: dataset '{name}' has shape {a.shape}, expected {want}")
+    return a.astype(float)
+
+
 class Run:
     """A run opened for post-processing: a results file, or its contents in
     memory (:class:`flexbed.files.store.Contents`), and the modes of a
@@ -158,20 +172,27 @@ class Run:
             self.incomplete = str(c.attrs[""].get("message", ""))
         else:
             self.incomplete = ""
-        self.t = np.asarray(c.get("time"), dtype=float)
-        self.names = [str(n) for n in c.get("bodies/names")]
-        self.r = np.asarray(c.get("bodies/position"), dtype=float)
-        self.p = np.asarray(c.get("bodies/euler_parameters"), dtype=float)
-        self.rd = np.asarray(c.get("bodies/velocity"), dtype=float)
-        self.rdd = np.asarray(c.get("bodies/acceleration"), dtype=float)
-        self.w = np.asarray(c.get("bodies/angular_velocity"), dtype=float)
-        self.wd = np.asarray(c.get("bodies/angular_acceleration"), dtype=float)
+        self.t = numeric(c, "time", (None,))
+        if self.t.size == 0:
+            raise InputError(f"{self.path}: dataset 'time' holds no samples")
+        if not (np.all(np.isfinite(self.t)) and np.all(np.diff(self.t) >= 0)):
+            raise InputError(f"{self.path}: dataset 'time' is not finite and non-decreasing")
+        k = self.t.size
+        self.names = [str(n) for n in np.atleast_1d(c.get("bodies/names"))]
+        nb = len(self.names)
+        self.r = numeric(c, "bodies/position", (k, nb, 3))
+        self.p = numeric(c, "bodies/euler_parameters", (k, nb, 4))
+        self.rd = numeric(c, "bodies/velocity", (k, nb, 3))
+        self.rdd = numeric(c, "bodies/acceleration", (k, nb, 3))
+        self.w = numeric(c, "bodies/angular_velocity", (k, nb, 3))
+        self.wd = numeric(c, "bodies/angular_acceleration", (k, nb, 3))
         self.A = rotation_matrix(self.p)                                  # (k, nb, 3, 3)
         self.mount_names = [str(n) for n in np.atleast_1d(c.datasets.get("mounts/names", []))]
         self.mount_body_i, self.mount_body_j = (
             [str(n) for n in np.atleast_1d(c.datasets.get(f"mounts/{key}", []))]
             for key in ("body_i", "body_j"))
-        self.mounts = {key: np.asarray(c.datasets[f"mounts/{key}"])
+        nm = len(self.mount_names)
+        self.mounts = {key: numeric(c, f"mounts/{key}", (k, nm, 3))
                        for key in ("deflection", "rate", "force", "force_i", "force_j")
                        if f"mounts/{key}" in c.datasets}
         text = str(c.datasets.get("scene/toml", ""))

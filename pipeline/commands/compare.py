@@ -13,7 +13,7 @@ from pathlib import Path
 
 from flexbed.analyses.compare import (CASES, LABELS, comparison_rows, csv_table, markdown_table,
                                       relative_vertical, run_case)
-from flexbed.files.destination import write_text
+from flexbed.files.destination import make_folder, write_text
 from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile, load_scene
 from flexbed.plots import plot_responses, plot_series
@@ -59,7 +59,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def compare_scene(sf: SceneFile, out: Path, *, force: bool = False, log=print) -> dict:
     """Run the three cases into ``out``; return the rows and the files written."""
-    out.mkdir(parents=True, exist_ok=True)
+    make_folder(out)
     name = sf.output_name
     data, reused = ensure_modes(sf, out / f"{name}-modes.h5", force=force,
                                 log=lambda m: log(f"  {m}"))

@@ -12,7 +12,7 @@ import sys
 import time
 from pathlib import Path
 
-from flexbed.files.destination import check_destination
+from flexbed.files.destination import check_destination, refuse_inputs
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.files.scene import load_scene
@@ -88,6 +88,7 @@ def run(args: argparse.Namespace) -> int:
     sf = load_scene(args.scene)
     path = Path(args.output) if args.output else default_modes_path(sf)
     check_destination(path)          # refused before any work, not after
+    refuse_inputs(path, sf.source)
     t0 = time.perf_counter()
     data, reused = ensure_modes(sf, path, n_modes=args.modes, fmax=args.fmax, force=args.force,
                                 log=lambda m: print(m, file=sys.stderr))

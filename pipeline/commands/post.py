@@ -42,7 +42,20 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                              "results file, else where the run recorded it)")
 
 
+def _folder(option: str, value: str | None) -> Path | None:
+    """An output folder option: absent or a directory, else InputError."""
+    if value is None:
+        return None
+    path = Path(value)
+    if path.exists() and not path.is_dir():
+        raise InputError(f"{option} {value}: is not a folder (it names an existing file or "
+                         f"device); give a folder for the output files")
+    return path
+
+
 def run(args: argparse.Namespace) -> int:
+    _folder("--csv", args.csv)
+    _folder("--plot", args.plot)
     points = [parse_point(text) for text in args.point]
     r = Run(args.results, modes_file=args.modes_file)
     if r.incomplete:
@@ -71,7 +84,6 @@ def run(args: argparse.Namespace) -> int:
         print(mount_table(r))
     if args.csv:
         out = Path(args.csv)
-        out.mkdir(parents=True, exist_ok=True)
         for m in motions:
             suffix = "" if m.frame == "inertial" else f"-rel-{m.frame.replace(' ', '_')}"
             f = out / f"point-{m.point.name.replace(' ', '_')}{suffix}.csv"

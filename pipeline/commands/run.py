@@ -24,7 +24,7 @@ from flexbed.commands.compare import add_solver_args, compare_scene, with_solver
 from flexbed.commands.modes import auto_line, modes_table
 from flexbed.commands.static import equilibrium_csv, equilibrium_table
 from flexbed.dynamics.statics import solve_statics
-from flexbed.files.destination import write_text
+from flexbed.files.destination import make_folder, write_text
 from flexbed.errors import NumericalError
 from flexbed.fem.export import write_modes_vtu
 from flexbed.files.results import write_equilibrium
@@ -53,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
     t_start = time.perf_counter()
     sf = with_solver_options(load_scene(args.scene), args.integrator, args.t_end)
     out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
+    make_folder(out)
     name = sf.output_name
     print(f"scene '{name}' ({sf.source}) -> {out}/")
 

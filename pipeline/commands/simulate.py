@@ -15,7 +15,7 @@ from flexbed.dynamics.statics import Equilibrium
 from flexbed.stages.modes import default_modes_path
 from flexbed.commands.static import add_modes_file_arg
 from flexbed.stages.system import compile_scene
-from flexbed.files.destination import check_destination
+from flexbed.files.destination import check_destination, refuse_inputs
 from flexbed.errors import InputError, NumericalError
 from flexbed.stages.simulation import simulate_system
 from flexbed.files.results import read_equilibrium, write_results
@@ -124,6 +124,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"option: --linear-tol = {linear_tol!r} must be > 0")
     out = Path(args.output) if args.output else Path(f"{sf.output_name}-results.h5")
     check_destination(out)          # refused before any work, not after
+    refuse_inputs(out, sf.source, args.modes_file, args.equilibrium)
     eq = None
     if args.equilibrium:
         if start != "equilibrium":

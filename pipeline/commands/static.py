@@ -8,6 +8,7 @@ and residual, and writes the equilibrium file that ``flexbed simulate
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +17,7 @@ from flexbed.dynamics.rotation import angles_from_p
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
 
-from flexbed.files.destination import check_destination
+from flexbed.files.destination import check_destination, refuse_inputs
 from flexbed.errors import InputError, NumericalError
 from flexbed.stages.system import compile_scene
 from flexbed.files.results import write_equilibrium
@@ -75,10 +76,11 @@ def run(args: argparse.Namespace) -> int:
     sf = load_scene(args.scene)
     out = Path(args.output) if args.output else Path(f"{sf.output_name}-equilibrium.h5")
     check_destination(out)          # refused before any work, not after
+    refuse_inputs(out, sf.source, args.modes_file)
     system = compile_scene(sf, args.modes_file)
     tol = sf.solver.static_tol if args.tol is None else args.tol
-    if not (tol > 0):
-        raise InputError(f"--tol = {tol!r} must be > 0")
+    if not (math.isfinite(tol) and tol > 0):
+        raise InputError(f"--tol = {tol!r} must be a finite number > 0")
     eq = solve_statics(system, tol=tol, sag=sf.bed.static_sag)
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")

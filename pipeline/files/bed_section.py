@@ -16,6 +16,7 @@ import numpy as np
 from flexbed.fem.spec import PlateSpec, PlateSpecError
 
 from flexbed.errors import InputError
+from flexbed.files.table_reader import LARGEST, SMALLEST, short_repr, out_of_range
 
 _PLATE_KEYS = tuple(f.name for f in fields(PlateSpec))
 _KEYS = _PLATE_KEYS + ("body", "model", "modes", "fmax", "rayleigh", "damping_ratio",
@@ -124,6 +125,11 @@ class BedSection:
         return self.model == "flexible"
 
 
+def _is_number_like(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and (
+        isinstance(v, int) or math.isfinite(v))
+
+
 def _is_number(v: Any) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
@@ -183,6 +189,16 @@ def read_bed(table: dict, where: str) -> BedSection:
     for key in table:
         if key not in _KEYS:
             raise InputError(f"{where}: unknown key '{key}' (known: {', '.join(_KEYS)})")
+    for key, value in table.items():
+        for v in (value if isinstance(value, list) else [value]):
+            if _is_number_like(v):
+                try:
+                    bad = out_of_range(float(v))
+                except OverflowError:
+                    bad = True
+                if bad:
+                    raise InputError(f"{where}: {key} = {short_repr(v)} is out of range "
+                                     f"(magnitudes from {SMALLEST:g} to {LARGEST:g}, or 0)")
     plate_args = {k: table[k] for k in _PLATE_KEYS if k in table}
     try:
         plate = PlateSpec(**plate_args)

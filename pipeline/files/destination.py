@@ -8,7 +8,13 @@ output can replace what is not a plain file (``-o /dev/full`` run as root
 would otherwise rename a file over the device node) — then the content is
 written to a temporary file in the same folder and renamed over the
 destination, so a reader never sees half a file and a failure leaves
-nothing behind. Light: the standard library only.
+nothing behind. A write that fails (a full disk, ``ENOSPC``; a file size
+limit, ``EFBIG``; a quota; a folder one may not write in; a read-only file
+system) removes its temporary file and becomes one line naming the file
+and saying what to do (:class:`~flexbed.errors.InputError`, exit 2).
+:func:`refuse_inputs` refuses an output that is one of the command's
+input files (compared by their resolved real paths, so a link or a
+``./`` does not hide it). Light: the standard library only.
 """
 
 from __future__ import annotations
@@ -20,8 +26,9 @@ from pathlib import Path
 from typing import Callable
 
 from flexbed.errors import InputError
+from flexbed.console import os_error_text
 
-__all__ = ["check_destination", "atomic_write", "write_text"]
+__all__ = ["check_destination", "atomic_write", "write_text", "refuse_inputs", "make_folder"]
 
 _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a FIFO"),
@@ -58,11 +65,11 @@ def atomic_write(path: str | os.PathLike, write: Callable[[Path], None]) -> Path
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"{path.parent}: cannot create the folder "
-                         f"({exc.strerror or exc})") from None
+                         f"({os_error_text(exc)})") from None
     try:
         fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     except OSError as exc:
-        raise InputError(f"{path}: cannot write in {path.parent} ({exc.strerror or exc})") \
+        raise InputError(f"{path}: cannot write in {path.parent} ({os_error_text(exc)})") \
             from None
     os.close(fd)
     tmp = Path(name)
@@ -72,10 +79,58 @@ def atomic_write(path: str | os.PathLike, write: Callable[[Path], None]) -> Path
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)     # mkstemp makes it private; use the usual mode
         os.replace(tmp, path)
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        raise InputError(f"{path}: cannot write it ({_reason(exc)}); nothing was written") \
+            from None
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+def _reason(exc: OSError) -> str:
+    """The reason of a failed write; h5py reports the C library's errno
+    only inside its message ("errno = 28")."""
+    if exc.errno is None:
+        import errno
+        import re
+        found = re.search(r"errno = (\d+)", str(exc))
+        if found:
+            code = int(found.group(1))
+            return os_error_text(OSError(code, os.strerror(code)))
+        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        for code in (errno.ENOSPC, errno.EFBIG, errno.EDQUOT):
+            if os.strerror(code).lower() in first.lower():
+                return os_error_text(OSError(code, os.strerror(code)))
+        return first
+    return os_error_text(exc)
+
+
+def make_folder(path: str | os.PathLike, option: str = "-o") -> Path:
+    """An output folder, created if absent; InputError if it names a file,
+    a device or a folder that cannot be made."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise InputError(f"{option} {path}: is not a folder (it names an existing file or "
+                         f"device); give a folder for the output files")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{option} {path}: cannot create the folder ({os_error_text(exc)})") \
+            from None
+    return path
+
+
+def refuse_inputs(path: str | os.PathLike, *inputs: str | os.PathLike | None,
+                  option: str = "-o") -> None:
+    """InputError if the output ``path`` is one of ``inputs`` (None ignored),
+    compared by resolved real paths."""
+    out = os.path.realpath(path)
+    for given in inputs:
+        if given is not None and os.path.realpath(given) == out:
+            raise InputError(f"{option} {path}: is the input file {given}; flexbed never "
+                             f"writes over its inputs (choose another name)")
 
 
 def write_text(path: str | os.PathLike, text: str) -> Path:

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from flexbed.dynamics.errors import SceneError
-from flexbed.dynamics.integrate import METHODS, Settings
+from flexbed.dynamics.integrate import MAX_OUTPUT_SAMPLES, METHODS, Settings, output_samples
 from flexbed.dynamics.laws import CurveLaw, LinearLaw, PolynomialLaw
 from flexbed.dynamics.rotation import A as rotation_matrix
 from flexbed.dynamics.rotation import p_from_angles
@@ -33,6 +33,7 @@ from flexbed.files.builtin import BUILTIN, builtin_scene_path, builtin_scene_tex
 from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
 from flexbed.files.shapes import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
+from flexbed.files.sanity import warn_far_points
 
 __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse_scene",
            "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
@@ -139,6 +140,9 @@ def parse_scene(text: str, source: Path) -> SceneFile:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{source.name}: not valid TOML: {exc}") from None
+    except RecursionError:
+        raise InputError(f"{source.name}: not readable TOML: arrays or tables nested too "
+                         f"deeply") from None
     return _Reader(source.name, source.parent).read(data, source, text)
 
 
@@ -169,6 +173,8 @@ class _Reader(ShapeReader):
             scene = Scene(tuple(bodies), base, tuple(mounts), np.array(gravity), name)
         except SceneError as exc:
             self.fail("", str(exc))
+        warn_far_points(self.label, scene, bodies_raw[at]["name"] if at is not None else None,
+                        bed)
         if bed.auto == ():
             bed = self.resolve_auto_modes(scene, bed, solver)
         digest = _digest(data, self.csv)
@@ -341,7 +347,13 @@ class _Reader(ShapeReader):
             args["start"] = self.string(where, "start", t["start"], ("equilibrium", "initial"))
         if "model" in t:
             args["model"] = self.string(where, "model", t["model"], MODELS)
-        return SolverSection(**args)
+        section = SolverSection(**args)
+        n = output_samples(section.t_end, section.output_dt)
+        if n > MAX_OUTPUT_SAMPLES:
+            self.fail(where, f"output_dt = {section.output_dt:g} s over t_end = "
+                             f"{section.t_end:g} s gives {n:.3g} output samples; the limit is "
+                             f"{MAX_OUTPUT_SAMPLES:.0e}")
+        return section
 
     def points(self, value, names) -> list:
         out = []

@@ -117,6 +117,10 @@ class ShapeReader(TableReader):
             text = p.read_text(encoding="utf-8")
         except OSError as exc:
             self.fail(where, f"file = {name!r}: cannot read it ({exc.strerror or exc})")
+        except UnicodeDecodeError as exc:
+            line = p.read_bytes()[:exc.start].count(b"\n") + 1
+            self.fail(where, f"file = {name!r}: line {line}: not UTF-8 text (byte "
+                             f"0x{exc.object[exc.start]:02x})")
         self.csv[name] = text
         times, values = [], []
         for lineno, line in enumerate(text.splitlines(), 1):

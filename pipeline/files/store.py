@@ -4,7 +4,8 @@ Every file written here carries, at its root, the attributes ``schema``,
 ``schema_version`` ("MAJOR.MINOR"), ``creator`` ("flexbed X.Y.Z") and
 ``created`` (ISO 8601, UTC); every dataset carries a ``units`` attribute.
 Files are written atomically: to a temporary file in the same folder, then
-renamed, so a reader never sees half a file.
+renamed, so a reader never sees half a file; a dataset holding a
+non-finite value (NaN, ±inf) is refused (NumericalError) and nothing is written.
 
 A file is described as a flat mapping from dataset paths ("group/name") to
 :class:`Dataset` values, plus a mapping from group paths ("" for the root)
@@ -14,6 +15,8 @@ to attribute dictionaries. Attribute values are str, int, float, bool or
 
 from __future__ import annotations
 
+import functools
+import io
 import os
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -24,12 +27,14 @@ from typing import Any, Mapping
 import h5py
 import numpy as np
 
-from flexbed.errors import InputError
+from flexbed.errors import InputError, NumericalError
 from flexbed.files.destination import atomic_write
 
 
+@functools.cache
 def package_version() -> str:
-    """Version string of the installed flexbed distribution."""
+    """Version string of the installed flexbed distribution (looked up once:
+    reading the distribution's metadata costs milliseconds)."""
     try:
         return metadata.version("flexbed")
     except metadata.PackageNotFoundError:  # running from a source tree
@@ -108,32 +113,51 @@ def write_file(path: str | os.PathLike, *, schema: str, version: str,
     Path
         The path written.
     """
+    for name, ds in datasets.items():
+        if not isinstance(ds.data, str):
+            arr = np.asarray(ds.data)
+            if arr.dtype.kind in "fc" and not np.all(np.isfinite(arr)):
+                bad = np.argwhere(~np.isfinite(arr))[0]
+                raise NumericalError(f"{path}: not written: dataset '{name}' holds "
+                                     f"{int(np.sum(~np.isfinite(arr)))} non-finite values "
+                                     f"(first at index {tuple(int(i) for i in bad)}; a "
+                                     f"floating-point overflow or a diverging solution)")
+
     def fill(tmp: Path) -> None:
-        with h5py.File(tmp, "w") as f:
-            f.attrs["schema"] = schema
-            f.attrs["schema_version"] = version
-            f.attrs["creator"] = f"flexbed {package_version()}"
-            f.attrs["created"] = datetime.now(timezone.utc).isoformat(timespec="seconds")
-            for name, ds in datasets.items():
-                data = ds.data
-                if isinstance(data, str):
-                    d = f.create_dataset(name, data=data, dtype=h5py.string_dtype())
+        # built in memory, then written with plain file I/O: a full disk or a
+        # size limit is then an OSError of one write, where HDF5's own
+        # writes fail again on closing (and crash the process at exit)
+        buffer = io.BytesIO()
+        with h5py.File(buffer, "w") as f:
+            _fill(f)
+        with open(tmp, "wb") as out:
+            out.write(buffer.getbuffer())
+
+    def _fill(f) -> None:
+        f.attrs["schema"] = schema
+        f.attrs["schema_version"] = version
+        f.attrs["creator"] = f"flexbed {package_version()}"
+        f.attrs["created"] = datetime.now(timezone.utc).isoformat(timespec="seconds")
+        for name, ds in datasets.items():
+            data = ds.data
+            if isinstance(data, str):
+                d = f.create_dataset(name, data=data, dtype=h5py.string_dtype())
+            else:
+                arr = np.asarray(data)
+                if arr.dtype.kind in "US":
+                    d = f.create_dataset(name, data=arr.astype(object),
+                                         dtype=h5py.string_dtype())
                 else:
-                    arr = np.asarray(data)
-                    if arr.dtype.kind in "US":
-                        d = f.create_dataset(name, data=arr.astype(object),
-                                             dtype=h5py.string_dtype())
-                    else:
-                        d = f.create_dataset(name, data=arr)
-                d.attrs["units"] = ds.units
-                if ds.description:
-                    d.attrs["description"] = ds.description
-                for key, value in (ds.attrs or {}).items():
-                    d.attrs[key] = value
-            for group, values in (attrs or {}).items():
-                g = f.require_group(group) if group else f
-                for key, value in values.items():
-                    g.attrs[key] = value
+                    d = f.create_dataset(name, data=arr)
+            d.attrs["units"] = ds.units
+            if ds.description:
+                d.attrs["description"] = ds.description
+            for key, value in (ds.attrs or {}).items():
+                d.attrs[key] = value
+        for group, values in (attrs or {}).items():
+            g = f.require_group(group) if group else f
+            for key, value in values.items():
+                g.attrs[key] = value
     return atomic_write(path, fill)
 
 

@@ -5,12 +5,28 @@ user typed into a number, a list or a choice, or into a one-line
 from __future__ import annotations
 
 import math
+import unicodedata
 from pathlib import Path
 from typing import Any, NoReturn
 
 from flexbed.errors import InputError
 
-__all__ = ["TableReader", "is_number"]
+__all__ = ["TableReader", "is_number", "LARGEST", "SMALLEST", "out_of_range", "short_repr"]
+
+#: the largest magnitude a number in a scene may have: products of three
+#: such numbers (a mass, an acceleration, a length) stay inside double
+#: precision (1.8e308), so an entry cannot overflow the equations of motion
+#: unnoticed
+LARGEST = 1e100
+#: the smallest non-zero magnitude: its reciprocal stays below LARGEST, and
+#: subnormal numbers (5e-324) are refused instead of vanishing in a product
+SMALLEST = 1e-100
+
+
+def out_of_range(v: float) -> bool:
+    """True for a finite number that is not 0 and not within
+    [SMALLEST, LARGEST] in magnitude."""
+    return v != 0.0 and not (SMALLEST <= abs(v) <= LARGEST)
 
 
 def is_number(v: Any) -> bool:
@@ -39,7 +55,7 @@ class TableReader:
 
     def keys(self, where: str, table: Any, allowed: tuple, required: tuple = ()) -> dict:
         if not isinstance(table, dict):
-            self.fail(where, f"must be a table, got {table!r}")
+            self.fail(where, f"must be a table, got {short_repr(table)}")
         for key in table:
             if key not in allowed:
                 self.fail(where, f"unknown key '{key}' (known: {', '.join(allowed)})")
@@ -50,10 +66,17 @@ class TableReader:
 
     def number(self, where, key, value, *, positive=False, non_negative=False) -> float:
         if not is_number(value):
-            self.fail(where, f"{key} = {value!r} must be a number")
-        v = float(value)
+            self.fail(where, f"{key} = {short_repr(value)} must be a number")
+        try:
+            v = float(value)
+        except OverflowError:                  # an integer beyond double precision
+            self.fail(where, f"{key} = {short_repr(value)} is out of range (magnitudes from "
+                             f"{SMALLEST:g} to {LARGEST:g}, or 0)")
         if not math.isfinite(v):
             self.fail(where, f"{key} = {v!r} must be finite")
+        if out_of_range(v):
+            self.fail(where, f"{key} = {short_repr(value)} is out of range (magnitudes from "
+                             f"{SMALLEST:g} to {LARGEST:g}, or 0)")
         if positive and not v > 0:
             self.fail(where, f"{key} = {v!r} must be > 0")
         if non_negative and v < 0:
@@ -63,9 +86,9 @@ class TableReader:
     def numbers(self, where, key, value, n=None, *, positive=False, non_negative=False,
                 min_len=1) -> list[float]:
         if not isinstance(value, list):
-            self.fail(where, f"{key} = {value!r} must be a list of numbers")
+            self.fail(where, f"{key} = {short_repr(value)} must be a list of numbers")
         if n is not None and len(value) != n:
-            self.fail(where, f"{key} = {value!r} must have {n} numbers, has {len(value)}")
+            self.fail(where, f"{key} = {short_repr(value)} must have {n} numbers, has {len(value)}")
         if len(value) < min_len:
             self.fail(where, f"{key} has {len(value)} numbers, needs at least {min_len}")
         return [self.number(where, f"{key}[{i}]", v, positive=positive, non_negative=non_negative)
@@ -73,12 +96,24 @@ class TableReader:
 
     def string(self, where, key, value, choices=None) -> str:
         if not isinstance(value, str):
-            self.fail(where, f"{key} = {value!r} must be a string")
+            self.fail(where, f"{key} = {short_repr(value)} must be a string")
+        if key != "description" and any(unicodedata.category(c) == "Cc" for c in value):
+            self.fail(where, f"{key} = {short_repr(value)} holds a control character (a line "
+                             f"break, a tab, …); names are one line of text")
         if choices is not None and value not in choices:
-            self.fail(where, f"{key} = {value!r} must be one of {', '.join(map(repr, choices))}")
+            self.fail(where, f"{key} = {short_repr(value)} must be one of {', '.join(map(repr, choices))}")
         return value
 
     def tables(self, where, value) -> list:
         if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
             self.fail("", f"{where} must be an array of tables ([[{where}]])")
         return value
+
+
+def short_repr(value: Any, limit: int = 60) -> str:
+    """``repr(value)``, cut to ``limit`` characters with the length said
+    (a 300-digit number is not echoed whole)."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10 ** limit:
+        return f"<an integer of {int(abs(value).bit_length() * 0.30103) + 1} digits>"
+    text = repr(value)
+    return text if len(text) <= limit else f"{text[:limit - 12]}… ({len(text)} characters)"

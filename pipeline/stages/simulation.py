@@ -9,10 +9,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from flexbed.dynamics.integrate import Settings
+from flexbed.dynamics.integrate import Settings, output_samples
 from flexbed.dynamics.statics import Equilibrium, solve_statics
 from flexbed.dynamics.system import System
-from flexbed.errors import NumericalError
+from flexbed.errors import InputError, NumericalError
 from flexbed.files.scene import SceneFile
 from flexbed.stages.motion import Motion, solve_motion
 
@@ -48,6 +48,35 @@ def equilibrium(sf: SceneFile, system: System, *, tol: float | None = None,
     return eq
 
 
+#: the most memory a run's results may take [bytes], estimated before
+#: anything is solved (:func:`results_bytes`)
+MAX_RESULTS_BYTES = 4 * 2 ** 30
+
+
+def results_bytes(system: System, samples: float) -> float:
+    """Estimated bytes of a run's results [B]: per output sample the state
+    (twice: as solved and in the history) and what the results file holds
+    per body (position, Euler parameters, velocities, accelerations,
+    angles, energies: 24 numbers), per mount (deflection, rate, three
+    forces, potential: 16) and per modal coordinate (3), 8 bytes each."""
+    lay = system.layout
+    columns = (2 * lay.ny + 24 * len(system.scene.bodies) + 16 * len(system.scene.mounts)
+               + 3 * lay.n_modal + 8)
+    return 8.0 * samples * columns
+
+
+def check_results_size(system: System, settings: Settings) -> None:
+    """InputError if the run's results would pass :data:`MAX_RESULTS_BYTES`."""
+    n = output_samples(settings.t_end, settings.output_dt)
+    size = results_bytes(system, n)
+    if size > MAX_RESULTS_BYTES:
+        raise InputError(f"{n:.3g} output samples (t_end = {settings.t_end:g} s, output_dt = "
+                         f"{settings.output_dt:g} s) of this scene's state would take about "
+                         f"{size / 2 ** 30:.3g} GiB; the limit is "
+                         f"{MAX_RESULTS_BYTES / 2 ** 30:g} GiB (a larger output_dt, or a shorter "
+                         f"t_end)")
+
+
 def simulate_system(sf: SceneFile, system: System, settings: Settings, *, start: str,
                     model: str, linear_tol: float, eq: Equilibrium | None = None,
                     sag: bool | None = None, progress=None) -> Simulation:
@@ -72,6 +101,7 @@ def simulate_system(sf: SceneFile, system: System, settings: Settings, *, start:
     -------
     Simulation
     """
+    check_results_size(system, settings)
     if (start == "equilibrium" or model != "nonlinear") and eq is None:
         eq = equilibrium(sf, system, sag=sag)
     y0 = system.initial_state(eq.y if start == "equilibrium" else None)   # + the velocities
