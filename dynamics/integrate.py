@@ -65,8 +65,9 @@ of the motion at the method's order.
 
 Output: the state on the uniform grid ``0, output_dt, 2 output_dt, …`` and
 at ``t_end``, from each step's dense output. A failure or an interrupt
-(KeyboardInterrupt) returns what was computed, marked incomplete, with the
-reason.
+(KeyboardInterrupt, which the command line also makes of a SIGTERM) returns
+what was computed, marked incomplete, with the reason (the interrupt itself
+in ``Run.interrupt``).
 """
 
 from __future__ import annotations
@@ -190,7 +191,10 @@ class Run:
 
     t : (k,) [s] output times reached; y : (k, ny) states there;
     complete : bool; message : str; stats : Stats; settings : Settings;
-    t_reached : float [s] last time the solution reached.
+    t_reached : float [s] last time the solution reached; interrupt : the
+    KeyboardInterrupt (or subclass: a SIGTERM the command line turned into
+    one) that stopped the run, None otherwise — a caller that keeps the
+    samples raises it again once they are safe.
     """
 
     t: np.ndarray
@@ -200,6 +204,7 @@ class Run:
     stats: Stats
     settings: Settings
     t_reached: float
+    interrupt: BaseException | None = None
 
 
 
@@ -314,8 +319,17 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     atol[system.layout.work] = 1e30
     state = {"t": 0.0, "k_out": 1}
     counts = np.zeros(N_COUNTS, dtype=np.int64)
-    complete, message = True, "completed"
+    complete, message, interrupt = True, "completed", None
     try:
+        need, h_min = forced_steps(system, settings, "rk4" if requested == "rk4" else "dop853")
+        if need > settings.max_steps:
+            what = "rk4's step dt" if requested == "rk4" else "the inputs' longest step"
+            raise _Stop(f"refused before integrating: {what} of {h_min:.3g} s would take "
+                        f"{need:.3g} steps over 0 – {t_end:g} s, more than max_steps = "
+                        f"{settings.max_steps}; shorten t_end, lower the input's frequency "
+                        f"or raise max_steps")
+        watch = _Watch(system, y)
+        state["watch"] = watch
         if requested == "auto":
             method, stats.reason = auto_method(system, y, settings)
             settings = replace(settings, method=method)
@@ -334,8 +348,9 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
                        project, progress)
     except _Stop as exc:
         complete, message = False, str(exc)
-    except KeyboardInterrupt:
-        complete, message = False, f"interrupted (Ctrl-C) at t = {state['t']:.6g} s"
+    except KeyboardInterrupt as exc:
+        what = str(exc) if str(exc).startswith("SIG") else "SIGINT"
+        complete, message, interrupt = False, f"interrupted ({what}) at t = {state['t']:.6g} s", exc
     except FloatingPointError as exc:
         complete, message = False, (f"{method}: floating-point error at t = "
                                     f"{state['t']:.6g} s: {exc}")
@@ -350,7 +365,7 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     stats.wall_time = time.perf_counter() - load0 - load_time
     k_out = state["k_out"]
     return Run(t=grid[:k_out].copy(), y=Y[:k_out].copy(), complete=complete, message=message,
-               stats=stats, settings=requested_settings, t_reached=state["t"])
+               stats=stats, settings=requested_settings, t_reached=state["t"], interrupt=interrupt)
 
 
 def _load_kernel(system: System, method: str) -> None:
@@ -429,11 +444,12 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
             state["t"], state["k_out"] = float(t), int(k_out)
             if progress is not None:
                 progress(float(t))
+            if status == -1:
+                raise _Stop(state["watch"].collapsed(method, float(t), float(h), z + shift))
+            if status != -2:
+                state["watch"].check(float(t), z + shift)
             if status == 0:
                 break
-            if status == -1:
-                raise _Stop(f"{method} failed at t = {t:.6g} s: the step size became too small "
-                            f"(try an implicit method or looser tolerances)")
             if status == -2:
                 raise _Stop(f"{method}: the state became non-finite at t = {t:.6g} s "
                             f"(unstable step; try a smaller step or an implicit method)")
@@ -478,6 +494,10 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
                 t_old = stepper.t
                 msg = stepper.step()
                 if stepper.status == "failed":
+                    if "step size" in str(msg):
+                        raise _Stop(state["watch"].collapsed(method, stepper.t,
+                                                             stepper.step_size or 0.0,
+                                                             stepper.y + shift))
                     raise _Stop(f"{method} failed at t = {stepper.t:.6g} s: {msg}")
                 stats.steps += 1
                 stats.rejected += trial.attempts_since(t_old) - 1
@@ -486,6 +506,7 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
                 if not np.all(np.isfinite(y_new)):
                     raise _Stop(f"{method}: the state became non-finite at t = {t_new:.6g} s "
                                 f"(unstable step; try a smaller step or an implicit method)")
+                state["watch"].check(t_new, y_new + shift)
                 # samples in (t_old, t_new]
                 k_out = state["k_out"]
                 k_end = k_out
@@ -515,3 +536,101 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
 
 class _Stop(Exception):
     pass
+
+
+#: A body further than this many times the scene's size from where it
+#: started (relative to the base, beyond what its initial velocity and
+#: gravity alone would carry it) is taken as diverging.
+DIVERGE_FACTOR = 1e3
+
+
+class _Watch:
+    """Stops a run whose motion grows without bound, naming the body.
+
+    The scene's size L is the largest distance of a body's or a mount
+    point's start from the base's centre (at least 1 m). A body diverges
+    when its displacement from its start, relative to the base, exceeds
+    ``DIVERGE_FACTOR`` · L + |v₀| t + ½ |g| t² (v₀: its initial velocity
+    relative to the base), or is not finite. Checked between chunks of
+    the compiled steppers and after every step of SciPy's.
+    """
+
+    def __init__(self, system: System, y0: np.ndarray):
+        self.system = system
+        self.lay = lay = system.layout
+        pos, _ = system.poses(y0)
+        rel = pos - pos[0]
+        points = np.abs(system.S).max() if system.S.size else 0.0
+        self.size = max(1.0, float(np.linalg.norm(rel, axis=1).max()), float(points))
+        parts = lay.split(y0)
+        self.r0 = np.array(parts["r"], dtype=float)
+        self.rb0 = np.array(parts["r_base"], dtype=float) if lay.base_free else None
+        rd = np.array(parts["rd"], dtype=float)
+        if lay.base_free:
+            rd = rd - parts["rd_base"]
+        self.v0 = np.linalg.norm(rd, axis=1) if rd.size else np.zeros(0)
+        self.g = float(np.linalg.norm(system.g))
+        self.names = [system.scene.bodies[i].name for i in lay.rigid]
+        self.driven = system.base_motion == "driven"
+
+    def _displacements(self, t: float, y: np.ndarray, driven: bool = True) -> np.ndarray:
+        """|Δr| (n,) [m] of every body from its start, relative to the base
+        (to a driven base's drive only if ``driven``)."""
+        parts = self.lay.split(y)
+        d = parts["r"] - self.r0
+        if self.rb0 is not None:
+            d = d - (parts["r_base"] - self.rb0)
+        elif self.driven and driven:
+            d = d - (self.system.base_motion_at(t)[0] - self.system.r0_base)
+        return np.linalg.norm(d, axis=1)
+
+    def check(self, t: float, y: np.ndarray) -> None:
+        """Raise _Stop if a body of the state y (ny,) at t [s] diverges."""
+        if not self.names:
+            return
+        limit = DIVERGE_FACTOR * self.size + self.v0 * t + 0.5 * self.g * t * t
+        d = self._displacements(t, y, driven=False)
+        if np.all(d <= limit):
+            return
+        if self.driven:             # only now: the drive's displacement, evaluated in Python
+            d = self._displacements(t, y)
+        bad = ~(d <= limit)
+        if np.any(bad):
+            i = int(np.argmax(np.where(bad, np.nan_to_num(d, nan=np.inf), -1.0)))
+            raise _Stop(f"diverged at t = {t:.6g} s: body '{self.names[i]}' is {d[i]:.3g} m "
+                        f"from where it started (relative to the base; beyond "
+                        f"{DIVERGE_FACTOR:g} x the scene's size of {self.size:.3g} m): "
+                        f"the motion grows without bound")
+
+    def collapsed(self, method: str, t: float, h: float, y: np.ndarray) -> str:
+        """The message for a step size that collapsed at t: the run
+        diverges (in finite time), naming the body moving fastest."""
+        parts = self.lay.split(y)
+        rd = parts["rd"] - (parts["rd_base"] if self.rb0 is not None else 0.0)
+        speed = np.linalg.norm(rd, axis=1)
+        d = self._displacements(t, y)
+        i = int(np.argmax(np.nan_to_num(speed, nan=np.inf))) if self.names else 0
+        who = (f"body '{self.names[i]}' at {speed[i]:.3g} m/s, {d[i]:.3g} m from where it "
+               f"started" if self.names else "the base")
+        return (f"diverged at t = {t:.6g} s: {who}; {method}'s step size collapsed to "
+                f"{h:.3g} s (a motion that blows up; if it should not, try an implicit "
+                f"method or looser tolerances)")
+
+
+def forced_steps(system: System, settings: Settings, method: str) -> tuple[float, float]:
+    """(steps, shortest step [s]): the fewest steps the inputs force over
+    [0, t_end] — rk4's fixed steps, or an adaptive method's ``max_step``
+    of the inputs active on each segment (a 1e12 Hz sinusoid forces
+    4e12 per second)."""
+    t, n, h_min = 0.0, 0.0, math.inf
+    for _, tb in segments(system, settings.t_end):
+        if method == "rk4":
+            n += math.ceil((tb - t) / settings.dt - 1e-9)
+            h_min = min(h_min, settings.dt)
+        else:
+            h = system.max_step(t, tb)
+            if math.isfinite(h):
+                n += (tb - t) / h
+                h_min = min(h_min, h)
+        t = tb
+    return n, h_min

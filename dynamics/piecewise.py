@@ -50,9 +50,14 @@ class PiecewisePolynomial:
         self.origins = np.concatenate([b[:1], b])
         for arr in (self.breaks, self.coeffs, self.origins):
             arr.setflags(write=False)
-        # plain Python copies for the scalar hot path
-        self._b = b.tolist()
-        self._c = [tuple(row[::-1]) for row in c.tolist()]   # descending for Horner
+        # plain Python copies for the scalar hot path, made at its first call
+        # (a curve of 1e6 samples that only the compiled kernel evaluates
+        # never pays for them)
+        self._b = self._c = self._o = None
+
+    def _scalar_tables(self) -> None:
+        self._b = self.breaks.tolist()
+        self._c = [tuple(row[::-1]) for row in self.coeffs.tolist()]   # descending for Horner
         self._o = self.origins.tolist()
 
     @property
@@ -65,7 +70,10 @@ class PiecewisePolynomial:
         Right-continuous at the breaks, except at or beyond ``seg_end`` (the
         end of the segment an integrator is stepping through), where the
         piece to the left is used: the limit from inside the segment.
+        O(log n) per call (bisection).
         """
+        if self._b is None:
+            self._scalar_tables()
         if seg_end is not None and x >= seg_end:
             k = bisect_left(self._b, x)
         else:
@@ -105,18 +113,22 @@ class PiecewisePolynomial:
         powers = np.arange(1, d1 + 1)
         out = np.zeros((n_pieces, d1 + 1))
         out[:, 1:] = c / powers
-        # left tail: F(b0) = 0 -> constant 0 in its local variable (x - b0)
-        # interior piece k (1-based row) starts at its origin with the running value
-        running = 0.0
-        b = self.breaks
-        for row in range(1, n_pieces):
-            out[row, 0] = running
-            if row < n_pieces - 1:
-                h = b[row] - b[row - 1]
-                running = float(np.polyval(out[row, ::-1], h))
+        # left tail: F(b0) = 0 -> constant 0 in its local variable (x - b0);
+        # interior piece k (rows 1 … n) starts at its origin with the value
+        # F reached there: the sum of the previous interior pieces'
+        # integrals over their widths (Horner, then a running sum: the same
+        # arithmetic, in the same order, as a loop over the pieces)
+        if n_pieces > 2:
+            h = np.diff(self.breaks)                       # (n_pieces − 2,)
+            inner = out[1:-1]
+            acc = np.zeros(h.size)
+            for j in range(d1, 0, -1):
+                acc = acc * h + inner[:, j]
+            increments = acc * h
+            out[2:, 0] = np.cumsum(increments)
         f = PiecewisePolynomial(self.breaks, out)
         if x_ref is not None:
-            shift = f(float(x_ref))
+            shift = float(f.evaluate(np.array([float(x_ref)]))[0])
             out[:, 0] -= shift
             f = PiecewisePolynomial(self.breaks, out)
         return f

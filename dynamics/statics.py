@@ -40,7 +40,10 @@ class Equilibrium:
     force| scaled by the body's force scale [–]; step : float — last Newton
     step [m or rad]; residual_force : (n_rigid, 6) generalized forces [N, N m];
     jacobian_evaluations : int; rhs_evaluations : int; wall_time : float [s];
-    tol : float.
+    tol : float; stability : "stable", "unstable" or "not checked" (set by
+    whoever checks it, with :func:`flexbed.dynamics.stability.instability`);
+    instability : :class:`~flexbed.dynamics.stability.Instability` when
+    unstable, else None.
     """
 
     success: bool
@@ -55,6 +58,8 @@ class Equilibrium:
     wall_time: float
     tol: float
     history: tuple = field(default=())
+    stability: str = "not checked"
+    instability: object = None
 
 
 def _residual(system: System, y: np.ndarray, sag: bool = True) -> np.ndarray:

@@ -147,12 +147,13 @@ class System:
         self._drives = [[], [], []]
         self._loads = [[], [], []]
         bps = set()
-        for d in base.drives:
-            f = d.shape.compile()
+        # each input compiled once (a curve's spline and its integrals are
+        # built here and reused by the kernel's tables)
+        self._compiled_inputs = [d.shape.compile() for d in list(base.drives) + list(base.loads)]
+        for d, f in zip(base.drives, self._compiled_inputs):
             self._drives[d.direction].append(f)
             bps.update(f.breakpoints)
-        for d in base.loads:
-            f = d.shape.compile()
+        for d, f in zip(base.loads, self._compiled_inputs[len(base.drives):]):
             self._loads[d.direction].append(f)
             bps.update(f.breakpoints)
         self.breakpoints = tuple(sorted(b for b in bps if b > 0.0))
@@ -264,7 +265,7 @@ class System:
                              sh.start + sh.duration)
                 tables.append([None, None, None])
             else:
-                f = sh.compile()
+                f = self._compiled_inputs[i]
                 tables.append([f.value, f.first, f.second])
         in_b, in_o, in_c = _stack_tables(tables, 3)
         N = 6 + nm

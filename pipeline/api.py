@@ -403,6 +403,8 @@ def compare(scene: SceneFile, *, modes: ModesData | None = None, **settings) -> 
     runs, cases = {}, {}
     for case in CASES:
         sol = solve_case(scene, modes, case)
+        if sol.interrupt is not None:      # Ctrl-C: stop here, as Python does
+            raise sol.interrupt
         res = Results(in_memory(*sol.contents), modes=modes if case != "rigid" else None,
                       datasets=sol.contents)
         if not res.complete:

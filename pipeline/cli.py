@@ -4,8 +4,10 @@ Every subcommand lives in its own module ``flexbed.commands.<name>`` with
 ``add_args(parser)`` and ``run(args) -> int``. Failures the user can act on
 come up as :class:`flexbed.errors.FlexbedError` and leave as one line on
 stderr and an exit code: 0 success, 1 numerical failure, 2 bad input, 130
-interrupted (Ctrl-C), 141 output pipe closed (``flexbed post … | head``:
-the reader stopped; nothing is printed, as ``yes | head`` does).
+interrupted by SIGINT (Ctrl-C), 143 by SIGTERM (both keep what was computed,
+marked incomplete: :mod:`flexbed.interrupts`), 141 output pipe closed
+(``flexbed post … | head``: the reader stopped; nothing is printed, as
+``yes | head`` does).
 
 Start-up stays light: only the module of the command given is imported
 (and through it NumPy, SciPy, numba, h5py, matplotlib as that command
@@ -23,12 +25,13 @@ import sys
 
 from flexbed.console import run_command
 from flexbed.errors import EXIT_INPUT, FlexbedError
+from flexbed.interrupts import exit_code, handlers, message
 from flexbed.threads import limited, pin_environment
 
 #: status of a run whose output pipe was closed by its reader (128 + SIGPIPE,
 #: what the shell reports for a program that SIGPIPE ends)
 EXIT_PIPE = 141
-#: status of a run stopped by Ctrl-C (128 + SIGINT)
+#: status of a run stopped by Ctrl-C (128 + SIGINT); SIGTERM gives 143
 EXIT_INTERRUPT = 130
 
 COMMANDS = {
@@ -119,11 +122,16 @@ def _silence_stdout() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit code."""
+    with handlers():                # SIGINT and SIGTERM raise flexbed.interrupts.Interrupted
+        return _main(argv)
+
+
+def _main(argv: list[str] | None) -> int:
     pin_environment()
     argv = sys.argv[1:] if argv is None else list(argv)
     command = chosen_command(argv)
-    parser = build_parser([command] if command else [])
     try:
+        parser = build_parser([command] if command else [])
         args = parser.parse_args(argv)
         if not args.command:
             parser.print_help()
@@ -137,10 +145,9 @@ def main(argv: list[str] | None = None) -> int:
             return exc.exit_code
         sys.stdout.flush()
         return code
-    except KeyboardInterrupt:
-        print(f"flexbed {command}: interrupted" if command else "flexbed: interrupted",
-              file=sys.stderr)
-        return EXIT_INTERRUPT
+    except KeyboardInterrupt as exc:
+        print(message(exc, command), file=sys.stderr)
+        return exit_code(exc)
     except BrokenPipeError:
         _silence_stdout()
         return EXIT_PIPE

@@ -112,9 +112,9 @@ def test_an_interrupted_run_keeps_its_samples_marked_incomplete(tmp_path, monkey
 
     monkeypatch.setattr(cmd_simulate.Progress, "__call__", ctrl_c)
     out = tmp_path / "r.h5"
-    assert flexbed(["simulate", "-o", str(out), "--t-end", "2.0"]) == 1
+    assert flexbed(["simulate", "-o", str(out), "--t-end", "2.0"]) == 130
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "interrupted" in err[0] and str(out) in err[0]
+    assert len(err) == 1 and "interrupted (SIGINT) at t = " in err[0] and str(out) in err[0]
     c = read_results(out)
     assert c.attrs[""]["complete"] is False and "interrupted" in c.attrs[""]["message"]
     t = c.get("time")

@@ -27,7 +27,9 @@ from flexbed.stages.system import compile_scene
 from flexbed.errors import NumericalError
 from flexbed.files.modes import ModesData
 from flexbed.stages.simulation import equilibrium, simulate_system
-from flexbed.files.results import results_contents, write_results_contents
+from flexbed.files.results import results_contents
+from flexbed.interrupts import kept
+from flexbed.stages.keep import kept_contents, write_kept
 from flexbed.files.scene import SceneFile
 from flexbed.words import count
 
@@ -55,7 +57,9 @@ class CaseRun:
 @dataclass(frozen=True)
 class CaseSolution:
     """One case solved in memory: its scene variant, compiled system, static
-    equilibrium, motion, and its results file's contents (datasets, attrs)."""
+    equilibrium, motion, and its results file's contents (datasets, attrs);
+    ``interrupt``: the SIGINT or SIGTERM that stopped it (the contents are
+    then marked incomplete), else None."""
 
     case: str
     scene: SceneFile
@@ -63,6 +67,7 @@ class CaseSolution:
     equilibrium: object
     motion: object
     contents: tuple
+    interrupt: BaseException | None = None
 
 
 def solve_case(sf: SceneFile, data: ModesData | None, case: str) -> CaseSolution:
@@ -86,11 +91,11 @@ def solve_case(sf: SceneFile, data: ModesData | None, case: str) -> CaseSolution
     motion = simulate_system(csf, system, sf.solver.settings(), start=start,
                              model=sf.solver.model, linear_tol=sf.solver.linear_tol,
                              eq=eq).motion
-    contents = results_contents(csf, system, motion.run, start=start,
-                                equilibrium=eq if start == "equilibrium" else None,
-                                modes_path=data.path if (case != "rigid" and data) else None,
-                                model=motion.attrs())
-    return CaseSolution(case, csf, system, eq, motion, contents)
+    ds, attrs, interrupt = kept_contents(lambda: results_contents(
+        csf, system, motion.run, start=start, equilibrium=eq if start == "equilibrium" else None,
+        modes_path=data.path if (case != "rigid" and data) else None, model=motion.attrs()),
+        motion.run.interrupt)
+    return CaseSolution(case, csf, system, eq, motion, (ds, attrs), interrupt)
 
 
 def case_run(sol: CaseSolution, path: Path | None = None) -> CaseRun:
@@ -106,10 +111,15 @@ def case_run(sol: CaseSolution, path: Path | None = None) -> CaseRun:
 
 
 def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=print) -> CaseRun:
-    """Statics then simulation of one case; writes its results file."""
+    """Statics then simulation of one case; writes its results file. A
+    SIGINT or SIGTERM keeps the samples computed, written and marked
+    incomplete, and is raised again (saying so) once they are safe."""
     sol = solve_case(sf, data, case)
     result = sol.motion.run
-    write_results_contents(path, *sol.contents)
+    interrupt = write_kept(path, lambda: sol.contents, sol.interrupt)
+    if interrupt is not None:
+        raise kept(interrupt, f"in the {LABELS[case]} run at t = {result.t_reached:.6g} s; "
+                              f"the samples up to there are in {path} (marked incomplete)")
     if not result.complete:
         raise NumericalError(f"{LABELS[case]}: {result.message}; the samples up to "
                              f"t = {result.t_reached:.6g} s are in {path} (marked incomplete)")

@@ -12,6 +12,7 @@ Everything goes into one folder.
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -32,6 +33,7 @@ from flexbed.files.scene import load_scene
 from flexbed.files.xdmf import write_bed_motion
 from flexbed.plots import plot_mount_forces
 from flexbed.stages.modes import ensure_modes
+from flexbed.stages.simulation import checked
 from flexbed.stages.system import compile_scene
 from flexbed.words import count
 
@@ -75,6 +77,10 @@ def run(args: argparse.Namespace) -> int:
     eq = solve_statics(system, tol=sf.solver.static_tol)
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")
+    eq = checked(system, eq)
+    if eq.instability is not None:
+        print(f"flexbed run: warning: {sf.source.name}: {eq.instability.line()}",
+              file=sys.stderr)
     eq_path = write_equilibrium(out / f"{name}-equilibrium.h5", rigid_sf, system, eq)
     table2 = equilibrium_table(system, eq.y)
     print(f"[2/{STAGES}] static equilibrium (rigid bed): "

@@ -18,7 +18,9 @@ from flexbed.stages.system import compile_scene
 from flexbed.files.destination import check_destination, refuse_inputs
 from flexbed.errors import InputError, NumericalError
 from flexbed.stages.simulation import simulate_system
-from flexbed.files.results import read_equilibrium, write_results
+from flexbed.files.results import read_equilibrium, results_contents
+from flexbed.interrupts import kept
+from flexbed.stages.keep import write_kept
 from flexbed.files.scene import MODELS, load_scene
 from flexbed.words import count
 
@@ -73,15 +75,19 @@ class Progress:
         self.t0 = time.perf_counter()
         self.last = 0.0
         self.shown = False
+        self.closed = False
+        self.width = 0                  # characters of the line as last drawn
 
     def draw(self, t: float) -> None:
         """Write the line for time ``t`` [s]."""
         frac = min(1.0, max(0.0, t / self.t_end))
         bar = "#" * int(round(30 * frac))
-        self.stream.write(f"\rsimulate [{bar:<30}] t = {t:.4f} / {self.t_end:g} s "
-                          f"({100 * frac:3.0f}%), {time.perf_counter() - self.t0:.1f} s")
+        line = (f"simulate [{bar:<30}] t = {t:.4f} / {self.t_end:g} s "
+                f"({100 * frac:3.0f}%), {time.perf_counter() - self.t0:.1f} s")
+        self.shown = True               # first: a signal may land inside the write
+        self.width = len(line)
+        self.stream.write("\r" + line)
         self.stream.flush()
-        self.shown = True
 
     def __call__(self, t: float) -> None:
         if not self.enabled:
@@ -92,14 +98,36 @@ class Progress:
         self.last = now
         self.draw(t)
 
-    def close(self, t_reached: float | None = None) -> None:
-        """End the line, first drawing ``t_reached`` [s] (where the run
-        stopped; the end time for a complete run) if the line was shown."""
+    def phase(self, t: float, what: str) -> None:
+        """Redraw the line at time ``t`` [s] followed by what is being done
+        now (e.g. "writing FILE"), if the line is shown."""
         if self.shown:
-            if t_reached is not None:
-                self.draw(t_reached)
-            self.stream.write("\n")
+            self.draw(t)
+            self.width += len(what) + 4
+            self.stream.write(f"; {what} …")
             self.stream.flush()
+
+    def rub(self) -> None:
+        """Rub the line out (carriage return), so that a message can take
+        its place; the next draw starts afresh."""
+        if self.shown:
+            self.stream.write("\r" + " " * self.width + "\r")
+            self.stream.flush()
+
+    def close(self, t_reached: float | None = None, *, interrupted: bool = False) -> None:
+        """End the line, first drawing ``t_reached`` [s] (where the run
+        stopped; the end time for a complete run) if the line was shown.
+        ``interrupted``: rub the line out instead (carriage return), so
+        that the one line saying what was kept takes its place."""
+        if self.shown and not self.closed:
+            if interrupted:
+                self.rub()
+            else:
+                if t_reached is not None:
+                    self.draw(t_reached)
+                self.stream.write("\n")
+            self.stream.flush()
+        self.closed = True
 
 
 def run(args: argparse.Namespace) -> int:
@@ -134,18 +162,36 @@ def run(args: argparse.Namespace) -> int:
                          float("nan"), np.zeros((system.n_rigid, 6)), 0, 0, 0.0,
                          solver.static_tol)
     progress = Progress(settings.t_end, enabled=not args.no_progress)
-    sim = None
     try:
         sim = simulate_system(sf, system, settings, start=start, model=model,
                               linear_tol=linear_tol, eq=eq, progress=progress)
-    finally:
-        progress.close(sim.motion.run.t_reached if sim is not None else None)
+    except KeyboardInterrupt:           # before any sample: nothing to keep
+        progress.close(interrupted=True)
+        raise
+    except BaseException:
+        progress.close(None)
+        raise
     motion = sim.motion
+    if sim.equilibrium is not None and sim.equilibrium.instability is not None:
+        progress.rub()
+        print(f"flexbed simulate: warning: {sf.source.name}: "
+              f"{sim.equilibrium.instability.line()}", file=sys.stderr)
     eq = sim.equilibrium if start == "equilibrium" else None
     result = motion.run
-    write_results(out, sf, system, result, start=start, equilibrium=eq,
-                  modes_path=(args.modes_file or default_modes_path(sf)) if sf.bed.flexible
-                  else None, model=motion.attrs())
+    progress.phase(result.t_reached, f"writing {out}")
+    modes_path = ((args.modes_file or default_modes_path(sf)) if sf.bed.flexible else None)
+    try:
+        interrupt = write_kept(out, lambda: results_contents(
+            sf, system, result, start=start, equilibrium=eq, modes_path=modes_path,
+            model=motion.attrs()), result.interrupt)
+    except BaseException:
+        progress.close(result.t_reached)
+        raise
+    if interrupt is not None:
+        progress.close(interrupted=True)
+        raise kept(interrupt, f"at t = {result.t_reached:.6g} s; the samples up to there "
+                              f"are in {out} (marked incomplete)")
+    progress.close(result.t_reached)
     st = result.stats
     if model != "nonlinear":
         print(f"model {model}: {motion.reason}")

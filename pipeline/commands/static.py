@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +23,8 @@ from flexbed.errors import InputError, NumericalError
 from flexbed.stages.system import compile_scene
 from flexbed.files.results import write_equilibrium
 from flexbed.files.scene import load_scene
+from flexbed.interrupts import Interrupted, held, kept
+from flexbed.stages.simulation import checked
 
 __all__ = ["add_args", "run", "equilibrium_table"]
 
@@ -84,11 +87,18 @@ def run(args: argparse.Namespace) -> int:
     eq = solve_statics(system, tol=tol, sag=sf.bed.static_sag)
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")
+    eq = checked(system, eq)
+    if eq.instability is not None:
+        print(f"flexbed static: warning: {sf.source.name}: {eq.instability.line()}",
+              file=sys.stderr)
     print(f"Static equilibrium of '{sf.scene.name}' (Newton–Raphson, tolerance {tol:g}, "
           f"base held)")
     print(equilibrium_table(system, eq.y))
     print(f"iterations: {eq.iterations}   residual: {eq.residual:.3e} (scaled by weight)   "
           f"last step: {eq.step:.3e}   right-hand sides: {eq.rhs_evaluations}")
-    write_equilibrium(out, sf, system, eq)
+    with held() as pending:         # the equilibrium found is written whole
+        write_equilibrium(out, sf, system, eq)
     print(f"wrote {out}")
+    if pending:
+        raise kept(Interrupted(pending[0]), f"after the equilibrium was found; it is in {out}")
     return 0

@@ -41,7 +41,10 @@
 ``bodies/orientation_deg`` (nb, 3), ``state/y`` (ny,) the state at rest
 (layout: flexbed.dynamics.layout), ``scene/toml``; root attributes ``statics_digest``,
 ``scene_digest``, ``success``, ``message``, ``iterations``, ``residual``,
-``step``, ``tol``.
+``step``, ``tol``, ``stability`` ("stable"; "unstable" when the stiffness
+at rest has a negative eigenvalue; "not checked" for an equilibrium read
+back from a file) and ``instability`` (the line naming the body and the
+direction, or "").
 """
 
 from __future__ import annotations
@@ -90,7 +93,9 @@ def _equilibrium_part(system: System, eq: Equilibrium, prefix: str) -> tuple[dic
     }
     attrs = {"success": bool(eq.success), "message": eq.message, "iterations": int(eq.iterations),
              "residual": float(eq.residual), "step": float(eq.step), "tol": float(eq.tol),
-             "rhs_evaluations": int(eq.rhs_evaluations), "wall_time": float(eq.wall_time)}
+             "rhs_evaluations": int(eq.rhs_evaluations), "wall_time": float(eq.wall_time),
+             "stability": eq.stability,
+             "instability": eq.instability.line() if eq.instability is not None else ""}
     return ds, attrs
 
 

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file, write_modes_file
 from flexbed.files.scene import SceneFile
+from flexbed.interrupts import Interrupted, held, kept
 
 if TYPE_CHECKING:
     from flexbed.fem.bed import BedModes
@@ -64,7 +65,10 @@ def ensure_modes(sf: SceneFile, path: Path, *, n_modes: int | None = None,
             else:
                 return data, True
     bed = compute_modes(sf, n_modes=n_modes, fmax=fmax)
-    write_modes_file(path, bed)
+    with held() as pending:       # modes computed are written whole, whatever the signal
+        write_modes_file(path, bed)
+    if pending:
+        raise kept(Interrupted(pending[0]), f"after the modes were computed; they are in {path}")
     return read_modes_file(path), False
 
 

@@ -5,18 +5,19 @@ with the requested model — what ``flexbed static``, ``simulate``,
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from flexbed.dynamics.integrate import Settings, output_samples
+from flexbed.dynamics.integrate import Settings, forced_steps, output_samples
+from flexbed.dynamics.stability import instability
 from flexbed.dynamics.statics import Equilibrium, solve_statics
 from flexbed.dynamics.system import System
 from flexbed.errors import InputError, NumericalError
 from flexbed.files.scene import SceneFile
 from flexbed.stages.motion import Motion, solve_motion
 
-__all__ = ["Simulation", "equilibrium", "simulate_system"]
+__all__ = ["Simulation", "equilibrium", "checked", "simulate_system"]
 
 
 @dataclass(frozen=True)
@@ -45,7 +46,28 @@ def equilibrium(sf: SceneFile, system: System, *, tol: float | None = None,
                        sag=sf.bed.static_sag if sag is None else sag)
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")
-    return eq
+    return checked(system, eq)
+
+
+def checked(system: System, eq: Equilibrium) -> Equilibrium:
+    """``eq`` with its stability checked (``instability`` set when the
+    stiffness at rest has a negative eigenvalue; see
+    :mod:`flexbed.dynamics.stability`)."""
+    found = instability(system, eq.y)
+    return replace(eq, stability="unstable" if found else "stable", instability=found)
+
+
+def _check_steps(sf: SceneFile, system: System, settings: Settings) -> None:
+    """InputError, before any work, when the inputs (or rk4's dt) force more
+    steps than ``max_steps`` (a load at 1e12 Hz would otherwise crawl)."""
+    method = "rk4" if settings.method == "rk4" else "dop853"
+    need, h = forced_steps(system, settings, method)
+    if need > settings.max_steps:
+        what = "rk4's step dt" if method == "rk4" else "the base inputs' longest step"
+        raise InputError(f"{sf.source.name}: {what} of {h:.3g} s would take {need:.3g} steps "
+                         f"over 0 – {settings.t_end:g} s, more than [solver] max_steps = "
+                         f"{settings.max_steps}; shorten t_end, lower the input's frequency "
+                         f"(or sample it) or raise max_steps")
 
 
 #: the most memory a run's results may take [bytes], estimated before
@@ -102,6 +124,7 @@ def simulate_system(sf: SceneFile, system: System, settings: Settings, *, start:
     Simulation
     """
     check_results_size(system, settings)
+    _check_steps(sf, system, settings)     # the linear path's pieces are as fine
     if (start == "equilibrium" or model != "nonlinear") and eq is None:
         eq = equilibrium(sf, system, sag=sag)
     y0 = system.initial_state(eq.y if start == "equilibrium" else None)   # + the velocities

@@ -1,0 +1,117 @@
+"""SIGINT and SIGTERM as one exception, and sections that hold them back.
+
+The command line (:func:`flexbed.cli.main`) installs :func:`handlers`:
+both signals raise :class:`Interrupted`, a :class:`KeyboardInterrupt`
+that carries the signal's name and its exit code (128 + the signal's
+number: 130 for SIGINT, 143 for SIGTERM). Everything that already keeps
+what was computed on a Ctrl-C (the integrators return their samples
+marked incomplete) does the same on a SIGTERM, and the atomic writes
+remove their temporary files for both.
+
+:func:`held` holds the signals back while what was computed is written:
+a signal that arrives inside it is recorded, and acted on once the file
+being written is finished. Light: the
+standard library only.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+from contextlib import contextmanager
+from typing import Iterator
+
+__all__ = ["Interrupted", "handlers", "held", "signal_name", "exit_code", "kept", "message"]
+
+_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+class Interrupted(KeyboardInterrupt):
+    """A SIGINT or SIGTERM received by the command line.
+
+    signum : int; name : "SIGINT" or "SIGTERM"; exit_code : 128 + signum.
+    ``str()`` is the signal's name.
+    """
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = int(signum)
+
+    @property
+    def name(self) -> str:
+        return signal.Signals(self.signum).name
+
+    @property
+    def exit_code(self) -> int:
+        return 128 + self.signum
+
+
+def signal_name(exc: BaseException) -> str:
+    """The signal an interrupt came from ("SIGINT" for a plain KeyboardInterrupt)."""
+    return exc.name if isinstance(exc, Interrupted) else "SIGINT"
+
+
+def exit_code(exc: BaseException) -> int:
+    """The exit status for an interrupt: 128 + the signal's number."""
+    return exc.exit_code if isinstance(exc, Interrupted) else 128 + signal.SIGINT
+
+
+def kept(exc: BaseException, what: str) -> BaseException:
+    """``exc`` with what was kept said (``what``: "at t = … s; the samples
+    … are in FILE (marked incomplete)"), for :func:`message`."""
+    exc.kept = what
+    return exc
+
+
+def message(exc: BaseException, command: str | None) -> str:
+    """The one line the command line prints for an interrupt."""
+    head = f"flexbed {command}" if command else "flexbed"
+    what = getattr(exc, "kept", "")
+    return f"{head}: interrupted ({signal_name(exc)})" + (f" {what}" if what else "")
+
+
+def _raise(signum, frame):
+    raise Interrupted(signum)
+
+
+def _in_main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
+
+
+@contextmanager
+def handlers() -> Iterator[None]:
+    """Inside the block, SIGINT and SIGTERM raise :class:`Interrupted`; the
+    previous handlers are restored afterwards (a no-op outside the main
+    thread, where Python cannot set handlers)."""
+    if not _in_main_thread():
+        yield
+        return
+    old = {s: signal.signal(s, _raise) for s in _SIGNALS}
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+
+
+@contextmanager
+def held() -> Iterator[list]:
+    """Hold SIGINT and SIGTERM back inside the block.
+
+    A signal that arrives is recorded (its number appended to the yielded
+    list) instead of interrupting; the caller decides what to do with it
+    once the block is done. A no-op outside the main thread."""
+    pending: list[int] = []
+    if not _in_main_thread():
+        yield pending
+        return
+
+    def record(signum, frame):
+        pending.append(signum)
+
+    old = {s: signal.signal(s, record) for s in _SIGNALS}
+    try:
+        yield pending
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
