@@ -77,7 +77,7 @@ def test_help_lists_every_command_and_each_commands_options(capsys):
         assert name in out and summary in out
     expected = {"simulate": "--integrator", "compare": "--t-end", "run": "--integrator",
                 "post": "--modes-file", "bench": "--quick", "modes": "--fmax",
-                "static": "--tol", "scene": "--output"}
+                "static": "--tol", "scene": "--output", "srs": "--per-octave"}
     assert set(expected) == set(COMMANDS)
     for name, option in expected.items():
         with pytest.raises(SystemExit):
