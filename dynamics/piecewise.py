@@ -107,13 +107,12 @@ class PiecewisePolynomial:
         out[:, 1:] = c / powers
         # left tail: F(b0) = 0 -> constant 0 in its local variable (x - b0)
         # interior piece k (1-based row) starts at its origin with the running value
-        running = 0.0
-        b = self.breaks
-        for row in range(1, n_pieces):
-            out[row, 0] = running
-            if row < n_pieces - 1:
-                h = b[row] - b[row - 1]
-                running = float(np.polyval(out[row, ::-1], h))
+        # each interior piece's increase over its length (Horner, all at once)
+        h = np.diff(self.breaks)
+        rise = np.zeros(h.size)
+        for j in range(d1, 0, -1):
+            rise = (rise + out[1:n_pieces - 1, j]) * h
+        out[1:, 0] = np.concatenate([[0.0], np.cumsum(rise)])
         f = PiecewisePolynomial(self.breaks, out)
         if x_ref is not None:
             shift = f(float(x_ref))
