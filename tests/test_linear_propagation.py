@@ -10,7 +10,7 @@ import numpy as np
 from scipy.linalg import expm
 
 from flexbed.dynamics.integrate import output_grid
-from flexbed.dynamics.linear import _pieces, propagate
+from flexbed.dynamics.linear_propagation import _pieces, propagate
 from flexbed.dynamics.linear_model import linearise
 from flexbed.dynamics.statics import solve_statics
 from flexbed.files.scene import load_scene
@@ -51,7 +51,8 @@ def _closed_form(t, w2, c):
     zeta = c / (2 * w)
     wd = w * math.sqrt(1 - zeta ** 2)
     den = (w * w - W * W) ** 2 + (2 * zeta * w * W) ** 2
-    a_s, a_c = -AMP * (w * w - W * W) / den, AMP * 2 * zeta * w * W / den   # u_p = a_s sin + a_c cos
+    # the steady state u_p = a_s sin Ωt + a_c cos Ωt
+    a_s, a_c = -AMP * (w * w - W * W) / den, AMP * 2 * zeta * w * W / den
     c1 = -a_c
     c2 = (zeta * w * c1 - a_s * W) / wd
     u = (a_s * np.sin(W * t) + a_c * np.cos(W * t)
