@@ -6,40 +6,31 @@ The model itself (coordinates, linearisation, the base's inputs) is in
 
 Exact propagation
 -----------------
-Time is cut at the output samples and at every knot of the inputs (curve
-samples, pulse corners, sinusoid window ends; analytic sinusoids also every
-0.2/ω, see below). On each piece ``[t_k, t_k + h]`` each input is a
-polynomial of degree ≤ 5 in ``σ = (t − t_k)/h`` — exactly so for the
-scene's piecewise inputs (cubic spline loads, their first and second
-integrals for drives: degree 5; pulses) — whose coefficients come from
-six samples at Chebyshev points inside the piece. The state and the
-inputs' σ-derivatives together obey a constant linear system,
-
-    d/dσ [z; w] = [[h A, h G E₀], [0, I ⊗ S]] [z; w],
-
-with ``S`` the shift (``w_m' = w_{m+1}``), so one matrix exponential per
-distinct piece length gives ``z(t_k + h) = Φ z(t_k) + Ψ w_k`` without any
-truncation error (Van Loan's block method). An analytic sinusoid (no
-``sample``) is not a polynomial; pieces of at most 0.2/ω keep its degree-5
-interpolation error below 1e-10 of its amplitude.
+By :mod:`flexbed.dynamics.linear_propagation`: one matrix exponential of
+the state augmented with the inputs (polynomial pieces, analytic
+sinusoids as rotating pairs) per distinct piece length, the recursion in
+compiled code.
 
 Error estimate against the nonlinear model
 ------------------------------------------
 Along the linear solution the nonlinear model leaves the defect
-``d(t) = f(z(t), t) − (A z + b0 + B Δu)``, evaluated at every output
-sample (one right-hand side each). The nonlinear solution differs from the
-linear one by ``e`` with ``ė = A e + d + O(e²)``; ``e`` is propagated
-exactly with ``d`` piecewise linear between samples. The largest error it
-implies in the position of a point that matters (the centres of mass of
-bodies 2… and both ends of every mount on them, rotations and modes
-included with their lever arms) is the reported estimate [m]; it is a
-first-order
-(Newton) estimate, reliable while ``e`` is small against the motion, which
-:attr:`LinearRun.estimate_reliable` checks.
+``d(t) = f(z(t), t) − (A z + b0 + B Δu)``. The nonlinear solution differs
+from the linear one by ``e`` with ``ė = A e + d + O(e²)``; ``e`` is
+propagated exactly with ``d`` piecewise linear. ``d`` is evaluated (the
+right-hand side in one compiled batch) on every m-th output sample, m ≤ 16
+the largest for which straight lines between those samples follow the
+linear solution's point displacements to 1e-3 of their largest value (the
+defect, quadratic in the motion, to a few 1e-3), and interpolated linearly
+in between. The largest error it implies in the position of a point that
+matters (the centres of mass of bodies 2… and both ends of every mount on
+them, rotations and modes included with their lever arms) is the reported
+estimate [m]; it is a first-order (Newton) estimate, reliable while ``e``
+is small against the motion, which :attr:`ErrorEstimate.reliable` checks.
 
 The energy quadratures of the state (works of mounts, loads, drive and
-structural damping) are integrated from the powers at the samples by the
-trapezoidal rule.
+structural damping) are integrated by the trapezoidal rule from the powers
+at the samples where the defect is evaluated, interpolated linearly in
+between.
 """
 
 from __future__ import annotations
@@ -51,124 +42,14 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.linalg import expm
 
-from .integrate import Run, Settings, Stats, output_grid
+from .integrate import Run, Settings, Stats
 from .linear_model import Coordinates, Linearisation, linearise
+from .linear_propagation import _lengths, propagate
+from .steppers.propagate import linear_sweep
 from .system import System
 
 __all__ = ["Coordinates", "Linearisation", "LinearRun", "linearise", "propagate",
            "run_linear", "estimate_error", "unstable_rate"]
-
-_DEG = 5                                   # degree of the inputs' local polynomials
-_NODES = 0.5 - 0.5 * np.cos((2 * np.arange(_DEG + 1) + 1) * np.pi / (2 * (_DEG + 1)))
-_VINV = np.linalg.inv(_NODES[:, None] ** np.arange(_DEG + 1)[None, :])
-_FACT = np.array([math.factorial(m) for m in range(_DEG + 1)], dtype=float)
-
-
-def _pieces(lin: Linearisation, grid: np.ndarray) -> np.ndarray:
-    """Piece boundaries: the output grid, the inputs' knots inside it, and
-    extra cuts where a channel needs shorter pieces; near-coincident times
-    (within 1e-9 of the output spacing) merged."""
-    t_end = float(grid[-1])
-    cuts = [grid]
-    for c in lin.channels:
-        kn = c.knots[(c.knots > 0.0) & (c.knots < t_end)]
-        cuts.append(kn)
-        if math.isfinite(c.max_piece):
-            cuts.append(np.arange(0.0, t_end, c.max_piece))
-    t = np.unique(np.concatenate(cuts))
-    tol = 1e-9 * (float(np.min(np.diff(grid))) if grid.size > 1 else t_end)
-    keep = np.concatenate([[True], np.diff(t) > tol])
-    t = t[keep]
-    # snap back onto the output grid where a knot replaced a grid point
-    idx = np.clip(np.searchsorted(t, grid), 0, t.size - 1)
-    left = np.clip(idx - 1, 0, t.size - 1)
-    pick = np.where(np.abs(t[idx] - grid) <= np.abs(t[left] - grid), idx, left)
-    t[pick] = grid
-    return t
-
-
-class _Propagators:
-    """Φ and Ψ for each distinct piece length (cached; lengths equal to 1e-12
-    relative share one)."""
-
-    def __init__(self, A: np.ndarray, G: np.ndarray, degree: int):
-        self.A, self.G, self.deg = A, G, degree
-        self.cache: dict[float, tuple[np.ndarray, np.ndarray]] = {}
-
-    def __call__(self, h: float) -> tuple[np.ndarray, np.ndarray]:
-        key = float(f"{h:.12e}")
-        got = self.cache.get(key)
-        if got is None:
-            got = self.cache[key] = self._build(h)
-        return got
-
-    def _build(self, h: float):
-        nz, nu = self.G.shape
-        d1 = self.deg + 1
-        n = nz + nu * d1
-        M = np.zeros((n, n))
-        M[:nz, :nz] = h * self.A
-        for j in range(nu):
-            c0 = nz + j * d1
-            M[:nz, c0] = h * self.G[:, j]
-            for m in range(self.deg):
-                M[c0 + m, c0 + m + 1] = 1.0
-        E = expm(M)
-        return E[:nz, :nz].copy(), E[:nz, nz:].copy()
-
-
-def _sweep(Phi_Psi: _Propagators, t: np.ndarray, W: np.ndarray, z0: np.ndarray) -> np.ndarray:
-    """z at every piece boundary t (k+1,) from the inputs' σ-derivatives W (k, nw)."""
-    h = np.diff(t)
-    keys = np.array([float(f"{x:.12e}") for x in h])
-    P = np.empty((h.size, z0.size))
-    Phis = {}
-    for key in np.unique(keys):
-        sel = keys == key
-        Phi, Psi = Phi_Psi(float(key))
-        Phis[key] = Phi
-        P[sel] = W[sel] @ Psi.T
-    Z = np.empty((t.size, z0.size))
-    Z[0] = z = z0
-    if len(Phis) == 1:
-        Phi = next(iter(Phis.values()))
-        for i in range(h.size):
-            z = Phi @ z + P[i]
-            Z[i + 1] = z
-    else:
-        for i in range(h.size):
-            z = Phis[keys[i]] @ z + P[i]
-            Z[i + 1] = z
-    return Z
-
-
-def propagate(lin: Linearisation, z0: np.ndarray, t_end: float,
-              output_dt: float) -> tuple[np.ndarray, np.ndarray, int]:
-    """Exact solution of the linear model on the output grid.
-
-    Returns
-    -------
-    t : (k,) [s]; Z : (k, nz) deviations; pieces : int, pieces propagated.
-    """
-    grid = output_grid(t_end, output_dt)
-    t = _pieces(lin, grid)
-    h = np.diff(t)
-    nu = len(lin.channels)
-    G = np.column_stack([lin.B, lin.b0]) if nu else lin.b0[:, None]
-    # inputs on each piece: degree-5 fit in σ at Chebyshev points inside it
-    if nu:
-        ts = t[:-1, None] + h[:, None] * _NODES[None, :]               # (k, 6)
-        U = lin.inputs(ts.reshape(-1)).reshape(h.size, _DEG + 1, nu)
-        C = np.einsum("mi,kiu->kum", _VINV, U)                          # σ^m coefficients
-        Wu = C * _FACT                                                  # σ-derivatives at 0
-    else:
-        Wu = np.zeros((h.size, 0, _DEG + 1))
-    W1 = np.zeros((h.size, 1, _DEG + 1))
-    W1[:, 0, 0] = 1.0                                                   # b0: constant 1
-    W = np.concatenate([Wu, W1], axis=1).reshape(h.size, -1)
-    Z = _sweep(_Propagators(lin.A, G, _DEG), t, W, np.asarray(z0, dtype=float))
-    on_grid = np.searchsorted(t, grid)
-    return grid, Z[on_grid], int(h.size)
 
 
 @dataclass
@@ -234,8 +115,57 @@ def _largest_displacement(Z: np.ndarray, coords: Coordinates, to_points: np.ndar
     """Largest |δP| [m] over the samples (k, nz) and the points of :func:`_point_map`."""
     if not to_points.shape[0]:
         return 0.0
-    d = np.einsum("pij,kj->kpi", to_points, Z)
+    T = to_points.reshape(-1, to_points.shape[2])                      # (3P, nz)
+    d = (Z @ T.T).reshape(Z.shape[0], -1, 3)
     return float(np.sqrt(np.max(np.sum(d * d, axis=2))))
+
+
+#: the defect is evaluated on every m-th sample, m the largest of these ...
+_STRIDES = (16, 8, 4, 2)
+#: ... whose straight lines follow the linear solution's point displacements
+#: to this share of their largest value (the defect, quadratic in them, then
+#: to about 4 times that)
+_DEFECT_SHARE = 1e-3
+
+
+def _interpolate(t: np.ndarray, nodes: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Values (n, c) at the samples t[nodes] interpolated linearly onto
+    every sample t (k,) → (k, c); nodes ascending, first 0 and last k − 1."""
+    if nodes.size == t.size:
+        return values
+    j = np.clip(np.searchsorted(nodes, np.arange(t.size), side="right") - 1, 0, nodes.size - 2)
+    a, b = nodes[j], nodes[j + 1]
+    w = ((t - t[a]) / (t[b] - t[a]))[:, None]
+    return values[j] * (1.0 - w) + values[j + 1] * w
+
+
+def _defect_nodes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """The samples where the defect is evaluated: every m-th (and the last),
+    m the largest of :data:`_STRIDES` whose straight lines between them
+    miss the point displacements d (k, 3P) at the midway samples by at most
+    :data:`_DEFECT_SHARE` of their largest value; else every sample."""
+    k = t.size
+    scale = float(np.max(np.abs(d - d[0]))) if d.size else 0.0
+    for m in _STRIDES:
+        nodes = np.arange(0, k, m)
+        if nodes[-1] != k - 1:
+            nodes = np.append(nodes, k - 1)
+        if nodes.size < 3 or nodes.size == k:
+            continue
+        a, b = nodes[:-1], nodes[1:]
+        mid = (a + b) // 2
+        w = ((t[mid] - t[a]) / (t[b] - t[a]))[:, None]
+        miss = d[mid] - (d[a] * (1.0 - w) + d[b] * w)
+        if np.max(np.abs(miss)) <= _DEFECT_SHARE * scale:
+            return nodes
+    return np.arange(k)
+
+
+def _largest(d: np.ndarray) -> float:
+    """Largest |δP| [m] of point displacements d (k, 3P)."""
+    if not d.size:
+        return 0.0
+    return float(np.sqrt(np.max(np.sum(d.reshape(d.shape[0], -1, 3) ** 2, axis=2))))
 
 
 def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
@@ -245,35 +175,38 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
     (k, 4) [W] for the energy quadratures."""
     coords = lin.coords
     nfev0 = system.nfev
-    Y = coords.to_y(Z)
     lay = system.layout
-    rhs = system.rhs
-    dY = np.array([rhs(tk, yk) for tk, yk in zip(t.tolist(), Y)])
-    powers = dY[:, lay.work]
-    D = coords.rate(dY) - (Z @ lin.A.T + lin.b0 + lin.inputs(t) @ lin.B.T)
-    # ė = A e + d, d linear between samples: one piece per sample interval
-    h = np.diff(t)
-    nz = coords.nz
-    keys = np.array([float(f"{x:.12e}") for x in h])
-    E = np.zeros_like(Z)
-    e = np.zeros(nz)
-    cache = {}
-    for i in range(h.size):
-        key = keys[i]
-        if key not in cache:
-            M = np.zeros((3 * nz, 3 * nz))
-            M[:nz, :nz] = key * lin.A
-            M[:nz, nz:2 * nz] = key * np.eye(nz)
-            M[nz:2 * nz, 2 * nz:] = np.eye(nz)
-            X = expm(M)
-            cache[key] = (X[:nz, :nz], X[:nz, nz:2 * nz], X[:nz, 2 * nz:])
-        Phi, P0, P1 = cache[key]
-        e = Phi @ e + P0 @ D[i] + P1 @ (D[i + 1] - D[i])
-        E[i + 1] = e
     to_points = _point_map(system, coords)
-    pos = _largest_displacement(E, coords, to_points)
+    T = to_points.reshape(-1, coords.nz)                                  # (3P, nz)
+    dZ = Z @ T.T
+    every = _defect_nodes(t, dZ)
+    Zc = Z[every]
+    system.set_segment(None)
+    dY, _ = system.rhs_batch(t[every], coords.to_y(Zc))
+    Dc = coords.rate(dY) - (Zc @ lin.A.T + lin.b0 + lin.inputs(t[every]) @ lin.B.T)
+    D = _interpolate(t, every, Dc)
+    powers = _interpolate(t, every, dY[:, lay.work])
+    # ė = A e + d, d linear between samples: Φ, P0, P1 per distinct interval
+    lengths, which = _lengths(np.diff(t))
+    nz = coords.nz
+    Phis = np.empty((lengths.size, nz, nz))
+    P0s, P1s = np.empty_like(Phis), np.empty_like(Phis)
+    for i, h in enumerate(lengths):
+        M = np.zeros((3 * nz, 3 * nz))
+        M[:nz, :nz] = h * lin.A
+        M[:nz, nz:2 * nz] = h * np.eye(nz)
+        M[nz:2 * nz, 2 * nz:] = np.eye(nz)
+        X = expm(M)
+        Phis[i], P0s[i], P1s[i] = X[:nz, :nz], X[:nz, nz:2 * nz], X[:nz, 2 * nz:]
+    Q = np.empty((t.size - 1, nz))
+    for i in range(lengths.size):
+        sel = np.flatnonzero(which == i)
+        Q[sel] = D[sel] @ P0s[i].T + (D[sel + 1] - D[sel]) @ P1s[i].T
+    E = np.empty_like(Z)
+    linear_sweep(Phis, which, Q, np.zeros(nz), E)
+    pos = _largest(E @ T.T)
     rot = float(np.max(np.abs(E[:, coords.th_index]))) if coords.n_rigid else 0.0
-    motion = _largest_displacement(Z, coords, to_points)
+    motion = _largest(dZ)
     reliable = pos <= 0.1 * motion or pos < 1e-12
     return ErrorEstimate(pos, rot, motion, E, reliable, system.nfev - nfev0, powers)
 

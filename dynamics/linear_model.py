@@ -166,6 +166,23 @@ class _Channel:
     values: object                 # vectorised t (k,) -> (k,)
     knots: np.ndarray
     max_piece: float = math.inf    # longest propagation piece it tolerates [s]
+    #: the analytic sinusoids in it: (ω [rad/s], start [s], end [s], c_s, c_c),
+    #: each adding c_s sin ωt + c_c cos ωt on [start, end) (the rest of the
+    #: channel is then a polynomial of degree ≤ 1 on every piece between knots)
+    sines: tuple = ()
+
+
+def _sine_part(shape, kind: str) -> tuple:
+    """The sinusoidal part of a sinusoid's value ("load"), first ("velocity")
+    or second integral ("displacement") on its window, as
+    (ω, start, end, c_s, c_c): A sin(ωt + φ), φ = phase − ω·start, and its
+    integrals −A/ω cos(ωt + φ), −A/ω² sin(ωt + φ) (plus polynomials)."""
+    A, w = float(shape.amplitude), 2.0 * math.pi * float(shape.frequency)
+    phi = float(shape.phase) - w * float(shape.start)
+    c, s = math.cos(phi), math.sin(phi)
+    cs, cc = {"load": (A * c, A * s), "velocity": (A / w * s, -A / w * c),
+              "displacement": (-A / w ** 2 * c, -A / w ** 2 * s)}[kind]
+    return (w, float(shape.start), float(shape.end), cs, cc)
 
 
 def _channels(system: System) -> tuple[list[_Channel], list[tuple[str, int]]]:
@@ -186,19 +203,21 @@ def _channels(system: System) -> tuple[list[_Channel], list[tuple[str, int]]]:
         fs = [s.compile() for s in shapes]
         attr = {"load": "values", "displacement": "seconds", "velocity": "firsts"}[kind]
         funcs = [getattr(f, attr) for f in fs]
-        knots, max_piece = [], math.inf
+        knots, max_piece, sines = [], math.inf, []
         for s, f in zip(shapes, fs):
             if isinstance(f.value, PiecewisePolynomial):
                 knots.extend(f.value.breaks.tolist())
             else:                                              # an analytic sinusoid
                 knots.extend(f.breakpoints)
                 max_piece = min(max_piece, _SINE_PIECE / (2 * math.pi * float(s.frequency)))
+                sines.append(_sine_part(s, kind))
 
         def values(t, funcs=funcs):
             t = np.asarray(t, dtype=float)
             return sum(fn(t) for fn in funcs)
 
-        chans.append(_Channel(f"{kind} {'xyz'[k]}", values, np.unique(knots), max_piece))
+        chans.append(_Channel(f"{kind} {'xyz'[k]}", values, np.unique(knots), max_piece,
+                              tuple(sines)))
         kinds.append((kind, k))
     return chans, kinds
 
@@ -277,7 +296,7 @@ def linearise(system: System, y_eq: np.ndarray, rate_step: float = 1e-6,
     system.set_segment(None)
     Zp = np.vstack([np.zeros(nz), np.diag(step), -np.diag(step)])      # (2 nz + 1, nz)
     Yp = coords.to_y(Zp)
-    F = coords.rate(np.array([system.rhs(0.0, y) for y in Yp]))
+    F = coords.rate(system.rhs_batch(np.zeros(Yp.shape[0]), Yp)[0])
     b0 = F[0]
     A = ((F[1:nz + 1] - F[nz + 1:]) / (2.0 * step[:, None])).T
     chans, kinds = _channels(system)

@@ -160,11 +160,24 @@ class Sinusoid:
                 return d_end + v_end * (t - end)
             return d_in(t - s)
 
-        def vec(f):
-            return lambda t: np.vectorize(f, otypes=[float])(np.asarray(t, dtype=float))
+        def values(t):        # the three, vectorised, right-continuous as above
+            t = np.asarray(t, dtype=float)
+            return np.where((t >= s) & (t < end), A * np.sin(w * (t - s) + ph), 0.0)
+
+        def firsts(t):
+            t = np.asarray(t, dtype=float)
+            u = np.clip(t, s, end) - s
+            return np.where(t <= s, 0.0, A / w * (cph - np.cos(w * u + ph)))
+
+        def seconds(t):
+            t = np.asarray(t, dtype=float)
+            u = np.clip(t, s, end) - s
+            inside = A / w * cph * u - A / (w * w) * (np.sin(w * u + ph) - sph)
+            after = v_end * (t - end) if math.isfinite(end) else 0.0
+            return np.where(t <= s, 0.0, np.where(t >= end, d_end + after, inside))
 
         bps = [s] + ([end] if math.isfinite(end) else [])
-        return TimeFunction(value, first, second, bps, vec(value), vec(first), vec(second),
+        return TimeFunction(value, first, second, bps, values, firsts, seconds,
                             support=(s, end), max_step=0.25 / float(self.frequency))
 
     def sample_times(self, dt: float) -> np.ndarray:

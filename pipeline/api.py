@@ -49,7 +49,7 @@ from flexbed.stages.system import compile_scene
 from flexbed.threads import limited
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-           "modal", "frf", "Statics", "Results", "Comparison", "Modal", "Transmissibility"]
+           "modal", "frf", "srs", "Statics", "Results", "Comparison", "Modal", "Transmissibility"]
 
 
 def _pinned(fn):
@@ -306,6 +306,45 @@ def open_results(path: str | Path, *, modes: ModesData | str | Path | None = Non
         return Results(read_results(path), modes_file=modes)
     return Results(read_results(path), modes=modes)
 
+
+
+def srs(results: Results | str | Path, *,
+        point: str | Point | Sequence[str | Point] | None = None, q: float = 10.0,
+        fmin: float = 1.0, fmax: float | None = None,
+        per_octave: int = 12):
+    """Shock response spectra of points' absolute accelerations (as ``flexbed srs``).
+
+    Parameters
+    ----------
+    results : Results or path of a results file
+    point : "NAME=BODY:x,y,z", a :class:`Point`, or a list of them;
+        default the scene's ``[[point]]`` tables
+    q : quality factor Q = 1/(2ζ) [1]
+    fmin, fmax : band [Hz] (``fmax``: default a tenth of the sampling
+        rate, at most a quarter)
+    per_octave : frequencies per octave
+
+    Returns
+    -------
+    flexbed.analyses.shock.Spectra
+        ``frequency`` (n,) [Hz]; ``points``: for each point ``positive``,
+        ``negative``, ``maximax`` (n, 3) [m/s²] and ``pseudo_velocity``
+        (n, 3) [m/s], columns X, Y, Z; ``input``: the same for a driven
+        base's acceleration, else None.
+    """
+    from flexbed.analyses.points import parse_point
+    from flexbed.analyses.shock import spectra
+
+    r = open_results(results) if isinstance(results, (str, Path)) else results
+    run = r._run()
+    given = [point] if isinstance(point, (str, Point)) else list(point or [])
+    points = [parse_point(p) if isinstance(p, str) else p for p in given]
+    if not points:
+        points = list(run.scene_points)
+    if not points:
+        raise InputError("srs: give point=\"NAME=BODY:x,y,z\" (the scene has no [[point]] "
+                         "tables)")
+    return spectra(run, points, q=q, fmin=fmin, fmax=fmax, per_octave=per_octave)
 
 _SETTINGS = ("integrator", "t_end", "dt", "rtol", "atol", "output_dt")
 

@@ -43,6 +43,7 @@ COMMANDS = {
     "simulate": "time integration of the mount system -> results file",
     "compare": "rigid vs flexible vs damped flexible bed -> tables and plots",
     "post": "points of interest and mount forces from a results file",
+    "srs": "shock response spectra of points from a results file",
     "run": "the whole pipeline on one scene, into one folder",
     "bench": "benchmarks: speed against error, written as a report",
 }

@@ -57,6 +57,37 @@ def plot_series(path: Path, title: str, t: np.ndarray, value: np.ndarray, ylabel
     return save_figure(fig, path)
 
 
+
+def plot_shock_spectrum(path: Path, title: str, frequency: np.ndarray,
+                        curves: dict[str, np.ndarray], reference: dict[str, np.ndarray]) -> Path:
+    """Maximax shock response spectra on log-log axes: one curve per axis
+    (solid), and a driven base's input spectrum beside them (dashed).
+
+    Parameters
+    ----------
+    frequency : (n,) [Hz]
+    curves, reference : dict axis ("x", "y", "z") -> (n,) [m/s²]; a curve
+        below 1e-6 of the largest everywhere (round-off of an axis the
+        shock does not reach) is left out, and the axis spans four decades
+    """
+    top = max([float(np.max(v)) for v in (*curves.values(), *reference.values())] + [0.0])
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for c, v in curves.items():
+        if np.max(v) > 1e-6 * top:
+            ax.loglog(frequency, v, label=f"{c}", **STYLES[c])
+    for c, v in reference.items():
+        if np.max(v) > 1e-6 * top:
+            ax.loglog(frequency, v, label=f"input {c}", **{**STYLES[c], "ls": ":"})
+    if top > 0:
+        ax.set_ylim(1e-4 * top, 2.0 * top)
+    ax.set_xlabel("natural frequency [Hz]")
+    ax.set_ylabel("maximax absolute acceleration [m/s²]")
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    fig.tight_layout()
+    return save_figure(fig, path)
+
 #: line styles of the mounts within one panel: colour and dash pattern both
 #: differ between neighbours, so curves drawn on top of each other (symmetric
 #: mounts) stay visible: a dashed line over a solid one

@@ -78,7 +78,8 @@ def test_help_lists_every_command_and_each_commands_options(capsys):
     expected = {"simulate": "--integrator", "compare": "--t-end", "run": "--integrator",
                 "post": "--modes-file", "bench": "--quick", "modes": "--fmax",
                 "static": "--tol", "scene": "--output", "modal": "--equilibrium",
-                "frf": "--relative-to"}
+                "frf": "--relative-to",
+                "srs": "--per-octave"}
     assert set(expected) == set(COMMANDS)
     for name, option in expected.items():
         with pytest.raises(SystemExit):

@@ -197,9 +197,12 @@ class Run:
                        if f"mounts/{key}" in c.datasets}
         text = str(c.datasets.get("scene/toml", ""))
         try:
-            self.scene_points = tuple(self._scene_points(tomllib.loads(text)))
+            scene = tomllib.loads(text)
         except tomllib.TOMLDecodeError:
             raise InputError(f"{self.path}: dataset 'scene/toml' is not valid TOML") from None
+        self.scene_points = tuple(self._scene_points(scene))
+        #: the base's motion: "fixed", "driven" or "free"
+        self.base_motion = str(scene.get("base", {}).get("motion", "fixed"))
         bed = c.attrs.get("bed", {})
         self.bed_model = str(bed.get("model", "rigid"))
         self.bed_name = None

@@ -15,7 +15,9 @@ repeats. A target writes a part only, as
 - ``rigid``: the integrators on the rigid bed, and the aims;
 - ``flexible``: the integrators on the flexible (2 modes, undamped) and the
   damped flexible bed (6 modes), and the aims;
-- ``modelling``: modes kept, mesh density, invariants.
+- ``modelling``: modes kept, mesh density, invariants;
+- ``linear``: the integrators on every case and the linear fast path
+  against them at equal accuracy.
 
 The report is also printed on stdout; progress goes to stderr.
 """
@@ -40,6 +42,7 @@ TARGETS = {
     "flexible": (["integrators", "aims"], ("flexible", "damped")),
     "modelling": (["modes_count", "mesh", "invariants"], None),
     "frequency": (["frequency"], None),
+    "linear": (["integrators", "linear"], None),
 }
 
 
