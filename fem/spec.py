@@ -26,6 +26,9 @@ def _positive(entry: str, value: float) -> None:
         raise PlateSpecError(entry, f"{entry} = {value!r} must be a finite number > 0")
 
 
+THEORIES = ("kirchhoff", "mindlin")
+
+
 @dataclass(frozen=True, slots=True)
 class PlateSpec:
     """Rectangular Kirchhoff plate, free on all edges, centred on the origin.
@@ -50,7 +53,12 @@ class PlateSpec:
         Include the rotary inertia ρt³/12 ∫∇w·∇v in the mass matrix. With
         it, the discrete rigid rotations about x and y carry exactly the
         solid plate's moments of inertia, so the elastic modes are
-        orthogonal to the solid's rigid motions.
+        orthogonal to the solid's rigid motions. (The Mindlin shell always
+        has it.)
+    theory : str
+        "kirchhoff" (thin plate, bending only, Bogner–Fox–Schmit elements)
+        or "mindlin" (Reissner–Mindlin flat shell with membrane, MITC4
+        elements, :mod:`flexbed.fem.shell`).
 
     Examples
     --------
@@ -67,6 +75,7 @@ class PlateSpec:
     nx: int = 10
     ny: int = 10
     rotary_inertia: bool = True
+    theory: str = "kirchhoff"
 
     def __post_init__(self) -> None:
         for entry in ("length_x", "length_y", "thickness", "young", "density"):
@@ -84,6 +93,9 @@ class PlateSpec:
         if not isinstance(self.rotary_inertia, bool):
             raise PlateSpecError("rotary_inertia",
                                  f"rotary_inertia = {self.rotary_inertia!r} must be true or false")
+        if self.theory not in THEORIES:
+            raise PlateSpecError("theory", f"theory = {self.theory!r} must be one of "
+                                           + ", ".join(f'"{v}"' for v in THEORIES))
 
     @property
     def mass(self) -> float:
@@ -104,8 +116,14 @@ class PlateSpec:
         return self.young * self.thickness ** 3 / (12.0 * (1.0 - self.poisson ** 2))
 
     def as_dict(self) -> dict:
-        """The inputs as a plain dictionary (JSON-serialisable)."""
-        return asdict(self)
+        """The inputs as a plain dictionary (JSON-serialisable). ``theory``
+        appears only when it is not the default "kirchhoff", so a Kirchhoff
+        plate keeps the digest (and modes files) it had before the key
+        existed."""
+        d = asdict(self)
+        if d["theory"] == "kirchhoff":
+            del d["theory"]
+        return d
 
     def digest(self) -> str:
         """SHA-256 of the canonical JSON of the inputs (hex)."""
