@@ -40,6 +40,9 @@ class BedModes:
     invariants : Invariants
     timings : dict
         Seconds spent in "assemble", "eigen", "invariants".
+    origin : ndarray (2,)
+        Where the nodes' origin (the bed's centre of mass) is in the
+        drawing frame the geometry was given in [m].
     """
 
     spec: PlateSpec
@@ -51,6 +54,7 @@ class BedModes:
     twist: np.ndarray
     invariants: Invariants
     timings: dict = field(default_factory=dict)
+    origin: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
 
 def bed_modes_from_model(model: PlateModel | ShellModel,
@@ -105,4 +109,5 @@ def compute_bed_modes(spec: PlateSpec, n_modes: int | None = None,
     return BedModes(spec=spec, nodes=nodes, cells=cells, modes=modes,
                     translation=translation, rotation=rotation, twist=twist,
                     invariants=invariants,
-                    timings={"assemble": t1 - t0, "eigen": t2 - t1, "invariants": t3 - t2})
+                    timings={"assemble": t1 - t0, "eigen": t2 - t1, "invariants": t3 - t2},
+                    origin=getattr(model, "origin", np.zeros(2)))

@@ -60,6 +60,11 @@ def shape(xi: np.ndarray, eta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return N, dN
 
 
+def _btdb(A: np.ndarray, C: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Aᵀ C B per element: A (ne, 3, p), C (3, 3), B (ne, 3, q) → (ne, p, q)."""
+    return np.transpose(A, (0, 2, 1)) @ (C @ B)
+
+
 def _jacobian(xy: np.ndarray, dN: np.ndarray) -> np.ndarray:
     """J[e, i, j] = ∂x_j/∂ξ_i for corner coordinates xy (ne, 4, 2) and
     natural derivatives dN (4, 2)."""
@@ -123,9 +128,9 @@ def element_matrices(xy: np.ndarray, thickness: np.ndarray, young: float, poisso
         Bb[:, 2, TY] = dNx[:, :, 1]
         Bb[:, 2, TX] = -dNx[:, :, 0]
         wdb = (Db * det)[:, None, None]
-        full = wdb * np.einsum("eip,ij,ejq->epq", Bb, C, Bb)
-        kxx = wdb * np.einsum("ep,eq->epq", Bb[:, 0], Bb[:, 0])
-        kyy = wdb * np.einsum("ep,eq->epq", Bb[:, 1], Bb[:, 1])
+        full = wdb * _btdb(Bb, C, Bb)
+        kxx = wdb * (Bb[:, 0, :, None] * Bb[:, 0, None, :])
+        kyy = wdb * (Bb[:, 1, :, None] * Bb[:, 1, None, :])
         out["bend_xx"] += kxx
         out["bend_yy"] += kyy
         out["bend_rest"] += full - kxx - kyy
@@ -144,9 +149,9 @@ def element_matrices(xy: np.ndarray, thickness: np.ndarray, young: float, poisso
         Bi[:, 2, 0:2] = dPx[:, :, 1]
         Bi[:, 2, 2:4] = dPx[:, :, 0]
         wdm = (Dm * det)[:, None, None]
-        Kcc += wdm * np.einsum("eip,ij,ejq->epq", Bm, C, Bm)
-        Kci += wdm * np.einsum("eip,ij,ejq->epq", Bm, C, Bi)
-        Kii += wdm * np.einsum("eip,ij,ejq->epq", Bi, C, Bi)
+        Kcc += wdm * _btdb(Bm, C, Bm)
+        Kci += wdm * _btdb(Bm, C, Bi)
+        Kii += wdm * _btdb(Bi, C, Bi)
     out["membrane"] = Kcc - Kci @ np.linalg.solve(Kii, np.transpose(Kci, (0, 2, 1)))
 
     # MITC4 shear: covariant strains at the edge mid-points A(0,-1), C(0,1)
@@ -170,8 +175,8 @@ def element_matrices(xy: np.ndarray, thickness: np.ndarray, young: float, poisso
         Jinv = np.linalg.inv(J)
         cov = np.stack([0.5 * (1 - eta) * gA + 0.5 * (1 + eta) * gC,
                         0.5 * (1 - xi) * gD + 0.5 * (1 + xi) * gB], axis=1)   # (ne, 2, 20)
-        Bs = np.einsum("eij,ejp->eip", Jinv, cov)                      # Cartesian γx, γy
-        out["shear"] += (Gs * det)[:, None, None] * np.einsum("eip,eiq->epq", Bs, Bs)
+        Bs = Jinv @ cov                                                 # Cartesian γx, γy
+        out["shear"] += (Gs * det)[:, None, None] * (np.transpose(Bs, (0, 2, 1)) @ Bs)
 
     rho_t = density * t
     out["mass0"] = rho_t[:, None, None] * mass0

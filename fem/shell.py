@@ -10,12 +10,16 @@ bed's mass, centre of mass and inertia come from it.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
+from .mass_properties import MassProperties, plate_mass_properties
+from .mesher import mesh_bed
 from .mitc4 import element_drilling, element_matrices
+from .quad_shapes import QuadShapes
 from .spec import PlateSpec
 
 DOFS_PER_NODE = 5
@@ -68,6 +72,12 @@ class ShellModel:
     drilling : sparse (N, ndof)
         Nodal in-plane rotation ½(∂v/∂x − ∂u/∂y): element-centre values
         averaged over the elements around each node.
+    thickness : ndarray (ne,)
+        Thickness of each element [m].
+    origin : ndarray (2,)
+        Where the model's origin, the bed's centre of mass, is in the
+        drawing frame the geometry was given in [m] (zero for the plain
+        rectangle).
     """
 
     spec: PlateSpec
@@ -83,6 +93,8 @@ class ShellModel:
     K_membrane: sp.csr_matrix
     K_shear: sp.csr_matrix
     drilling: sp.csr_matrix
+    thickness: np.ndarray
+    origin: np.ndarray
 
     n_rigid = 6
 
@@ -153,12 +165,24 @@ class ShellModel:
         mx, my = self.mirror_maps()
         d = self.node_dofs
         u, v, w = phi[d[0]], phi[d[1]], phi[d[2]]
-        return (np.concatenate([u, v, w]), np.concatenate([-u[mx], v[mx], w[mx]]),
-                np.concatenate([u[my], -v[my], w[my]]))
+        # a mesh that is not its own mirror image: no symmetry to test ("-")
+        nan = np.full((3 * self.nodes.shape[0], phi.shape[1]), np.nan)
+        sx = np.concatenate([-u[mx], v[mx], w[mx]]) if self._mirrored(mx, 0) else nan
+        sy = np.concatenate([u[my], -v[my], w[my]]) if self._mirrored(my, 1) else nan
+        return np.concatenate([u, v, w]), sx, sy
+
+    def _mirrored(self, m: np.ndarray, axis: int) -> bool:
+        """True when map m sends every node to its mirror image in ``axis``."""
+        p, q = self.nodes, self.nodes[m]
+        scale = float(np.max(np.ptp(p, axis=0)))
+        other = 1 - axis
+        return bool(np.all(np.abs(q[:, axis] + p[:, axis]) <= 1e-9 * scale)
+                    and np.all(np.abs(q[:, other] - p[:, other]) <= 1e-9 * scale))
 
 
 def assemble_mesh(spec: PlateSpec, nodes: np.ndarray, cells: np.ndarray,
-                  thickness: np.ndarray | None = None) -> ShellModel:
+                  thickness: np.ndarray | None = None,
+                  origin: np.ndarray | None = None) -> ShellModel:
     """Assemble the shell on a given quadrilateral mesh.
 
     Parameters
@@ -171,6 +195,8 @@ def assemble_mesh(spec: PlateSpec, nodes: np.ndarray, cells: np.ndarray,
         Counter-clockwise quadrilaterals.
     thickness : ndarray (ne,), optional
         Thickness of each element [m].
+    origin : ndarray (2,), optional
+        Recorded as :attr:`ShellModel.origin`.
 
     Returns
     -------
@@ -208,10 +234,57 @@ def assemble_mesh(spec: PlateSpec, nodes: np.ndarray, cells: np.ndarray,
     K = (0.5 * (K + K.T)).tocsr()
     return ShellModel(spec=spec, nodes=nodes, cells=cells, K=K, M=M.tocsr(), M0=M0, M2=M2,
                       K_xx=parts["bend_xx"], K_yy=parts["bend_yy"], K_twist=parts["bend_rest"],
-                      K_membrane=parts["membrane"], K_shear=parts["shear"], drilling=drilling)
+                      K_membrane=parts["membrane"], K_shear=parts["shear"], drilling=drilling,
+                      thickness=t, origin=np.zeros(2) if origin is None else np.asarray(origin))
+
+
+def bed_mesh(spec: PlateSpec) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The spec's mesh with its origin at the bed's centre of mass: nodes
+    (N, 2), cells (ne, 4), cell thickness (ne,) [m], and the centre of mass
+    in the drawing frame (2,) [m]. The plain rectangle is the nx × ny grid,
+    already centred."""
+    if spec.geometry is None:
+        nodes, cells = grid_mesh(spec)
+        return nodes, cells, np.full(cells.shape[0], spec.thickness), np.zeros(2)
+    nodes, cells, t = mesh_bed(spec.geometry, spec.length_x, spec.length_y, spec.thickness,
+                               spec.nx, spec.ny)
+    c = plate_mass_properties(nodes, cells, t, spec.density).centre[:2]
+    return nodes - c, cells, t, c
 
 
 def assemble_shell(spec: PlateSpec) -> ShellModel:
-    """The shell on the spec's rectangular nx × ny grid."""
-    nodes, cells = grid_mesh(spec)
-    return assemble_mesh(spec, nodes, cells)
+    """The shell on the spec's mesh, origin at its centre of mass."""
+    nodes, cells, t, c = bed_mesh(spec)
+    return assemble_mesh(spec, nodes, cells, t, origin=c)
+
+
+@functools.lru_cache(maxsize=16)
+def _layout(spec: PlateSpec):
+    nodes, cells, t, c = bed_mesh(spec)
+    mp = plate_mass_properties(nodes, cells, t, spec.density)
+    return nodes, cells, MassProperties(mp.mass, np.array([c[0], c[1], 0.0]), mp.inertia)
+
+
+def bed_mass_properties(spec: PlateSpec) -> MassProperties:
+    """The bed's mass [kg], centre of mass in the drawing frame (3,) [m] and
+    inertia about it (3, 3) [kg m²]: the solid rectangle's for the plain
+    plate (as before this module existed), else integrated over the mesh
+    (exactly what the shell's mass matrix holds)."""
+    if spec.geometry is None:
+        return MassProperties(spec.mass, np.zeros(3), np.diag(spec.inertia))
+    return _layout(spec)[2]
+
+
+def off_bed(spec: PlateSpec, points: np.ndarray) -> np.ndarray:
+    """Which points (P, 2 or 3), drawing frame [m], are on no element of the
+    bed (outside its outline or in a cut-out): bool (P,)."""
+    pts = np.atleast_2d(np.asarray(points, dtype=float))[:, :2]
+    if spec.geometry is None:
+        a, b = spec.length_x / 2, spec.length_y / 2
+        tol = 1e-9 * max(a, b)
+        return (np.abs(pts[:, 0]) > a + tol) | (np.abs(pts[:, 1]) > b + tol)
+    nodes, cells, mp = _layout(spec)
+    shapes = QuadShapes(nodes, cells, np.zeros((0, nodes.shape[0], 3)),
+                        np.zeros((0, nodes.shape[0], 3)))
+    return np.array([shapes.locate(x - mp.centre[0], y - mp.centre[1]) is None
+                     for x, y in pts])

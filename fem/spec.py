@@ -11,6 +11,8 @@ import json
 import math
 from dataclasses import asdict, dataclass
 
+from .geometry import BedGeometry, GeometryError, Region, Zone
+
 
 class PlateSpecError(ValueError):
     """A plate input out of its range; ``entry`` names the key."""
@@ -59,6 +61,10 @@ class PlateSpec:
         "kirchhoff" (thin plate, bending only, Bogner–Fox–Schmit elements)
         or "mindlin" (Reissner–Mindlin flat shell with membrane, MITC4
         elements, :mod:`flexbed.fem.shell`).
+    geometry : BedGeometry or None
+        Outline, cut-outs, thickness zones, element size or a mesh file
+        (:mod:`flexbed.fem.geometry`; Mindlin only). None: the length_x ×
+        length_y rectangle on the nx × ny grid.
 
     Examples
     --------
@@ -76,6 +82,7 @@ class PlateSpec:
     ny: int = 10
     rotary_inertia: bool = True
     theory: str = "kirchhoff"
+    geometry: BedGeometry | None = None
 
     def __post_init__(self) -> None:
         for entry in ("length_x", "length_y", "thickness", "young", "density"):
@@ -96,6 +103,35 @@ class PlateSpec:
         if self.theory not in THEORIES:
             raise PlateSpecError("theory", f"theory = {self.theory!r} must be one of "
                                            + ", ".join(f'"{v}"' for v in THEORIES))
+        if self.geometry is not None and self.geometry.is_plain:
+            object.__setattr__(self, "geometry", None)
+        if self.geometry is not None and self.theory != "mindlin":
+            raise PlateSpecError("theory", "outline, cutout, zone, element_size and mesh_file "
+                                           "need theory = \"mindlin\" (the Kirchhoff plate is "
+                                           "a rectangle on a grid)")
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "PlateSpec":
+        """Inverse of :meth:`as_dict` (``geometry`` as a nested dict)."""
+        d = dict(d)
+        g = d.get("geometry")
+        if isinstance(g, dict):
+            def region(r):
+                r = dict(r)
+                if r.get("points") is not None:
+                    r["points"] = tuple(tuple(p) for p in r["points"])
+                for k in ("centre", "size"):
+                    if r.get(k) is not None:
+                        r[k] = tuple(r[k])
+                return Region(**r)
+            try:
+                d["geometry"] = BedGeometry(
+                    outline=g.get("outline"), cutouts=tuple(region(r) for r in g["cutouts"]),
+                    zones=tuple(Zone(region(z["region"]), z["thickness"]) for z in g["zones"]),
+                    element_size=g.get("element_size"), mesh_digest=g.get("mesh_digest"))
+            except (GeometryError, KeyError, TypeError) as exc:
+                raise PlateSpecError("geometry", f"geometry: {exc}") from None
+        return cls(**d)
 
     @property
     def mass(self) -> float:
@@ -123,7 +159,16 @@ class PlateSpec:
         d = asdict(self)
         if d["theory"] == "kirchhoff":
             del d["theory"]
+        if d["geometry"] is None:
+            del d["geometry"]
+        else:                      # the mesh file counts by its contents, not its path
+            del d["geometry"]["mesh_file"]
         return d
+
+    @property
+    def is_rectangle(self) -> bool:
+        """True for the plain length_x × length_y plate on its grid."""
+        return self.geometry is None
 
     def digest(self) -> str:
         """SHA-256 of the canonical JSON of the inputs (hex)."""

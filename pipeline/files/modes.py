@@ -46,6 +46,7 @@ inertia come from the FE mass matrix ("from" = FE for every row).
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -65,7 +66,15 @@ if TYPE_CHECKING:       # annotation only: reading a modes file needs no FE code
 SCHEMA = "flexbed.modes"
 VERSION = "1.1"          # 1.1: plate/theory (absent: "kirchhoff"), Mindlin shells
 MAJOR = 1
-_LATER_KEYS = ("theory",)
+_LATER_KEYS = ("theory", "geometry")
+
+
+def _plate_attrs(spec: PlateSpec) -> dict:
+    """The plate inputs as HDF5 attributes (the geometry as JSON text)."""
+    d = spec.as_dict()
+    if "geometry" in d:
+        d["geometry"] = json.dumps(d["geometry"], sort_keys=True)
+    return d
 
 _INVARIANT_UNITS = {
     "mass": "kg", "first_moment": "kg m", "inertia": "kg m^2",
@@ -155,7 +164,9 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
     m = bed.modes
     mindlin = bed.spec.theory == "mindlin"
     d: dict[str, Dataset] = {
-        "mesh/nodes": Dataset(bed.nodes, "m", "node coordinates in the bed frame"),
+        "mesh/nodes": Dataset(bed.nodes, "m", "node coordinates in the bed frame (origin at "
+                              "the centre of mass)",
+                              attrs={"origin_in_drawing_frame": np.asarray(bed.origin, float)}),
         "mesh/cells": Dataset(bed.cells.astype(np.int64), "1", "node indices of each quad"),
         "modes/frequency": Dataset(m.frequency, "Hz", "elastic free-free frequencies"),
         "modes/omega": Dataset(m.omega, "rad/s", "circular frequencies"),
@@ -184,7 +195,7 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
              "next_frequency": (m.omega_next / (2 * math.pi)
                                 if math.isfinite(m.omega_next) else math.inf),
              "description": "free-free modes and modal invariants of the common bed"},
-        "plate": bed.spec.as_dict(),
+        "plate": _plate_attrs(bed.spec),
         "invariants": ({"model": "every invariant, mass properties included, from the FE "
                                  "consistent mass of the Mindlin shell"}
                        if inv.model_mass else
@@ -223,10 +234,12 @@ def read_modes_file(path: str | Path) -> ModesData:
     c = read_file(path, schema=SCHEMA, major=MAJOR, required=REQUIRED)
     root = c.attrs.get("", {})
     try:
-        stored = c.attrs["plate"]
-        # keys added after version 1.0 (theory) take their defaults when absent
-        plate = PlateSpec(**{f.name: stored[f.name] for f in fields(PlateSpec)
-                             if f.name in stored or f.name not in _LATER_KEYS})
+        stored = dict(c.attrs["plate"])
+        if "geometry" in stored:
+            stored["geometry"] = json.loads(str(stored["geometry"]))
+        # keys added after version 1.0 (theory, geometry) take their defaults when absent
+        plate = PlateSpec.from_dict({f.name: stored[f.name] for f in fields(PlateSpec)
+                                     if f.name in stored or f.name not in _LATER_KEYS})
     except (KeyError, ValueError, TypeError) as exc:
         raise InputError(f"{c.path}: group 'plate' does not hold valid plate inputs ({exc})") \
             from None
@@ -249,7 +262,8 @@ def read_modes_file(path: str | Path) -> ModesData:
         got = np.shape(c.get(name))
         if got != shape:
             raise InputError(f"{c.path}: dataset '{name}' has shape {got}, expected {shape}")
-    if nodes.ndim != 2 or nodes.shape[1] != 3 or (plate.nx + 1) * (plate.ny + 1) != N:
+    if nodes.ndim != 2 or nodes.shape[1] != 3 or (
+            plate.is_rectangle and (plate.nx + 1) * (plate.ny + 1) != N):
         raise InputError(f"{c.path}: dataset 'mesh/nodes' does not match the "
                          f"{plate.nx} x {plate.ny} mesh of the plate inputs")
     inv = Invariants(**{key: (float(c.get(f"invariants/{key}")) if key == "mass"

@@ -155,7 +155,7 @@ class _Reader(ShapeReader):
         bodies_raw = self.tables("body", data.get("body", []))
         if not bodies_raw:
             self.fail("", "no [[body]] tables: body 1, the base, is required")
-        bed = read_bed(data.get("bed", {}), f"{self.label}: bed")
+        bed = read_bed(data.get("bed", {}), f"{self.label}: bed", self.folder)
         at = _bed_index(bodies_raw, bed) if "bed" in data else None
         bodies = [self.body(i, b, bed if i == at else None) for i, b in enumerate(bodies_raw)]
         names = [b.name for b in bodies]
@@ -165,6 +165,8 @@ class _Reader(ShapeReader):
             self.fail("bed", f"body = {bed.body!r} is not a body (bodies: {', '.join(names)})")
         solver = self.solver(data.get("solver", {}))
         points = self.points(data.get("point", []), names)
+        if at is not None:
+            mounts, points = self.on_bed(bed, names[at], mounts, points)
         try:
             scene = Scene(tuple(bodies), base, tuple(mounts), np.array(gravity), name)
         except SceneError as exc:
@@ -178,6 +180,35 @@ class _Reader(ShapeReader):
         return SceneFile(scene=scene, bed=bed, solver=solver, points=tuple(points),
                          source=path, text=text, digest=digest,
                          statics_digest=_digest(statics, {}))
+
+    def on_bed(self, bed: BedSection, name: str, mounts: list, points: list) -> tuple:
+        """Mount points and points of interest on the bed, given in the drawing
+        frame: refused when off the bed or in a cut-out, then moved to the
+        bed's frame (origin at its centre of mass)."""
+        from flexbed.fem.shell import off_bed
+        c = bed.mass_properties.centre
+        if not (bed.flexible or bed.plate.geometry is not None):
+            return mounts, points      # a rigid rectangle: any body-fixed point will do
+        for m in mounts:
+            for key in ("i", "j"):
+                if getattr(m, f"body_{key}") == name:
+                    pt = getattr(m, f"point_{key}")
+                    if off_bed(bed.plate, pt[None, :])[0]:
+                        self.fail(f"mount {m.name!r}", f"point_{key} = {pt.tolist()} m is off "
+                                                        f"the bed (outside its outline or in a "
+                                                        f"cut-out)")
+        for p in points:
+            if p.body == name and off_bed(bed.plate, np.array(p.position)[None, :])[0]:
+                self.fail(f"point {p.name!r}", f"position = {list(p.position)} m is off the "
+                                               f"bed (outside its outline or in a cut-out)")
+        if not np.any(c):
+            return mounts, points
+        mounts = [replace(m, point_i=m.point_i - c if m.body_i == name else m.point_i,
+                          point_j=m.point_j - c if m.body_j == name else m.point_j)
+                  for m in mounts]
+        points = [replace(p, position=tuple(np.array(p.position) - c)) if p.body == name
+                  else p for p in points]
+        return mounts, points
 
     def resolve_auto_modes(self, scene: Scene, bed: BedSection, solver) -> BedSection:
         """``[bed] modes = "auto"`` → fmax = f_cut (see :mod:`flexbed.stages.modes_auto`)."""
@@ -200,9 +231,9 @@ class _Reader(ShapeReader):
         if "mass" in t:
             mass = self.number(where, "mass", t["mass"], positive=True)
         else:
-            mass = bed.plate.mass
+            mass = bed.mass_properties.mass
         if "inertia" not in t:
-            J = np.diag(bed.plate.inertia).tolist()
+            J = bed.mass_properties.inertia.tolist()
         elif isinstance(t["inertia"], list) and t["inertia"] and all(isinstance(r, list)
                                                                     for r in t["inertia"]):
             if len(t["inertia"]) != 3:
@@ -219,6 +250,9 @@ class _Reader(ShapeReader):
         position = self.numbers(where, "position", t["position"], 3)
         ang = self.numbers(where, "orientation_deg", t.get("orientation_deg", [0, 0, 0]), 3)
         p = p_from_angles(*np.radians(ang))
+        if bed is not None:       # the bed's position is its drawing origin's: to its CoM
+            position = (np.array(position) + rotation_matrix(p) @ bed.mass_properties.centre
+                        ).tolist()
         v = self.numbers(where, "velocity", t.get("velocity", [0, 0, 0]), 3)
         w = self.numbers(where, "angular_velocity", t.get("angular_velocity", [0, 0, 0]), 3)
         try:
