@@ -25,7 +25,8 @@ class BedModes:
     spec : PlateSpec
         Inputs.
     nodes : ndarray (N, 3)
-        Node coordinates in the bed frame, z = 0 [m].
+        Node coordinates in the bed frame [m]; z is the mid-surface's, 0
+        unless fixed masses lift the centre of mass.
     cells : ndarray (ne, 4)
         Node indices of each quadrilateral, counter-clockwise.
     modes : ModeSet
@@ -105,7 +106,8 @@ def compute_bed_modes(spec: PlateSpec, n_modes: int | None = None,
         invariants = modal_invariants(model, modes)
         cells = model.mesh.t.T.copy()
     t3 = time.perf_counter()
-    nodes = np.column_stack([model.nodes, np.zeros(model.nodes.shape[0])])
+    nodes = np.column_stack([model.nodes, np.full(model.nodes.shape[0],
+                                                  getattr(model, "mid_z", 0.0))])
     return BedModes(spec=spec, nodes=nodes, cells=cells, modes=modes,
                     translation=translation, rotation=rotation, twist=twist,
                     invariants=invariants,

@@ -44,6 +44,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .fixed_masses import moments as fixed_moments
+
 if TYPE_CHECKING:       # annotations only: reading invariants needs no FE code
     from .modes import ModeSet
     from .plate import PlateModel
@@ -213,21 +215,36 @@ def shell_second_moments(model, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray
     P[:, :, 1, 1] += tx.T @ M2tx
     P[:, :, 0, 1] -= ty.T @ M2tx
     P[:, :, 1, 0] -= tx.T @ M2ty
+    for item, where, dofs, T, R in model.fixed:       # rigid items (fixed_masses)
+        s_, q_, p_ = fixed_moments(item, where, T @ phi[dofs], R @ phi[dofs])
+        S += s_
+        Q += q_
+        P += p_
+    # so far about the mid-surface; the frame's origin is mid_z below it
+    Q[:, 2, :] += model.mid_z * S.T
     return S, Q, P
 
 
 def shell_mass_properties(model) -> tuple[float, np.ndarray, np.ndarray]:
     """Mass [kg], first moment about the origin (3,) [kg m] and inertia
-    tensor about the origin (3, 3) [kg m²] of the shell, from its mass
-    matrix (exact for the mesh's geometry and thickness)."""
+    tensor about the origin (3, 3) [kg m²] of the shell and its fixed
+    masses, from the mass matrix's blocks (exact for the mesh's geometry and
+    thickness)."""
     M0, M2 = model.M0, model.M2
     one = np.ones(model.nodes.shape[0])
     x, y = model.nodes.T
+    z0 = model.mid_z
     m = float(one @ (M0 @ one))
-    first = np.array([one @ (M0 @ x), one @ (M0 @ y), 0.0])
+    first = np.array([one @ (M0 @ x), one @ (M0 @ y), m * z0])
     xx, yy, xy = x @ (M0 @ x), y @ (M0 @ y), x @ (M0 @ y)
-    zz = float(one @ (M2 @ one))                                # ∫ρ z² dV
-    J = np.array([[yy + zz, -xy, 0.0], [-xy, xx + zz, 0.0], [0.0, 0.0, xx + yy]])
+    zz = float(one @ (M2 @ one)) + m * z0 * z0                  # ∫ρ z² dV
+    xz, yz = first[0] * z0, first[1] * z0
+    J = np.array([[yy + zz, -xy, -xz], [-xy, xx + zz, -yz], [-xz, -yz, xx + yy]])
+    for item, where, _, _, _ in model.fixed:
+        p = np.array([where[0], where[1], where[2] + z0])
+        m += item.mass
+        first = first + item.mass * p
+        J = J + np.array(item.inertia) + item.mass * (p @ p * np.eye(3) - np.outer(p, p))
     return m, first, J
 
 

@@ -151,6 +151,8 @@ def _general(outline, holes, zone_polys, h):
         keep &= ~inside(hole, cent)
     tri = tri[keep]
     area = 0.5 * _cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
+    flat = np.abs(area) <= 1e-9 * spacing * spacing     # collinear boundary points
+    tri, area = tri[~flat], area[~flat]
     tri[area < 0] = tri[area < 0][:, [0, 2, 1]]
     target = signed_area(outline) - sum(signed_area(hh) for hh in holes)
     if abs(np.abs(area).sum() - target) > 1e-9 * target:
@@ -198,8 +200,22 @@ def read_mesh_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     return _compact(pts, cells)
 
 
+def _check_cells(nodes: np.ndarray, cells: np.ndarray, geometry: BedGeometry) -> None:
+    """Every quadrilateral convex and counter-clockwise (positive Jacobian at
+    its corners), else a GeometryError naming the first bad cell."""
+    xy = nodes[cells]
+    nxt, prv = np.roll(xy, -1, axis=1), np.roll(xy, 1, axis=1)
+    turn = _cross(nxt - xy, prv - xy)                      # (ne, 4) corner Jacobians
+    bad = np.flatnonzero(np.any(turn <= 1e-12 * np.max(np.abs(turn)), axis=1))
+    if bad.size:
+        entry = "mesh_file" if geometry.mesh_file is not None else "element_size"
+        raise GeometryError(entry, f"cell {int(bad[0])} (corners {xy[bad[0]].round(6).tolist()}"
+                                   f" m) is not a convex counter-clockwise quadrilateral "
+                                   f"({bad.size} such cells)")
+
+
 def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness: float,
-             nx: int, ny: int, folder: Path | None = None
+             nx: int, ny: int, folder: Path | None = None, lines=()
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Mesh a bed in its drawing frame.
 
@@ -214,6 +230,8 @@ def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness:
         min(bounding box x / nx, bounding box y / ny).
     folder : Path, optional
         Where a relative ``mesh_file`` is.
+    lines : sequence of ((x0, y0), (x1, y1))
+        Segments the mesh must have edges along (stiffeners).
 
     Returns
     -------
@@ -242,16 +260,18 @@ def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness:
         holes = [c.polygon(h) for c in geometry.cutouts]
         zones = [(z.region.polygon(h), z.thickness) for z in geometry.zones]
         polys = [outline] + holes + [p for p, _ in zones]
-        if all(_rectilinear(p) for p in polys):
-            nodes, cells = _grid(outline, holes, [p for p, _ in zones], h)
+        segs = [np.array(seg, dtype=float) for seg in lines]
+        if all(_rectilinear(p) for p in polys + segs):
+            nodes, cells = _grid(outline, holes, [p for p, _ in zones] + segs, h)
             cent = nodes[cells].mean(axis=1)
             keep = inside(outline, cent)
             for hole in holes:
                 keep &= ~inside(hole, cent)
             nodes, cells = _compact(nodes, cells[keep])
         else:
-            nodes, cells = _general(outline, holes, [p for p, _ in zones], h)
+            nodes, cells = _general(outline, holes, [p for p, _ in zones] + segs, h)
             nodes, cells = _compact(nodes, cells)
+    _check_cells(nodes, cells, geometry)
     t = np.full(cells.shape[0], float(thickness))
     cent = nodes[cells].mean(axis=1)
     for poly, tz in zones:

@@ -88,7 +88,11 @@ def _eigen(model, k: int) -> tuple[np.ndarray, np.ndarray]:
         length = float(np.max(np.ptp(model.nodes, axis=0)))
     omega1 = (4.73 / length) ** 2 * math.sqrt(spec.rigidity / (spec.density * spec.thickness))
     sigma = -0.1 * omega1 ** 2
-    factor = BandedCholesky(model.K - sigma * model.M, order=model.band_order())
+    try:
+        factor = BandedCholesky(model.K - sigma * model.M, order=model.band_order())
+    except np.linalg.LinAlgError:
+        raise ModesError("the stiffness is not positive semi-definite (a mesh with inverted "
+                         "or degenerate elements, or a part not joined to the rest)") from None
     op = sla.LinearOperator(model.K.shape, matvec=factor.solve, dtype=float)
     start = np.random.default_rng(0).standard_normal(n)   # deterministic, generic
     vals, vecs = sla.eigsh(model.K, k=k, M=model.M, sigma=sigma, which="LM", OPinv=op, v0=start)

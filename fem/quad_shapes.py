@@ -40,12 +40,16 @@ class QuadShapes:
         Counter-clockwise quadrilaterals.
     translation, rotation : ndarray (n, N, 3)
         Nodal translations and rotations per mode.
+    mid_z : float
+        z of the mid-surface in the bed frame [m] (non-zero when fixed
+        masses lift the centre of mass off it).
     """
 
     nodes: np.ndarray
     cells: np.ndarray
     translation: np.ndarray
     rotation: np.ndarray
+    mid_z: float = 0.0
 
     def locate(self, x: float, y: float) -> tuple[int, np.ndarray] | None:
         """(cell, natural coordinates (2,)) of the point (x, y), or None when
@@ -105,8 +109,9 @@ class QuadShapes:
             corner = self.cells[c]
             t = np.einsum("a,kaj->kj", N, self.translation[:, corner])
             r = np.einsum("a,kaj->kj", N, self.rotation[:, corner])
-            t[:, 0] += z * r[:, 1]
-            t[:, 1] -= z * r[:, 0]
+            h = z - self.mid_z                                        # above the mid-surface
+            t[:, 0] += h * r[:, 1]
+            t[:, 1] -= h * r[:, 0]
             trans[:, i] = t
             rot[:, i] = r
         return trans, rot
@@ -117,6 +122,8 @@ def mode_shapes(theory: str, nodes: np.ndarray, cells: np.ndarray, translation: 
     """The point evaluator of a modes file's shapes: Hermite on the grid
     (Kirchhoff) or bilinear on the cells (Mindlin)."""
     if theory == "mindlin":
-        return QuadShapes(np.asarray(nodes, float)[:, :2], np.asarray(cells, np.int64),
-                          translation, rotation)
+        nodes = np.asarray(nodes, float)
+        mid_z = float(nodes[0, 2]) if nodes.shape[1] == 3 and len(nodes) else 0.0
+        return QuadShapes(nodes[:, :2], np.asarray(cells, np.int64), translation, rotation,
+                          mid_z)
     return GridShapes.from_nodes(nodes, translation, rotation, twist)

@@ -10,17 +10,16 @@ bed's mass, centre of mass and inertia come from it.
 
 from __future__ import annotations
 
-import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
 
-from .mass_properties import MassProperties, plate_mass_properties
-from .mesher import mesh_bed
+from .fixed_masses import attachment
+from .geometry import GeometryError
 from .mitc4 import element_drilling, element_matrices
-from .quad_shapes import QuadShapes
-from .spec import PlateSpec
+from .spec import PlateSpec, PlateSpecError
+from .stiffeners import stiffener_matrices
 
 DOFS_PER_NODE = 5
 DOF_NAMES = ("u", "v", "w", "theta_x", "theta_y")
@@ -78,6 +77,13 @@ class ShellModel:
         Where the model's origin, the bed's centre of mass, is in the
         drawing frame the geometry was given in [m] (zero for the plain
         rectangle).
+    mid_z : float
+        Height of the mid-surface in the bed frame [m]: minus the centre of
+        mass's height when fixed masses lift it.
+    fixed : tuple
+        Fixed masses as (FixedMass, centre in the bed frame's x, y and its
+        height above the mid-surface (3,), DOFs (20,), T (3, 20), R (3, 20))
+        (:mod:`flexbed.fem.fixed_masses`); their mass is in ``M``.
     """
 
     spec: PlateSpec
@@ -95,6 +101,8 @@ class ShellModel:
     drilling: sp.csr_matrix
     thickness: np.ndarray
     origin: np.ndarray
+    mid_z: float = 0.0
+    fixed: tuple = ()
 
     n_rigid = 6
 
@@ -238,53 +246,38 @@ def assemble_mesh(spec: PlateSpec, nodes: np.ndarray, cells: np.ndarray,
                       thickness=t, origin=np.zeros(2) if origin is None else np.asarray(origin))
 
 
-def bed_mesh(spec: PlateSpec) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The spec's mesh with its origin at the bed's centre of mass: nodes
-    (N, 2), cells (ne, 4), cell thickness (ne,) [m], and the centre of mass
-    in the drawing frame (2,) [m]. The plain rectangle is the nx × ny grid,
-    already centred."""
-    if spec.geometry is None:
-        nodes, cells = grid_mesh(spec)
-        return nodes, cells, np.full(cells.shape[0], spec.thickness), np.zeros(2)
-    nodes, cells, t = mesh_bed(spec.geometry, spec.length_x, spec.length_y, spec.thickness,
-                               spec.nx, spec.ny)
-    c = plate_mass_properties(nodes, cells, t, spec.density).centre[:2]
-    return nodes - c, cells, t, c
-
-
 def assemble_shell(spec: PlateSpec) -> ShellModel:
-    """The shell on the spec's mesh, origin at its centre of mass."""
-    nodes, cells, t, c = bed_mesh(spec)
-    return assemble_mesh(spec, nodes, cells, t, origin=c)
+    """The shell on the spec's mesh, origin at the bed's centre of mass
+    (:func:`flexbed.fem.layout.bed_layout`), fixed masses included."""
+    from .layout import bed_layout
+    lay = bed_layout(spec)
+    model = assemble_mesh(spec, lay.nodes, lay.cells, lay.thickness, origin=lay.centre[:2])
+    if not lay.fixed and not spec.stiffeners:
+        return model
+    mass_blocks, stiff_blocks, attached = [], [], []
+    for item, where in lay.fixed:
+        cell, s_nat = lay.locate(where[0], where[1])
+        dofs, T, R = attachment(lay.nodes, lay.cells, cell, s_nat, item.position[2])
+        mass_blocks.append((dofs, item.mass * T.T @ T + R.T @ np.array(item.inertia) @ R))
+        attached.append((item, where, dofs, T, R))
+    for st in spec.stiffeners:
+        try:
+            K, M, slices = stiffener_matrices(st, lay.nodes, model.drilling, lay.centre[:2],
+                                              spec.young, spec.poisson, spec.density)
+        except GeometryError as exc:
+            raise PlateSpecError("stiffener", str(exc)) from None
+        stiff_blocks += K
+        mass_blocks += M
+        attached += slices
+    n = model.M.shape[0]
+    K = (model.K + _sum_blocks(stiff_blocks, n)).tocsr() if stiff_blocks else model.K
+    return replace(model, K=K, M=(model.M + _sum_blocks(mass_blocks, n)).tocsr(),
+                   mid_z=lay.mid_z, fixed=tuple(attached))
 
 
-@functools.lru_cache(maxsize=16)
-def _layout(spec: PlateSpec):
-    nodes, cells, t, c = bed_mesh(spec)
-    mp = plate_mass_properties(nodes, cells, t, spec.density)
-    return nodes, cells, MassProperties(mp.mass, np.array([c[0], c[1], 0.0]), mp.inertia)
-
-
-def bed_mass_properties(spec: PlateSpec) -> MassProperties:
-    """The bed's mass [kg], centre of mass in the drawing frame (3,) [m] and
-    inertia about it (3, 3) [kg m²]: the solid rectangle's for the plain
-    plate (as before this module existed), else integrated over the mesh
-    (exactly what the shell's mass matrix holds)."""
-    if spec.geometry is None:
-        return MassProperties(spec.mass, np.zeros(3), np.diag(spec.inertia))
-    return _layout(spec)[2]
-
-
-def off_bed(spec: PlateSpec, points: np.ndarray) -> np.ndarray:
-    """Which points (P, 2 or 3), drawing frame [m], are on no element of the
-    bed (outside its outline or in a cut-out): bool (P,)."""
-    pts = np.atleast_2d(np.asarray(points, dtype=float))[:, :2]
-    if spec.geometry is None:
-        a, b = spec.length_x / 2, spec.length_y / 2
-        tol = 1e-9 * max(a, b)
-        return (np.abs(pts[:, 0]) > a + tol) | (np.abs(pts[:, 1]) > b + tol)
-    nodes, cells, mp = _layout(spec)
-    shapes = QuadShapes(nodes, cells, np.zeros((0, nodes.shape[0], 3)),
-                        np.zeros((0, nodes.shape[0], 3)))
-    return np.array([shapes.locate(x - mp.centre[0], y - mp.centre[1]) is None
-                     for x, y in pts])
+def _sum_blocks(blocks: list, n: int) -> sp.csr_matrix:
+    """Σ of dense blocks (dofs (k,), (k, k)) into an (n, n) matrix."""
+    data = np.concatenate([b.ravel() for _, b in blocks])
+    rows = np.concatenate([np.repeat(d, d.size) for d, _ in blocks])
+    cols = np.concatenate([np.tile(d, d.size) for d, _ in blocks])
+    return sp.coo_matrix((data, (rows, cols)), shape=(n, n)).tocsr()

@@ -11,6 +11,8 @@ import json
 import math
 from dataclasses import asdict, dataclass
 
+from .fixed_masses import FixedMass
+from .stiffeners import Section, Stiffener
 from .geometry import BedGeometry, GeometryError, Region, Zone
 
 
@@ -83,6 +85,8 @@ class PlateSpec:
     rotary_inertia: bool = True
     theory: str = "kirchhoff"
     geometry: BedGeometry | None = None
+    masses: tuple[FixedMass, ...] = ()
+    stiffeners: tuple[Stiffener, ...] = ()
 
     def __post_init__(self) -> None:
         for entry in ("length_x", "length_y", "thickness", "young", "density"):
@@ -105,6 +109,22 @@ class PlateSpec:
                                            + ", ".join(f'"{v}"' for v in THEORIES))
         if self.geometry is not None and self.geometry.is_plain:
             object.__setattr__(self, "geometry", None)
+        object.__setattr__(self, "masses", tuple(self.masses))
+        if not all(isinstance(m, FixedMass) for m in self.masses):
+            raise PlateSpecError("masses", "masses must be FixedMass items")
+        names = [m.name for m in self.masses]
+        if len(set(names)) != len(names):
+            raise PlateSpecError("fixed_mass", f"fixed mass names {names!r} must be unique")
+        object.__setattr__(self, "stiffeners", tuple(self.stiffeners))
+        names = [st.name for st in self.stiffeners]
+        if len(set(names)) != len(names):
+            raise PlateSpecError("stiffener", f"stiffener names {names!r} must be unique")
+        if self.stiffeners and self.theory != "mindlin":
+            raise PlateSpecError("theory", "stiffener needs theory = \"mindlin\" (its "
+                                           "eccentric coupling needs the membrane)")
+        if self.masses and self.theory != "mindlin":
+            raise PlateSpecError("theory", "fixed_mass needs theory = \"mindlin\" (the "
+                                           "Kirchhoff plate has no in-plane inertia)")
         if self.geometry is not None and self.theory != "mindlin":
             raise PlateSpecError("theory", "outline, cutout, zone, element_size and mesh_file "
                                            "need theory = \"mindlin\" (the Kirchhoff plate is "
@@ -131,6 +151,21 @@ class PlateSpec:
                     element_size=g.get("element_size"), mesh_digest=g.get("mesh_digest"))
             except (GeometryError, KeyError, TypeError) as exc:
                 raise PlateSpecError("geometry", f"geometry: {exc}") from None
+        if "masses" in d:
+            try:
+                d["masses"] = tuple(FixedMass(m["name"], tuple(m["position"]), m["mass"],
+                                              tuple(tuple(r) for r in m["inertia"]))
+                                    for m in d["masses"])
+            except (GeometryError, KeyError, TypeError) as exc:
+                raise PlateSpecError("masses", f"masses: {exc}") from None
+        if "stiffeners" in d:
+            try:
+                d["stiffeners"] = tuple(
+                    Stiffener(st["name"], tuple(st["start"]), tuple(st["end"]),
+                              Section(**st["section"]), st["offset"])
+                    for st in d["stiffeners"])
+            except (GeometryError, KeyError, TypeError) as exc:
+                raise PlateSpecError("stiffeners", f"stiffeners: {exc}") from None
         return cls(**d)
 
     @property
@@ -159,6 +194,10 @@ class PlateSpec:
         d = asdict(self)
         if d["theory"] == "kirchhoff":
             del d["theory"]
+        if not d["masses"]:
+            del d["masses"]
+        if not d["stiffeners"]:
+            del d["stiffeners"]
         if d["geometry"] is None:
             del d["geometry"]
         else:                      # the mesh file counts by its contents, not its path
@@ -168,7 +207,7 @@ class PlateSpec:
     @property
     def is_rectangle(self) -> bool:
         """True for the plain length_x × length_y plate on its grid."""
-        return self.geometry is None
+        return self.geometry is None and not self.masses and not self.stiffeners
 
     def digest(self) -> str:
         """SHA-256 of the canonical JSON of the inputs (hex)."""

@@ -16,7 +16,8 @@ from flexbed.fem.bed import compute_bed_modes
 from flexbed.fem.geometry import BedGeometry, GeometryError, Region, Zone
 from flexbed.fem.invariants import shell_mass_properties
 from flexbed.fem.mass_properties import shift_inertia
-from flexbed.fem.shell import assemble_shell, bed_mass_properties, bed_mesh, grid_mesh
+from flexbed.fem.layout import bed_layout, bed_mass_properties
+from flexbed.fem.shell import assemble_shell, grid_mesh
 from flexbed.fem.spec import PlateSpec, PlateSpecError
 from flexbed.files.builtin import builtin_scene_path
 
@@ -75,7 +76,8 @@ def test_circular_cut_out_has_the_circles_area():
 def test_outline_polygon_with_slanted_edges():
     outline = ((0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.8, 1.4), (0.0, 1.0))
     spec = PlateSpec(theory="mindlin", geometry=BedGeometry(outline=outline, element_size=0.1))
-    nodes, cells, t, c = bed_mesh(spec)
+    lay = bed_layout(spec)
+    nodes, cells = lay.nodes, lay.cells
     area = 2.0 * 1.0 + 0.5 * 2.0 * 0.4
     assert RHO * T * area == pytest.approx(bed_mass_properties(spec).mass, rel=1e-12)
     xy = nodes[cells]

@@ -10,11 +10,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from flexbed.fem.fixed_masses import FixedMass
 from flexbed.fem.geometry import BedGeometry, GeometryError, Region, Zone
+from flexbed.fem.stiffeners import Stiffener, section_of
 
 from flexbed.errors import InputError
 
-GEOMETRY_KEYS = ("outline", "cutout", "zone", "element_size", "mesh_file")
+GEOMETRY_KEYS = ("outline", "cutout", "zone", "element_size", "mesh_file", "fixed_mass",
+                 "stiffener")
+_STIFFENER_KEYS = ("name", "start", "end", "section", "side", "offset", "height", "width", "web",
+                   "flange_width", "flange", "area", "Iy", "Iz", "J")
+_MASS_KEYS = ("name", "position", "mass", "inertia")
 _REGION_KEYS = ("shape", "centre", "size", "radius", "points")
 
 
@@ -37,6 +43,85 @@ def _region(t, where: str) -> Region:
         raise InputError(f"{where}: {exc}") from None
 
 
+def read_fixed_masses(table: dict, where: str) -> tuple[FixedMass, ...]:
+    """``[[bed.fixed_mass]]`` tables: name, position [x, y, z] (drawing frame,
+    z above the mid-surface) [m], mass [kg], inertia about its centre of
+    mass (3 numbers or 3 × 3, default zero) [kg m²]."""
+    value = table.get("fixed_mass", [])
+    if not isinstance(value, list):
+        raise InputError(f"{where}: fixed_mass must be an array of tables [[bed.fixed_mass]]")
+    out = []
+    for i, t in enumerate(value):
+        w = f"{where}: fixed_mass {i + 1}"
+        if not isinstance(t, dict):
+            raise InputError(f"{w}: must be a table")
+        if isinstance(t.get("name"), str):
+            w = f"{where}: fixed_mass {t['name']!r}"
+        for key in t:
+            if key not in _MASS_KEYS:
+                raise InputError(f"{w}: unknown key '{key}' (known: {', '.join(_MASS_KEYS)})")
+        for key in ("name", "position", "mass"):
+            if key not in t:
+                raise InputError(f"{w}: '{key}' is required")
+        if not isinstance(t["name"], str):
+            raise InputError(f"{w}: name = {t['name']!r} must be a string")
+        try:
+            out.append(FixedMass(t["name"], t["position"], t["mass"],
+                                 t.get("inertia", [0.0, 0.0, 0.0])))
+        except (GeometryError, TypeError, ValueError) as exc:
+            raise InputError(f"{w}: {exc}") from None
+    return tuple(out)
+
+
+def read_stiffeners(table: dict, where: str) -> tuple[Stiffener, ...]:
+    """``[[bed.stiffener]]`` tables: name, start and end [x, y] (drawing frame)
+    [m], section = "flat" (height, width), "T" (height, web, flange_width,
+    flange), "I" (height, web, flange_width, flange) or "general" (area,
+    Iy, Iz, J, offset); side = "below" (default) or "above" places flat, T
+    and I sections on the plate's face (offset = ∓(thickness/2 + centroid
+    height)); offset [m] is the centroid's height above the mid-surface."""
+    value = table.get("stiffener", [])
+    if not isinstance(value, list):
+        raise InputError(f"{where}: stiffener must be an array of tables [[bed.stiffener]]")
+    thickness = table.get("thickness", 0.1)
+    out = []
+    for i, t in enumerate(value):
+        w = f"{where}: stiffener {i + 1}"
+        if not isinstance(t, dict):
+            raise InputError(f"{w}: must be a table")
+        if isinstance(t.get("name"), str):
+            w = f"{where}: stiffener {t['name']!r}"
+        for key in t:
+            if key not in _STIFFENER_KEYS:
+                raise InputError(f"{w}: unknown key '{key}' (known: "
+                                 f"{', '.join(_STIFFENER_KEYS)})")
+        for key in ("name", "start", "end", "section"):
+            if key not in t:
+                raise InputError(f"{w}: '{key}' is required")
+        kind = t["section"]
+        side = t.get("side", "below")
+        if side not in ("below", "above"):
+            raise InputError(f"{w}: side = {side!r} must be \"below\" or \"above\"")
+        try:
+            sec = section_of(kind, **{k: t[k] for k in ("height", "width", "web",
+                                                        "flange_width", "flange", "area", "Iy",
+                                                        "Iz", "J") if k in t})
+            if kind == "general":
+                if "offset" not in t:
+                    raise GeometryError("offset", "'offset' is required for section = "
+                                                  "'general' [m]")
+                offset = t["offset"]
+            else:
+                if "offset" in t:
+                    raise GeometryError("offset", f"offset = {t['offset']!r} applies to "
+                                                  f"section = 'general' only (use side)")
+                offset = (thickness / 2 + sec.centroid) * (-1 if side == "below" else 1)
+            out.append(Stiffener(t["name"], tuple(t["start"]), tuple(t["end"]), sec, offset))
+        except (GeometryError, TypeError, ValueError) as exc:
+            raise InputError(f"{w}: {exc}") from None
+    return tuple(out)
+
+
 def read_geometry(table: dict, where: str, folder: Path | None) -> BedGeometry | None:
     """The geometry keys of a parsed ``[bed]`` table (None when there are none).
 
@@ -49,7 +134,7 @@ def read_geometry(table: dict, where: str, folder: Path | None) -> BedGeometry |
     folder : Path or None
         The scene file's folder (a relative ``mesh_file`` is there).
     """
-    if not any(k in table for k in GEOMETRY_KEYS):
+    if not any(k in table for k in GEOMETRY_KEYS if k not in ("fixed_mass", "stiffener")):
         return None
     cut = table.get("cutout", [])
     zones = table.get("zone", [])

@@ -14,13 +14,15 @@ from typing import Any
 
 import numpy as np
 
-from flexbed.fem.shell import bed_mass_properties
+from flexbed.fem.layout import bed_mass_properties
 from flexbed.fem.spec import PlateSpec, PlateSpecError
 
 from flexbed.errors import InputError
-from flexbed.files.bed_geometry import GEOMETRY_KEYS, read_geometry
+from flexbed.files.bed_geometry import (GEOMETRY_KEYS, read_fixed_masses, read_geometry,
+                                        read_stiffeners)
 
-_PLATE_KEYS = tuple(f.name for f in fields(PlateSpec) if f.name != "geometry")
+_PLATE_KEYS = tuple(f.name for f in fields(PlateSpec)
+                    if f.name not in ("geometry", "masses", "stiffeners"))
 _KEYS = _PLATE_KEYS + GEOMETRY_KEYS + ("body", "model", "modes", "fmax", "rayleigh", "damping_ratio",
                        "modes_file", "static_sag", "invariants", "auto_factor",
                        "static_correction", "correction_modes")
@@ -124,7 +126,7 @@ class BedSection:
     @property
     def mass_properties(self):
         """The plate's mass, centre of mass (drawing frame) and inertia about
-        it (:func:`flexbed.fem.shell.bed_mass_properties`)."""
+        it (:func:`flexbed.fem.layout.bed_mass_properties`)."""
         return bed_mass_properties(self.plate)
 
     @property
@@ -203,6 +205,12 @@ def read_bed(table: dict, where: str, folder: Path | None = None) -> BedSection:
     geometry = read_geometry(table, where, folder)
     if geometry is not None:
         plate_args["geometry"] = geometry
+    masses = read_fixed_masses(table, where)
+    if masses:
+        plate_args["masses"] = masses
+    stiffeners = read_stiffeners(table, where)
+    if stiffeners:
+        plate_args["stiffeners"] = stiffeners
     try:
         plate = PlateSpec(**plate_args)
     except PlateSpecError as exc:

@@ -66,14 +66,15 @@ if TYPE_CHECKING:       # annotation only: reading a modes file needs no FE code
 SCHEMA = "flexbed.modes"
 VERSION = "1.1"          # 1.1: plate/theory (absent: "kirchhoff"), Mindlin shells
 MAJOR = 1
-_LATER_KEYS = ("theory", "geometry")
+_LATER_KEYS = ("theory", "geometry", "masses", "stiffeners")
 
 
 def _plate_attrs(spec: PlateSpec) -> dict:
     """The plate inputs as HDF5 attributes (the geometry as JSON text)."""
     d = spec.as_dict()
-    if "geometry" in d:
-        d["geometry"] = json.dumps(d["geometry"], sort_keys=True)
+    for key in ("geometry", "masses", "stiffeners"):
+        if key in d:
+            d[key] = json.dumps(d[key], sort_keys=True)
     return d
 
 _INVARIANT_UNITS = {
@@ -235,8 +236,9 @@ def read_modes_file(path: str | Path) -> ModesData:
     root = c.attrs.get("", {})
     try:
         stored = dict(c.attrs["plate"])
-        if "geometry" in stored:
-            stored["geometry"] = json.loads(str(stored["geometry"]))
+        for key in ("geometry", "masses", "stiffeners"):
+            if key in stored:
+                stored[key] = json.loads(str(stored[key]))
         # keys added after version 1.0 (theory, geometry) take their defaults when absent
         plate = PlateSpec.from_dict({f.name: stored[f.name] for f in fields(PlateSpec)
                                      if f.name in stored or f.name not in _LATER_KEYS})

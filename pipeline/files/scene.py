@@ -185,7 +185,7 @@ class _Reader(ShapeReader):
         """Mount points and points of interest on the bed, given in the drawing
         frame: refused when off the bed or in a cut-out, then moved to the
         bed's frame (origin at its centre of mass)."""
-        from flexbed.fem.shell import off_bed
+        from flexbed.fem.layout import off_bed
         c = bed.mass_properties.centre
         if not (bed.flexible or bed.plate.geometry is not None):
             return mounts, points      # a rigid rectangle: any body-fixed point will do
