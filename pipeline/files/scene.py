@@ -30,6 +30,7 @@ from flexbed.dynamics.scene import DIRECTIONS, Base, Body, Drive, Load, Mount, S
 from flexbed.dynamics.shapes import SplineEnds
 
 from flexbed.files.builtin import BUILTIN, builtin_scene_path, builtin_scene_text  # noqa: F401
+from flexbed.files.bed_points import points_on_bed
 from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
 from flexbed.files.shapes import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
@@ -166,7 +167,7 @@ class _Reader(ShapeReader):
         solver = self.solver(data.get("solver", {}))
         points = self.points(data.get("point", []), names)
         if at is not None:
-            mounts, points = self.on_bed(bed, names[at], mounts, points)
+            mounts, points = points_on_bed(bed, names[at], mounts, points, self.fail)
         try:
             scene = Scene(tuple(bodies), base, tuple(mounts), np.array(gravity), name)
         except SceneError as exc:
@@ -180,35 +181,6 @@ class _Reader(ShapeReader):
         return SceneFile(scene=scene, bed=bed, solver=solver, points=tuple(points),
                          source=path, text=text, digest=digest,
                          statics_digest=_digest(statics, {}))
-
-    def on_bed(self, bed: BedSection, name: str, mounts: list, points: list) -> tuple:
-        """Mount points and points of interest on the bed, given in the drawing
-        frame: refused when off the bed or in a cut-out, then moved to the
-        bed's frame (origin at its centre of mass)."""
-        from flexbed.fem.layout import off_bed
-        c = bed.mass_properties.centre
-        if not (bed.flexible or bed.plate.geometry is not None):
-            return mounts, points      # a rigid rectangle: any body-fixed point will do
-        for m in mounts:
-            for key in ("i", "j"):
-                if getattr(m, f"body_{key}") == name:
-                    pt = getattr(m, f"point_{key}")
-                    if off_bed(bed.plate, pt[None, :])[0]:
-                        self.fail(f"mount {m.name!r}", f"point_{key} = {pt.tolist()} m is off "
-                                                        f"the bed (outside its outline or in a "
-                                                        f"cut-out)")
-        for p in points:
-            if p.body == name and off_bed(bed.plate, np.array(p.position)[None, :])[0]:
-                self.fail(f"point {p.name!r}", f"position = {list(p.position)} m is off the "
-                                               f"bed (outside its outline or in a cut-out)")
-        if not np.any(c):
-            return mounts, points
-        mounts = [replace(m, point_i=m.point_i - c if m.body_i == name else m.point_i,
-                          point_j=m.point_j - c if m.body_j == name else m.point_j)
-                  for m in mounts]
-        points = [replace(p, position=tuple(np.array(p.position) - c)) if p.body == name
-                  else p for p in points]
-        return mounts, points
 
     def resolve_auto_modes(self, scene: Scene, bed: BedSection, solver) -> BedSection:
         """``[bed] modes = "auto"`` → fmax = f_cut (see :mod:`flexbed.stages.modes_auto`)."""
