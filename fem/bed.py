@@ -8,10 +8,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .invariants import Invariants, modal_invariants
+from .invariants import Invariants, modal_invariants, shell_invariants
 from .modes import ModeSet, free_free_modes
 from .plate import PlateModel, assemble_plate
 from .shapes import nodal_motions
+from .shell import ShellModel, assemble_shell
 from .spec import PlateSpec
 
 
@@ -24,7 +25,8 @@ class BedModes:
     spec : PlateSpec
         Inputs.
     nodes : ndarray (N, 3)
-        Node coordinates in the bed frame, z = 0 [m].
+        Node coordinates in the bed frame [m]; z is the mid-surface's, 0
+        unless fixed masses lift the centre of mass.
     cells : ndarray (ne, 4)
         Node indices of each quadrilateral, counter-clockwise.
     modes : ModeSet
@@ -34,10 +36,14 @@ class BedModes:
     rotation : ndarray (n, N, 3)
         Mode rotations at the nodes [rad kg^-1/2 m^-1].
     twist : ndarray (n, N)
-        ∂²w/∂x∂y at the nodes [kg^-1/2 m^-2] (completes the Hermite data).
+        ∂²w/∂x∂y at the nodes [kg^-1/2 m^-2] (completes the Hermite data;
+        zero for the Mindlin shell, whose fields are bilinear).
     invariants : Invariants
     timings : dict
         Seconds spent in "assemble", "eigen", "invariants".
+    origin : ndarray (2,)
+        Where the nodes' origin (the bed's centre of mass) is in the
+        drawing frame the geometry was given in [m].
     """
 
     spec: PlateSpec
@@ -49,15 +55,26 @@ class BedModes:
     twist: np.ndarray
     invariants: Invariants
     timings: dict = field(default_factory=dict)
+    origin: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
 
-def bed_modes_from_model(model: PlateModel, modes: ModeSet) -> tuple[np.ndarray, ...]:
+def bed_modes_from_model(model: PlateModel | ShellModel,
+                         modes: ModeSet) -> tuple[np.ndarray, ...]:
     """Nodal translation (n, N, 3), rotation (n, N, 3) and twist (n, N)."""
+    if isinstance(model, ShellModel):
+        phi = modes.vectors
+        return (model.translations(phi), model.rotations(phi),
+                np.zeros((phi.shape[1], model.nodes.shape[0])))
     d = model.node_dofs
     phi = modes.vectors
     w, w_x, w_y, w_xy = (phi[d[i]].T for i in range(4))
     translation, rotation = nodal_motions(w, w_x, w_y)
     return translation, rotation, w_xy
+
+
+def assemble_bed(spec: PlateSpec) -> PlateModel | ShellModel:
+    """The FE model of the spec's theory: Kirchhoff plate or Mindlin shell."""
+    return assemble_shell(spec) if spec.theory == "mindlin" else assemble_plate(spec)
 
 
 def compute_bed_modes(spec: PlateSpec, n_modes: int | None = None,
@@ -77,15 +94,22 @@ def compute_bed_modes(spec: PlateSpec, n_modes: int | None = None,
     BedModes
     """
     t0 = time.perf_counter()
-    model = assemble_plate(spec)
+    model = assemble_bed(spec)
     t1 = time.perf_counter()
     modes = free_free_modes(model, n_modes=n_modes, fmax=fmax)
     t2 = time.perf_counter()
     translation, rotation, twist = bed_modes_from_model(model, modes)
-    invariants = modal_invariants(model, modes)
+    if isinstance(model, ShellModel):
+        invariants = shell_invariants(model, modes)
+        cells = model.cells.copy()
+    else:
+        invariants = modal_invariants(model, modes)
+        cells = model.mesh.t.T.copy()
     t3 = time.perf_counter()
-    nodes = np.column_stack([model.nodes, np.zeros(model.nodes.shape[0])])
-    return BedModes(spec=spec, nodes=nodes, cells=model.mesh.t.T.copy(), modes=modes,
+    nodes = np.column_stack([model.nodes, np.full(model.nodes.shape[0],
+                                                  getattr(model, "mid_z", 0.0))])
+    return BedModes(spec=spec, nodes=nodes, cells=cells, modes=modes,
                     translation=translation, rotation=rotation, twist=twist,
                     invariants=invariants,
-                    timings={"assemble": t1 - t0, "eigen": t2 - t1, "invariants": t3 - t2})
+                    timings={"assemble": t1 - t0, "eigen": t2 - t1, "invariants": t3 - t2},
+                    origin=getattr(model, "origin", np.zeros(2)))

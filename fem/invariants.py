@@ -44,6 +44,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .fixed_masses import moments as fixed_moments
+
 if TYPE_CHECKING:       # annotations only: reading invariants needs no FE code
     from .modes import ModeSet
     from .plate import PlateModel
@@ -55,6 +57,8 @@ _EPS[0, 2, 1] = _EPS[2, 1, 0] = _EPS[1, 0, 2] = -1.0
 
 SOURCE_SOLID = "solid plate, exact geometry"
 SOURCE_FE = "FE mass forms with the kept modes (Kirchhoff field through the thickness)"
+SOURCE_SHELL = ("FE consistent mass of the Mindlin shell (u + z theta_y, v - z theta_x, w "
+                "through the thickness), exact for its mesh")
 
 
 @dataclass(frozen=True)
@@ -72,6 +76,9 @@ class Invariants:
     inertia_first_order: np.ndarray
     inertia_second_order: np.ndarray
     modal_stiffness: np.ndarray
+    model_mass: bool = False
+    """True when mass, first moment and inertia come from the FE mass
+    matrix (Mindlin shell: exact for the discretised geometry)."""
 
     SOURCES = {
         "mass": SOURCE_SOLID, "first_moment": SOURCE_SOLID, "inertia": SOURCE_SOLID,
@@ -79,6 +86,12 @@ class Invariants:
         "modal_mass": SOURCE_FE, "inertia_first_order": SOURCE_FE,
         "inertia_second_order": SOURCE_FE, "modal_stiffness": "FE stiffness with the kept modes",
     }
+
+    def source(self, key: str) -> str:
+        """Where invariant ``key`` comes from (one line)."""
+        if self.model_mass:
+            return SOURCE_SHELL
+        return self.SOURCES[key]
 
 
 def second_moments(model: PlateModel, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray,
@@ -136,6 +149,15 @@ def modal_invariants(model: PlateModel, modes: ModeSet) -> Invariants:
     """
     phi = modes.vectors
     S, Q, P = second_moments(model, phi)
+    spec = model.spec
+    modal_stiffness = phi.T @ (model.K @ phi)
+    return _assemble(S, Q, P, modal_stiffness, mass=spec.mass, first_moment=np.zeros(3),
+                     inertia=np.diag(spec.inertia))
+
+
+def _assemble(S, Q, P, modal_stiffness, *, mass, first_moment, inertia,
+              model_mass=False) -> Invariants:
+    """The invariants from the primitive integrals of :func:`second_moments`."""
     eye = np.eye(3)
     trQ = np.trace(Q, axis1=1, axis2=2)
     trP = np.trace(P, axis1=2, axis2=3)
@@ -144,12 +166,10 @@ def modal_invariants(model: PlateModel, modes: ModeSet) -> Invariants:
     inertia_second = trP[:, :, None, None] * eye - np.transpose(P, (1, 0, 2, 3))
     u_cross_phi = np.einsum("ijm,kjm->ik", _EPS, Q)           # (3, n)
     phi_cross_phi = np.einsum("ijm,kljm->kil", _EPS, P)       # (n, 3, n)
-    spec = model.spec
-    modal_stiffness = phi.T @ (model.K @ phi)
     return Invariants(
-        mass=spec.mass,
-        first_moment=np.zeros(3),
-        inertia=np.diag(spec.inertia),
+        mass=mass,
+        first_moment=first_moment,
+        inertia=inertia,
         phi_integral=S,
         u_cross_phi=u_cross_phi,
         phi_cross_phi=phi_cross_phi,
@@ -157,4 +177,83 @@ def modal_invariants(model: PlateModel, modes: ModeSet) -> Invariants:
         inertia_first_order=inertia_first,
         inertia_second_order=inertia_second,
         modal_stiffness=0.5 * (modal_stiffness + modal_stiffness.T),
+        model_mass=model_mass,
     )
+
+
+def shell_second_moments(model, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`second_moments` for the Mindlin shell (:mod:`flexbed.fem.shell`).
+
+    Φ_k(x, y, z) = (u_k + z θy_k, v_k − z θx_k, w_k) with bilinear nodal
+    fields; ∫ρ z dz = 0 over the symmetric thickness, ∫ρ z² dz = ρt³/12,
+    so every integral is a product with the nodal mass M0 (ρt) or M2
+    (ρt³/12), exactly the blocks of the FE mass matrix. Positions x, y
+    are bilinear fields too, so the moments with ū0 are exact as well.
+    """
+    d = model.node_dofs
+    u, v, w, tx, ty = (phi[d[i]] for i in range(5))             # (N, n) each
+    M0, M2 = model.M0, model.M2
+    one = np.ones(model.nodes.shape[0])
+    x, y = model.nodes.T
+    n = phi.shape[1]
+    comps0 = (u, v, w)
+    M0c = [M0 @ c for c in comps0]
+    S = np.array([one @ m for m in M0c])                        # (3, n)
+    Q = np.zeros((n, 3, 3))
+    for j in range(3):
+        Q[:, 0, j] = x @ M0c[j]
+        Q[:, 1, j] = y @ M0c[j]
+    Q[:, 2, 0] = one @ (M2 @ ty)                                # ∫ρ z (z θy)
+    Q[:, 2, 1] = -(one @ (M2 @ tx))                             # ∫ρ z (−z θx)
+    P = np.zeros((n, n, 3, 3))
+    M2tx, M2ty = M2 @ tx, M2 @ ty
+    for i in range(3):
+        for j in range(3):
+            P[:, :, i, j] = comps0[i].T @ M0c[j]
+    # rotation parts: Φx ∋ z θy, Φy ∋ −z θx
+    P[:, :, 0, 0] += ty.T @ M2ty
+    P[:, :, 1, 1] += tx.T @ M2tx
+    P[:, :, 0, 1] -= ty.T @ M2tx
+    P[:, :, 1, 0] -= tx.T @ M2ty
+    for item, where, dofs, T, R in model.fixed:       # rigid items (fixed_masses)
+        s_, q_, p_ = fixed_moments(item, where, T @ phi[dofs], R @ phi[dofs])
+        S += s_
+        Q += q_
+        P += p_
+    # so far about the mid-surface; the frame's origin is mid_z below it
+    Q[:, 2, :] += model.mid_z * S.T
+    return S, Q, P
+
+
+def shell_mass_properties(model) -> tuple[float, np.ndarray, np.ndarray]:
+    """Mass [kg], first moment about the origin (3,) [kg m] and inertia
+    tensor about the origin (3, 3) [kg m²] of the shell and its fixed
+    masses, from the mass matrix's blocks (exact for the mesh's geometry and
+    thickness)."""
+    M0, M2 = model.M0, model.M2
+    one = np.ones(model.nodes.shape[0])
+    x, y = model.nodes.T
+    z0 = model.mid_z
+    m = float(one @ (M0 @ one))
+    first = np.array([one @ (M0 @ x), one @ (M0 @ y), m * z0])
+    xx, yy, xy = x @ (M0 @ x), y @ (M0 @ y), x @ (M0 @ y)
+    zz = float(one @ (M2 @ one)) + m * z0 * z0                  # ∫ρ z² dV
+    xz, yz = first[0] * z0, first[1] * z0
+    J = np.array([[yy + zz, -xy, -xz], [-xy, xx + zz, -yz], [-xz, -yz, xx + yy]])
+    for item, where, _, _, _ in model.fixed:
+        p = np.array([where[0], where[1], where[2] + z0])
+        m += item.mass
+        first = first + item.mass * p
+        J = J + np.array(item.inertia) + item.mass * (p @ p * np.eye(3) - np.outer(p, p))
+    return m, first, J
+
+
+def shell_invariants(model, modes: ModeSet) -> Invariants:
+    """Invariants of the Mindlin shell with the given elastic modes: every
+    one, mass properties included, from the model's consistent mass."""
+    phi = modes.vectors
+    S, Q, P = shell_second_moments(model, phi)
+    mass, first, inertia = shell_mass_properties(model)
+    k = phi.T @ (model.K @ phi)
+    return _assemble(S, Q, P, k, mass=mass, first_moment=first, inertia=inertia,
+                     model_mass=True)

@@ -16,6 +16,7 @@ from .banded import BandedCholesky
 from .plate import PlateModel
 
 RIGID_MODES = 3           # a bending-only plate has w-translation and two tilts
+# (a model says how many it has: ``model.n_rigid``, 6 for the Mindlin shell)
 RIGID_FRACTION = 0.5      # share of a vector's M-norm in the rigid subspace
 DEGENERATE_RTOL = 1e-8    # frequencies this close form one eigenspace
 _DENSE_LIMIT = 400        # DOFs below which a dense solve is used
@@ -36,16 +37,18 @@ class ModeSet:
     vectors : ndarray (ndof, n)
         DOF vectors, mass-normalised (ΦᵀMΦ = I), rigid-free (RᵀMΦ = 0)
         [kg^-1/2 per unit DOF].
-    rigid_omega : ndarray (3,)
+    rigid_omega : ndarray (3,) or (6,)
         Frequencies the solver returned for the vectors identified as rigid
         motions [rad/s] (zero up to the solver's accuracy).
     labels : tuple of str
-        "bending about x", "bending about y", "torsion" or "mixed".
+        "bending about x", "bending about y", "torsion", "in-plane" (Mindlin:
+        most of the strain energy in the membrane) or "mixed".
     symmetry : tuple of str
         Two letters per mode: symmetric (S) or antisymmetric (A) under
         x → -x, then under y → -y ("-" for neither).
     energy_fractions : ndarray (n, 3)
-        Share of the bending energy in w_xx², w_yy² and the twist w_xy².
+        Share of the bending energy in w_xx², w_yy² and the twist w_xy²
+        (Mindlin: in βx,x², βy,y² and the rest).
     split_degenerate : bool
         True when the last mode kept and the first one left out share a
         frequency (the cut splits an eigenspace).
@@ -69,7 +72,7 @@ class ModeSet:
         return self.omega / (2.0 * math.pi)
 
 
-def _eigen(model: PlateModel, k: int) -> tuple[np.ndarray, np.ndarray]:
+def _eigen(model, k: int) -> tuple[np.ndarray, np.ndarray]:
     """Lowest ``k`` eigenpairs of K φ = λ M φ (λ = ω²)."""
     n = model.K.shape[0]
     if n <= _DENSE_LIMIT or k >= n - 1:
@@ -79,10 +82,17 @@ def _eigen(model: PlateModel, k: int) -> tuple[np.ndarray, np.ndarray]:
     # Shift below zero, at a fraction of a beam estimate of the first elastic
     # eigenvalue: K - σM is then positive definite (free–free K is singular)
     # and well conditioned.
-    length = max(spec.length_x, spec.length_y)
+    if isinstance(model, PlateModel):
+        length = max(spec.length_x, spec.length_y)
+    else:                                      # any outline: its bounding box
+        length = float(np.max(np.ptp(model.nodes, axis=0)))
     omega1 = (4.73 / length) ** 2 * math.sqrt(spec.rigidity / (spec.density * spec.thickness))
     sigma = -0.1 * omega1 ** 2
-    factor = BandedCholesky(model.K - sigma * model.M, order=model.band_order())
+    try:
+        factor = BandedCholesky(model.K - sigma * model.M, order=model.band_order())
+    except np.linalg.LinAlgError:
+        raise ModesError("the stiffness is not positive semi-definite (a mesh with inverted "
+                         "or degenerate elements, or a part not joined to the rest)") from None
     op = sla.LinearOperator(model.K.shape, matvec=factor.solve, dtype=float)
     start = np.random.default_rng(0).standard_normal(n)   # deterministic, generic
     vals, vecs = sla.eigsh(model.K, k=k, M=model.M, sigma=sigma, which="LM", OPinv=op, v0=start)
@@ -115,17 +125,28 @@ def _symmetry_letter(w: np.ndarray, mirrored: np.ndarray) -> str:
     return "-"
 
 
-def _describe(model: PlateModel, vectors: np.ndarray):
-    parts = np.column_stack([np.einsum("ij,ij->j", vectors, m @ vectors)
-                             for m in (model.K_xx, model.K_yy, model.K_twist)])
-    fractions = parts / parts.sum(axis=1, keepdims=True)
+def _describe(model, vectors: np.ndarray):
+    if isinstance(model, PlateModel):
+        mats = (model.K_xx, model.K_yy, model.K_twist)
+    else:
+        mats = model.energy_parts()
+    parts = np.column_stack([np.einsum("ij,ij->j", vectors, m @ vectors) for m in mats])
+    fractions = parts[:, :3] / parts[:, :3].sum(axis=1, keepdims=True)
     names = ("bending about y", "bending about x", "torsion")
-    labels = tuple(names[int(np.argmax(f))] if f.max() >= 0.6 else "mixed" for f in fractions)
-    mx, my = _mirror_maps(model.nodes)
-    w = vectors[model.node_dofs[0]]
-    symmetry = tuple(_symmetry_letter(w[:, j], w[mx, j]) + _symmetry_letter(w[:, j], w[my, j])
+    labels = [names[int(np.argmax(f))] if f.max() >= 0.6 else "mixed" for f in fractions]
+    if parts.shape[1] > 3:                       # membrane energy: an in-plane mode
+        membrane = parts[:, 3] / parts.sum(axis=1)
+        labels = ["in-plane" if m >= 0.6 else lab for m, lab in zip(membrane, labels)]
+    if isinstance(model, PlateModel):
+        mx, my = _mirror_maps(model.nodes)
+        w = vectors[model.node_dofs[0]]
+        fields = (w, w[mx], w[my])
+    else:
+        fields = model.symmetry_fields(vectors)
+    f, fx, fy = fields
+    symmetry = tuple(_symmetry_letter(f[:, j], fx[:, j]) + _symmetry_letter(f[:, j], fy[:, j])
                      for j in range(vectors.shape[1]))
-    return labels, symmetry, fractions
+    return tuple(labels), symmetry, fractions
 
 
 def free_free_modes(model: PlateModel, n_modes: int | None = None,
@@ -154,18 +175,19 @@ def free_free_modes(model: PlateModel, n_modes: int | None = None,
     if (n_modes is None) == (fmax is None):
         raise ModesError("give either a number of modes or a cut-off frequency")
     ndof = model.K.shape[0]
-    available = ndof - RIGID_MODES
+    n_rigid = getattr(model, "n_rigid", RIGID_MODES)
+    available = ndof - n_rigid
     if n_modes is not None:
         if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) or n_modes < 1:
             raise ModesError(f"modes = {n_modes!r}: at least one elastic mode is needed")
         if n_modes > available:
             raise ModesError(f"modes = {n_modes}: the {model.spec.nx} x {model.spec.ny} plate "
                              f"has only {available} elastic modes")
-        k = min(ndof, RIGID_MODES + n_modes + 4)
+        k = min(ndof, n_rigid + n_modes + 4)
     else:
         if not (fmax > 0):
             raise ModesError(f"fmax = {fmax!r} must be > 0 Hz")
-        k = min(ndof, RIGID_MODES + 12)
+        k = min(ndof, n_rigid + 12)
     omega_cut = None if fmax is None else 2.0 * math.pi * fmax
     while True:
         vals, vecs = _eigen(model, k)
@@ -180,9 +202,9 @@ def free_free_modes(model: PlateModel, n_modes: int | None = None,
     norms = np.einsum("ij,ij->j", vecs, M @ vecs)
     fraction = np.einsum("ij,ij->j", coeff, gram @ coeff) / norms
     rigid = fraction > RIGID_FRACTION
-    if rigid.sum() != RIGID_MODES:
-        raise ModesError(f"expected {RIGID_MODES} rigid-body modes, found {int(rigid.sum())} "
-                         f"(fractions {np.round(fraction[:RIGID_MODES + 2], 6).tolist()})")
+    if rigid.sum() != n_rigid:
+        raise ModesError(f"expected {n_rigid} rigid-body modes, found {int(rigid.sum())} "
+                         f"(fractions {np.round(fraction[:n_rigid + 2], 6).tolist()})")
     rigid_omega = np.sqrt(np.abs(vals[rigid]))
     # Elastic vectors: remove any rigid component, then a Rayleigh–Ritz step
     # on their span makes them M-orthonormal and K-orthogonal to round-off.
@@ -204,7 +226,7 @@ def free_free_modes(model: PlateModel, n_modes: int | None = None,
     split = (keep < omega_all.size
              and abs(omega_all[keep] - omega_all[keep - 1]) <= DEGENERATE_RTOL * omega_all[keep])
     phi = phi[:, :keep]
-    w = phi[model.node_dofs[0]]
+    w = phi[model.node_dofs[0]] if isinstance(model, PlateModel) else model.sign_field(phi)
     signs = np.array([_fix_sign(w[:, j]) for j in range(keep)])
     phi = phi * signs
     labels, symmetry, fractions = _describe(model, phi)

@@ -11,6 +11,10 @@ import json
 import math
 from dataclasses import asdict, dataclass
 
+from .fixed_masses import FixedMass
+from .stiffeners import Section, Stiffener
+from .geometry import BedGeometry, GeometryError, Region, Zone
+
 
 #: the most degrees of freedom a plate mesh may have (4 per node: w, its two
 #: slopes and the twist): 250 x 250 elements, whose banded factor takes
@@ -51,6 +55,9 @@ def _positive(entry: str, value: float) -> None:
         raise PlateSpecError(entry, f"{entry} = {value!r} must be a finite number > 0")
 
 
+THEORIES = ("kirchhoff", "mindlin")
+
+
 @dataclass(frozen=True, slots=True)
 class PlateSpec:
     """Rectangular Kirchhoff plate, free on all edges, centred on the origin.
@@ -75,7 +82,16 @@ class PlateSpec:
         Include the rotary inertia ρt³/12 ∫∇w·∇v in the mass matrix. With
         it, the discrete rigid rotations about x and y carry exactly the
         solid plate's moments of inertia, so the elastic modes are
-        orthogonal to the solid's rigid motions.
+        orthogonal to the solid's rigid motions. (The Mindlin shell always
+        has it.)
+    theory : str
+        "kirchhoff" (thin plate, bending only, Bogner–Fox–Schmit elements)
+        or "mindlin" (Reissner–Mindlin flat shell with membrane, MITC4
+        elements, :mod:`flexbed.fem.shell`).
+    geometry : BedGeometry or None
+        Outline, cut-outs, thickness zones, element size or a mesh file
+        (:mod:`flexbed.fem.geometry`; Mindlin only). None: the length_x ×
+        length_y rectangle on the nx × ny grid.
 
     Examples
     --------
@@ -92,6 +108,10 @@ class PlateSpec:
     nx: int = 10
     ny: int = 10
     rotary_inertia: bool = True
+    theory: str = "kirchhoff"
+    geometry: BedGeometry | None = None
+    masses: tuple[FixedMass, ...] = ()
+    stiffeners: tuple[Stiffener, ...] = ()
 
     def __post_init__(self) -> None:
         for entry in ("length_x", "length_y", "thickness", "young", "density"):
@@ -116,6 +136,69 @@ class PlateSpec:
         if not isinstance(self.rotary_inertia, bool):
             raise PlateSpecError("rotary_inertia",
                                  f"rotary_inertia = {self.rotary_inertia!r} must be true or false")
+        if self.theory not in THEORIES:
+            raise PlateSpecError("theory", f"theory = {self.theory!r} must be one of "
+                                           + ", ".join(f'"{v}"' for v in THEORIES))
+        if self.geometry is not None and self.geometry.is_plain:
+            object.__setattr__(self, "geometry", None)
+        object.__setattr__(self, "masses", tuple(self.masses))
+        if not all(isinstance(m, FixedMass) for m in self.masses):
+            raise PlateSpecError("masses", "masses must be FixedMass items")
+        names = [m.name for m in self.masses]
+        if len(set(names)) != len(names):
+            raise PlateSpecError("fixed_mass", f"fixed mass names {names!r} must be unique")
+        object.__setattr__(self, "stiffeners", tuple(self.stiffeners))
+        names = [st.name for st in self.stiffeners]
+        if len(set(names)) != len(names):
+            raise PlateSpecError("stiffener", f"stiffener names {names!r} must be unique")
+        if self.stiffeners and self.theory != "mindlin":
+            raise PlateSpecError("theory", "stiffener needs theory = \"mindlin\" (its "
+                                           "eccentric coupling needs the membrane)")
+        if self.masses and self.theory != "mindlin":
+            raise PlateSpecError("theory", "fixed_mass needs theory = \"mindlin\" (the "
+                                           "Kirchhoff plate has no in-plane inertia)")
+        if self.geometry is not None and self.theory != "mindlin":
+            raise PlateSpecError("theory", "outline, cutout, zone, element_size and mesh_file "
+                                           "need theory = \"mindlin\" (the Kirchhoff plate is "
+                                           "a rectangle on a grid)")
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "PlateSpec":
+        """Inverse of :meth:`as_dict` (``geometry`` as a nested dict)."""
+        d = dict(d)
+        g = d.get("geometry")
+        if isinstance(g, dict):
+            def region(r):
+                r = dict(r)
+                if r.get("points") is not None:
+                    r["points"] = tuple(tuple(p) for p in r["points"])
+                for k in ("centre", "size"):
+                    if r.get(k) is not None:
+                        r[k] = tuple(r[k])
+                return Region(**r)
+            try:
+                d["geometry"] = BedGeometry(
+                    outline=g.get("outline"), cutouts=tuple(region(r) for r in g["cutouts"]),
+                    zones=tuple(Zone(region(z["region"]), z["thickness"]) for z in g["zones"]),
+                    element_size=g.get("element_size"), mesh_digest=g.get("mesh_digest"))
+            except (GeometryError, KeyError, TypeError) as exc:
+                raise PlateSpecError("geometry", f"geometry: {exc}") from None
+        if "masses" in d:
+            try:
+                d["masses"] = tuple(FixedMass(m["name"], tuple(m["position"]), m["mass"],
+                                              tuple(tuple(r) for r in m["inertia"]))
+                                    for m in d["masses"])
+            except (GeometryError, KeyError, TypeError) as exc:
+                raise PlateSpecError("masses", f"masses: {exc}") from None
+        if "stiffeners" in d:
+            try:
+                d["stiffeners"] = tuple(
+                    Stiffener(st["name"], tuple(st["start"]), tuple(st["end"]),
+                              Section(**st["section"]), st["offset"])
+                    for st in d["stiffeners"])
+            except (GeometryError, KeyError, TypeError) as exc:
+                raise PlateSpecError("stiffeners", f"stiffeners: {exc}") from None
+        return cls(**d)
 
     @property
     def mass(self) -> float:
@@ -136,8 +219,27 @@ class PlateSpec:
         return self.young * self.thickness ** 3 / (12.0 * (1.0 - self.poisson ** 2))
 
     def as_dict(self) -> dict:
-        """The inputs as a plain dictionary (JSON-serialisable)."""
-        return asdict(self)
+        """The inputs as a plain dictionary (JSON-serialisable). ``theory``
+        appears only when it is not the default "kirchhoff", so a Kirchhoff
+        plate keeps the digest (and modes files) it had before the key
+        existed."""
+        d = asdict(self)
+        if d["theory"] == "kirchhoff":
+            del d["theory"]
+        if not d["masses"]:
+            del d["masses"]
+        if not d["stiffeners"]:
+            del d["stiffeners"]
+        if d["geometry"] is None:
+            del d["geometry"]
+        else:                      # the mesh file counts by its contents, not its path
+            del d["geometry"]["mesh_file"]
+        return d
+
+    @property
+    def is_rectangle(self) -> bool:
+        """True for the plain length_x × length_y plate on its grid."""
+        return self.geometry is None and not self.masses and not self.stiffeners
 
     def digest(self) -> str:
         """SHA-256 of the canonical JSON of the inputs (hex)."""

@@ -66,7 +66,7 @@ def modes_file(tmp_path_factory):
     ([FLEX, ("rayleigh = [0.0, 0.01]", "rayleigh = [0.0, -0.01]")], "beta = -0.01"),
     ([FLEX, ("rayleigh = [0.0, 0.01]", "rayleigh = [-1.0, 0.01]")], "alpha = -1.0"),
     ([FLEX, ("point_j = [-0.40, -2.40, 0.00]", "point_j = [-0.50, -2.40, 0.00]")],
-     "mount 'M1': point on the bed point (-0.5, -2.4, 0) m lies outside the plate"),
+     "mount 'M1': point_j = [-0.5, -2.4, 0.0] m is off the bed (outside its outline"),
 ])
 def test_bad_flexible_input(tmp_path, capsys, modes_file, edits, words):
     path = scene(tmp_path, *edits)

@@ -27,7 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from flexbed.dynamics.rotation import A as rotation_matrix
-from flexbed.fem.shapes import GridShapes, OutsidePlateError
+from flexbed.fem.quad_shapes import mode_shapes
+from flexbed.fem.shapes import OutsidePlateError
 
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file
@@ -247,7 +248,8 @@ class Run:
         toml = tomllib.loads(str(c.datasets.get("scene/toml", "")))
         self.bed_name = toml.get("bed", {}).get("body") or self.names[1]
         self.translation, rotation, twist = run_shapes(data, basis)
-        self.shapes = GridShapes.from_nodes(data.nodes, self.translation, rotation, twist)
+        self.shapes = mode_shapes(data.plate.theory, data.nodes, data.cells, self.translation,
+                                  rotation, twist)
 
     def body_index(self, name: str, what: str = "body") -> int:
         if name not in self.names:

@@ -62,11 +62,15 @@ def print_summary(data: ModesData) -> None:
     """Print the plate, its solid mass properties and the frequency table."""
     p = data.plate
     print(f"bed: {p.length_x:g} x {p.length_y:g} x {p.thickness:g} m, E = {p.young:g} Pa, "
-          f"nu = {p.poisson:g}, rho = {p.density:g} kg/m^3, {p.nx} x {p.ny} elements "
-          f"({data.nodes.shape[0]} nodes)")
+          f"nu = {p.poisson:g}, rho = {p.density:g} kg/m^3, "
+          + (f"{p.nx} x {p.ny} elements " if p.is_rectangle
+             else f"{data.cells.shape[0]} elements (outline, cut-outs, zones or mesh file) ")
+          + f"({data.nodes.shape[0]} nodes)"
+          + (", Mindlin shell (MITC4)" if p.theory == "mindlin" else ""))
     inv = data.invariants
     print(f"mass {inv.mass:.6g} kg; inertia Jxx, Jyy, Jzz = {inv.inertia[0, 0]:.6g}, "
-          f"{inv.inertia[1, 1]:.6g}, {inv.inertia[2, 2]:.6g} kg m^2 (solid plate)")
+          f"{inv.inertia[1, 1]:.6g}, {inv.inertia[2, 2]:.6g} kg m^2 "
+          + ("(from the model)" if inv.model_mass else "(solid plate)"))
     print(modes_table(data))
     if data.n_modes and abs(data.next_frequency - data.frequency[-1]) <= 1e-6 * data.next_frequency:
         print(f"warning: mode {data.n_modes} and the first mode left out share the frequency "

@@ -9,17 +9,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from flexbed.fem.layout import bed_mass_properties
 from flexbed.fem.spec import PlateSpec, PlateSpecError
 
 from flexbed.errors import InputError
 from flexbed.files.table_reader import LARGEST, SMALLEST, short_repr, out_of_range
+from flexbed.files.bed_geometry import (GEOMETRY_KEYS, read_fixed_masses, read_geometry,
+                                        read_stiffeners)
 
-_PLATE_KEYS = tuple(f.name for f in fields(PlateSpec))
-_KEYS = _PLATE_KEYS + ("body", "model", "modes", "fmax", "rayleigh", "damping_ratio",
+_PLATE_KEYS = tuple(f.name for f in fields(PlateSpec)
+                    if f.name not in ("geometry", "masses", "stiffeners"))
+_KEYS = _PLATE_KEYS + GEOMETRY_KEYS + ("body", "model", "modes", "fmax", "rayleigh", "damping_ratio",
                        "modes_file", "static_sag", "invariants", "auto_factor",
                        "static_correction", "correction_modes")
 DEFAULT_MODES = 2
@@ -120,6 +125,12 @@ class BedSection:
                 raise ValueError("give either rayleigh or damping_ratio, not both")
 
     @property
+    def mass_properties(self):
+        """The plate's mass, centre of mass (drawing frame) and inertia about
+        it (:func:`flexbed.fem.layout.bed_mass_properties`)."""
+        return bed_mass_properties(self.plate)
+
+    @property
     def flexible(self) -> bool:
         """True when the bed is a floating-frame flexible body."""
         return self.model == "flexible"
@@ -156,20 +167,25 @@ def plate_mismatch(plate: PlateSpec, mass: float | None = None, inertia=None) ->
         One line with both values (the plate's to 6 significant digits)
         saying that the key can be omitted; None when they agree.
     """
-    if mass is not None and abs(plate.mass - mass) > PLATE_BODY_TOL * mass:
-        return (f"mass = {mass!r} kg differs from the plate's {plate.mass:.6g} kg "
-                f"(density × length_x × length_y × thickness); omit mass to take the plate's")
+    mp = bed_mass_properties(plate)
+    if mass is not None and abs(mp.mass - mass) > PLATE_BODY_TOL * mass:
+        how = ("density × length_x × length_y × thickness" if plate.is_rectangle
+               else "the plate's outline, cut-outs and zones")
+        return (f"mass = {mass!r} kg differs from the plate's {mp.mass:.6g} kg "
+                f"({how}); omit mass to take the plate's")
     if inertia is not None:
         J = np.array(inertia, dtype=float)
         J = np.diag(J) if J.shape == (3,) else J
-        if np.abs(np.diag(plate.inertia) - J).max() > PLATE_BODY_TOL * np.abs(J).max():
-            shown = ", ".join(f"{v:.6g}" for v in plate.inertia)
+        ref = mp.inertia
+        if np.abs(ref - J).max() > PLATE_BODY_TOL * np.abs(J).max():
+            shown = (", ".join(f"{v:.6g}" for v in np.diag(ref)) if plate.is_rectangle
+                     else "; ".join(", ".join(f"{v:.6g}" for v in row) for row in ref))
             return (f"inertia = {inertia!r} kg m^2 differs from the plate's [{shown}] kg m^2 "
                     f"(the solid plate about its centre); omit inertia to take the plate's")
     return None
 
 
-def read_bed(table: dict, where: str) -> BedSection:
+def read_bed(table: dict, where: str, folder: Path | None = None) -> BedSection:
     """Build a :class:`BedSection` from a parsed ``[bed]`` table.
 
     Parameters
@@ -178,6 +194,8 @@ def read_bed(table: dict, where: str) -> BedSection:
         The table as ``tomllib`` parsed it.
     where : str
         Prefix for messages, e.g. ``"lee.toml: bed"``.
+    folder : Path, optional
+        The scene file's folder (for a relative ``mesh_file``).
 
     Raises
     ------
@@ -200,6 +218,15 @@ def read_bed(table: dict, where: str) -> BedSection:
                     raise InputError(f"{where}: {key} = {short_repr(v)} is out of range "
                                      f"(magnitudes from {SMALLEST:g} to {LARGEST:g}, or 0)")
     plate_args = {k: table[k] for k in _PLATE_KEYS if k in table}
+    geometry = read_geometry(table, where, folder)
+    if geometry is not None:
+        plate_args["geometry"] = geometry
+    masses = read_fixed_masses(table, where)
+    if masses:
+        plate_args["masses"] = masses
+    stiffeners = read_stiffeners(table, where)
+    if stiffeners:
+        plate_args["stiffeners"] = stiffeners
     try:
         plate = PlateSpec(**plate_args)
     except PlateSpecError as exc:

@@ -1,6 +1,7 @@
 """The modes file: what the bed-modes stage hands to the dynamics stage.
 
-Schema ``flexbed.modes``, version 1.0. Layout (every dataset has ``units``):
+Schema ``flexbed.modes``, version 1.1 (1.0 files, all Kirchhoff, still
+read). Layout (every dataset has ``units``):
 
 =================================  ==============  =====================  =========
 dataset                            shape           units                  from
@@ -15,7 +16,7 @@ dataset                            shape           units                  from
 ``modes/translation``              (n, N, 3)       kg^-1/2                FE
 ``modes/rotation``                 (n, N, 3)       rad kg^-1/2 m^-1       FE
 ``modes/twist``                    (n, N)          kg^-1/2 m^-2           FE
-``modes/rigid_omega``              (3,)            rad/s                  FE
+``modes/rigid_omega``              (3,) or (6,)    rad/s                  FE
 ``invariants/mass``                ()              kg                     solid
 ``invariants/first_moment``        (3,)            kg m                   solid
 ``invariants/inertia``             (3, 3)          kg m^2                 solid
@@ -33,10 +34,19 @@ Root attributes: ``schema``, ``schema_version``, ``creator``, ``created``,
 ``next_frequency`` (Hz of the first elastic mode not stored: the file holds
 every mode below it). Each invariant has a ``source`` attribute saying
 where it comes from.
+
+``plate/theory`` says which model made the file ("kirchhoff" when absent).
+A Kirchhoff file's rotations are (∂w/∂y, −∂w/∂x, 0) and its twist completes
+the bicubic Hermite data; a Mindlin shell's translations have all three
+components, its rotations are (θx, θy, in-plane rotation ½(∂v/∂x − ∂u/∂y),
+the last averaged from the elements at the node), its twist is zero, its
+mesh cells are bilinear quadrilaterals, and its mass, first moment and
+inertia come from the FE mass matrix ("from" = FE for every row).
 """
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -54,8 +64,18 @@ if TYPE_CHECKING:       # annotation only: reading a modes file needs no FE code
     from flexbed.fem.bed import BedModes
 
 SCHEMA = "flexbed.modes"
-VERSION = "1.0"
+VERSION = "1.1"          # 1.1: plate/theory (absent: "kirchhoff"), Mindlin shells
 MAJOR = 1
+_LATER_KEYS = ("theory", "geometry", "masses", "stiffeners")
+
+
+def _plate_attrs(spec: PlateSpec) -> dict:
+    """The plate inputs as HDF5 attributes (the geometry as JSON text)."""
+    d = spec.as_dict()
+    for key in ("geometry", "masses", "stiffeners"):
+        if key in d:
+            d[key] = json.dumps(d[key], sort_keys=True)
+    return d
 
 _INVARIANT_UNITS = {
     "mass": "kg", "first_moment": "kg m", "inertia": "kg m^2",
@@ -143,8 +163,11 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
         Output of :func:`flexbed.fem.bed.compute_bed_modes`.
     """
     m = bed.modes
+    mindlin = bed.spec.theory == "mindlin"
     d: dict[str, Dataset] = {
-        "mesh/nodes": Dataset(bed.nodes, "m", "node coordinates in the bed frame"),
+        "mesh/nodes": Dataset(bed.nodes, "m", "node coordinates in the bed frame (origin at "
+                              "the centre of mass)",
+                              attrs={"origin_in_drawing_frame": np.asarray(bed.origin, float)}),
         "mesh/cells": Dataset(bed.cells.astype(np.int64), "1", "node indices of each quad"),
         "modes/frequency": Dataset(m.frequency, "Hz", "elastic free-free frequencies"),
         "modes/omega": Dataset(m.omega, "rad/s", "circular frequencies"),
@@ -155,8 +178,10 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
         "modes/translation": Dataset(bed.translation, "kg^-1/2",
                                      "mass-normalised nodal translations (mode, node, xyz)"),
         "modes/rotation": Dataset(bed.rotation, "rad kg^-1/2 m^-1",
-                                  "nodal rotations (dw/dy, -dw/dx, 0)"),
+                                  "nodal rotations (theta_x, theta_y, in-plane rotation)"
+                                  if mindlin else "nodal rotations (dw/dy, -dw/dx, 0)"),
         "modes/twist": Dataset(bed.twist, "kg^-1/2 m^-2",
+                               "zero: the Mindlin shell's fields are bilinear" if mindlin else
                                "nodal d2w/dxdy (Hermite data for points between nodes)"),
         "modes/rigid_omega": Dataset(m.rigid_omega, "rad/s",
                                      "solver frequencies of the vectors identified as rigid"),
@@ -165,15 +190,18 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
     for key, unit in _INVARIANT_UNITS.items():
         d[f"invariants/{key}"] = Dataset(np.asarray(getattr(inv, key), dtype=float), unit,
                                          _INVARIANT_DESCRIPTIONS[key],
-                                         attrs={"source": Invariants.SOURCES[key]})
+                                         attrs={"source": inv.source(key)})
     attrs: dict[str, Mapping[str, Any]] = {
         "": {"input_hash": bed.spec.digest(), "n_modes": int(m.omega.size),
              "next_frequency": (m.omega_next / (2 * math.pi)
                                 if math.isfinite(m.omega_next) else math.inf),
              "description": "free-free modes and modal invariants of the common bed"},
-        "plate": bed.spec.as_dict(),
-        "invariants": {"solid": "mass, first_moment, inertia: exact solid plate geometry",
-                       "fe": "all terms with Phi: FE mass forms with the kept modes"},
+        "plate": _plate_attrs(bed.spec),
+        "invariants": ({"model": "every invariant, mass properties included, from the FE "
+                                 "consistent mass of the Mindlin shell"}
+                       if inv.model_mass else
+                       {"solid": "mass, first_moment, inertia: exact solid plate geometry",
+                        "fe": "all terms with Phi: FE mass forms with the kept modes"}),
     }
     return write_file(path, schema=SCHEMA, version=VERSION, datasets=d, attrs=attrs)
 
@@ -207,7 +235,13 @@ def read_modes_file(path: str | Path) -> ModesData:
     c = read_file(path, schema=SCHEMA, major=MAJOR, required=REQUIRED)
     root = c.attrs.get("", {})
     try:
-        plate = PlateSpec(**{f.name: c.attrs["plate"][f.name] for f in fields(PlateSpec)})
+        stored = dict(c.attrs["plate"])
+        for key in ("geometry", "masses", "stiffeners"):
+            if key in stored:
+                stored[key] = json.loads(str(stored[key]))
+        # keys added after version 1.0 (theory, geometry) take their defaults when absent
+        plate = PlateSpec.from_dict({f.name: stored[f.name] for f in fields(PlateSpec)
+                                     if f.name in stored or f.name not in _LATER_KEYS})
     except (KeyError, ValueError, TypeError) as exc:
         raise InputError(f"{c.path}: group 'plate' does not hold valid plate inputs ({exc})") \
             from None
@@ -230,12 +264,13 @@ def read_modes_file(path: str | Path) -> ModesData:
         got = np.shape(c.get(name))
         if got != shape:
             raise InputError(f"{c.path}: dataset '{name}' has shape {got}, expected {shape}")
-    if nodes.ndim != 2 or nodes.shape[1] != 3 or (plate.nx + 1) * (plate.ny + 1) != N:
+    if nodes.ndim != 2 or nodes.shape[1] != 3 or (
+            plate.is_rectangle and (plate.nx + 1) * (plate.ny + 1) != N):
         raise InputError(f"{c.path}: dataset 'mesh/nodes' does not match the "
                          f"{plate.nx} x {plate.ny} mesh of the plate inputs")
     inv = Invariants(**{key: (float(c.get(f"invariants/{key}")) if key == "mass"
                               else np.asarray(c.get(f"invariants/{key}"), dtype=float))
-                        for key in _INVARIANT_UNITS})
+                        for key in _INVARIANT_UNITS}, model_mass=plate.theory == "mindlin")
 
     def strings(name: str) -> tuple[str, ...]:
         value = c.datasets.get(name)

@@ -30,6 +30,7 @@ from flexbed.dynamics.scene import DIRECTIONS, Base, Body, Drive, Load, Mount, S
 from flexbed.dynamics.shapes import SplineEnds
 
 from flexbed.files.builtin import BUILTIN, builtin_scene_path, builtin_scene_text  # noqa: F401
+from flexbed.files.bed_points import points_on_bed
 from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
 from flexbed.files.shapes import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
@@ -159,7 +160,7 @@ class _Reader(ShapeReader):
         bodies_raw = self.tables("body", data.get("body", []))
         if not bodies_raw:
             self.fail("", "no [[body]] tables: body 1, the base, is required")
-        bed = read_bed(data.get("bed", {}), f"{self.label}: bed")
+        bed = read_bed(data.get("bed", {}), f"{self.label}: bed", self.folder)
         at = _bed_index(bodies_raw, bed) if "bed" in data else None
         bodies = [self.body(i, b, bed if i == at else None) for i, b in enumerate(bodies_raw)]
         names = [b.name for b in bodies]
@@ -169,6 +170,8 @@ class _Reader(ShapeReader):
             self.fail("bed", f"body = {bed.body!r} is not a body (bodies: {', '.join(names)})")
         solver = self.solver(data.get("solver", {}))
         points = self.points(data.get("point", []), names)
+        if at is not None:
+            mounts, points = points_on_bed(bed, names[at], mounts, points, self.fail)
         try:
             scene = Scene(tuple(bodies), base, tuple(mounts), np.array(gravity), name)
         except SceneError as exc:
@@ -206,9 +209,9 @@ class _Reader(ShapeReader):
         if "mass" in t:
             mass = self.number(where, "mass", t["mass"], positive=True)
         else:
-            mass = bed.plate.mass
+            mass = bed.mass_properties.mass
         if "inertia" not in t:
-            J = np.diag(bed.plate.inertia).tolist()
+            J = bed.mass_properties.inertia.tolist()
         elif isinstance(t["inertia"], list) and t["inertia"] and all(isinstance(r, list)
                                                                     for r in t["inertia"]):
             if len(t["inertia"]) != 3:
@@ -225,6 +228,9 @@ class _Reader(ShapeReader):
         position = self.numbers(where, "position", t["position"], 3)
         ang = self.numbers(where, "orientation_deg", t.get("orientation_deg", [0, 0, 0]), 3)
         p = p_from_angles(*np.radians(ang))
+        if bed is not None:       # the bed's position is its drawing origin's: to its CoM
+            position = (np.array(position) + rotation_matrix(p) @ bed.mass_properties.centre
+                        ).tolist()
         v = self.numbers(where, "velocity", t.get("velocity", [0, 0, 0]), 3)
         w = self.numbers(where, "angular_velocity", t.get("angular_velocity", [0, 0, 0]), 3)
         try:

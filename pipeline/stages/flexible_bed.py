@@ -11,7 +11,8 @@ import numpy as np
 from flexbed.dynamics.errors import SceneError
 from flexbed.dynamics.flexible import FlexibleBody, modal_damping, rayleigh_damping
 from flexbed.dynamics.scene import Scene
-from flexbed.fem.shapes import GridShapes, OutsidePlateError
+from flexbed.fem.quad_shapes import mode_shapes
+from flexbed.fem.shapes import OutsidePlateError
 
 from flexbed.errors import InputError
 from flexbed.files.bed_section import plate_mismatch
@@ -77,8 +78,8 @@ def flexible_body(sf: SceneFile, data: ModesData, *, n_modes: int | None = None,
     pts += [m.point_j for m in sf.scene.mounts if m.body_j == name]
     pts += [p.position for p in sf.points if p.body == name]
     points = np.unique(np.array(pts, dtype=float).reshape(-1, 3), axis=0)
-    shapes = GridShapes.from_nodes(data.nodes, data.translation[:n], data.rotation[:n],
-                                   data.twist[:n])
+    shapes = mode_shapes(data.plate.theory, data.nodes, data.cells, data.translation[:n],
+                         data.rotation[:n], data.twist[:n])
     for m in sf.scene.mounts:
         for key, point in (("body_i", m.point_i), ("body_j", m.point_j)):
             if getattr(m, key) == name:
@@ -136,8 +137,8 @@ def _corrected(sf: SceneFile, data: ModesData, n: int, name: str,
         raise InputError(f"{sf.source.name}: bed: static_correction needs modes beyond the "
                          f"{n} kept, and correction_modes = {sf.bed.correction_modes} with "
                          f"{data.path} holding {data.n_modes}; raise correction_modes")
-    shapes = GridShapes.from_nodes(data.nodes, data.translation[:N], data.rotation[:N],
-                                   data.twist[:N])
+    shapes = mode_shapes(data.plate.theory, data.nodes, data.cells, data.translation[:N],
+                         data.rotation[:N], data.twist[:N])
     mounts = [m.point_i for m in sf.scene.mounts if m.body_i == name]
     mounts += [m.point_j for m in sf.scene.mounts if m.body_j == name]
     mount_pts = np.unique(np.array(mounts, dtype=float).reshape(-1, 3), axis=0)

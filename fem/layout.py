@@ -1,0 +1,119 @@
+"""Where everything of the bed is, in the bed's own frame: the mesh, the
+thickness of each cell and the fixed masses, placed so that the frame's
+origin is the composite centre of mass (plate + fixed masses). Pure NumPy:
+the scene reader uses it for the bed body's mass properties and to refuse
+points off the bed.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import numpy as np
+
+from .mass_properties import MassProperties, plate_mass_properties, shift_inertia
+from .mesher import mesh_bed
+from .quad_shapes import QuadShapes
+from .stiffeners import line_mass_properties
+from .spec import PlateSpec
+
+
+@dataclass(frozen=True)
+class BedLayout:
+    """The bed in its frame (origin at the composite centre of mass).
+
+    Attributes
+    ----------
+    nodes : ndarray (N, 2)
+        x, y of the nodes [m].
+    cells : ndarray (ne, 4)
+    thickness : ndarray (ne,) [m]
+    centre : ndarray (3,)
+        The composite centre of mass in the drawing frame [m].
+    mid_z : float
+        The mid-surface's z in the bed frame (−centre z) [m].
+    mass_properties : MassProperties
+        Composite mass, centre (drawing frame) and inertia about it.
+    fixed : tuple of (FixedMass, ndarray (3,))
+        Each fixed mass with (x, y) in the bed frame and z its height above
+        the mid-surface [m].
+    """
+
+    nodes: np.ndarray
+    cells: np.ndarray
+    thickness: np.ndarray
+    centre: np.ndarray
+    mid_z: float
+    mass_properties: MassProperties
+    fixed: tuple
+
+    def locate(self, x: float, y: float):
+        """(cell, natural coordinates) of a point of the bed frame, or None."""
+        return QuadShapes(self.nodes, self.cells, np.zeros((0, 1, 3)),
+                          np.zeros((0, 1, 3))).locate(x, y)
+
+
+def _grid(spec: PlateSpec) -> tuple[np.ndarray, np.ndarray]:
+    from .shell import grid_mesh
+    return grid_mesh(spec)
+
+
+@functools.lru_cache(maxsize=16)
+def bed_layout(spec: PlateSpec) -> BedLayout:
+    """The spec's :class:`BedLayout` (cached per spec)."""
+    lines = [(st.start, st.end) for st in spec.stiffeners]
+    if spec.geometry is None:
+        nodes, cells = _grid(spec)
+        t = np.full(cells.shape[0], spec.thickness)
+    else:
+        nodes, cells, t = mesh_bed(spec.geometry, spec.length_x, spec.length_y,
+                                   spec.thickness, spec.nx, spec.ny, lines=lines)
+    plate = plate_mass_properties(nodes, cells, t, spec.density)
+    m = plate.mass
+    first = plate.mass * plate.centre
+    pc = plate.centre
+    J0 = plate.inertia + m * (pc @ pc * np.eye(3) - np.outer(pc, pc))    # about the origin
+    for item in spec.masses:
+        p = np.array(item.position)
+        m += item.mass
+        first = first + item.mass * p
+        J0 = J0 + np.array(item.inertia) + item.mass * (p @ p * np.eye(3) - np.outer(p, p))
+    for st in spec.stiffeners:
+        ms, fs, Js = line_mass_properties(st, spec.density, np.zeros(3))
+        m += ms
+        first = first + fs
+        J0 = J0 + Js
+    c = first / m
+    if spec.is_rectangle:
+        c = np.zeros(3)                               # the grid is centred by construction
+        mp = MassProperties(spec.mass, c, np.diag(spec.inertia))
+    else:
+        mp = MassProperties(float(m), c, shift_inertia(m, J0, c))
+    fixed = tuple((item, np.array([item.position[0] - c[0], item.position[1] - c[1],
+                                   item.position[2]])) for item in spec.masses)
+    return BedLayout(nodes=nodes - c[:2], cells=cells, thickness=t, centre=c,
+                     mid_z=float(-c[2]), mass_properties=mp, fixed=fixed)
+
+
+def bed_mass_properties(spec: PlateSpec) -> MassProperties:
+    """The bed's mass [kg], composite centre of mass in the drawing frame
+    (3,) [m] and inertia about it (3, 3) [kg m²]: the solid rectangle's for
+    the plain plate (as before), else integrated over the mesh plus the
+    fixed masses (exactly what the shell's mass matrix holds)."""
+    if spec.is_rectangle:
+        return MassProperties(spec.mass, np.zeros(3), np.diag(spec.inertia))
+    return bed_layout(spec).mass_properties
+
+
+def off_bed(spec: PlateSpec, points: np.ndarray) -> np.ndarray:
+    """Which points (P, 2 or 3), drawing frame [m], are on no element of the
+    bed (outside its outline or in a cut-out): bool (P,)."""
+    pts = np.atleast_2d(np.asarray(points, dtype=float))[:, :2]
+    if spec.geometry is None:
+        a, b = spec.length_x / 2, spec.length_y / 2
+        tol = 1e-9 * max(a, b)
+        return (np.abs(pts[:, 0]) > a + tol) | (np.abs(pts[:, 1]) > b + tol)
+    lay = bed_layout(spec)
+    return np.array([lay.locate(x - lay.centre[0], y - lay.centre[1]) is None
+                     for x, y in pts])

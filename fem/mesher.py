@@ -1,0 +1,279 @@
+"""Quadrilateral meshes of a bed's outline, cut-outs and thickness zones,
+or of a mesh file.
+
+Three routes, all ending in counter-clockwise bilinear quadrilaterals with a
+thickness per cell:
+
+* **Rectilinear** (outline, cut-outs and zones all made of axis-parallel
+  edges): a tensor grid whose lines pass through every vertex, spacing at
+  most ``element_size``; the cells inside the outline and outside the
+  cut-outs are kept. The meshed area is the exact area.
+* **General** (circles, slanted edges): boundary points at most 2 h apart,
+  a hexagonal lattice of interior points kept h away from the boundaries,
+  Delaunay triangles (SciPy) inside the outline and outside the holes, each
+  split into three quadrilaterals at its centroid and edge mid-points
+  (quads of side about h). The triangles' area is checked against the
+  polygons' (the boundary must come out conforming).
+* **Mesh file** (meshio): its quads as they are, its triangles split as
+  above.
+
+Pure NumPy/SciPy (no scikit-fem): the scene reader meshes to know the
+bed's mass properties.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .geometry import BedGeometry, GeometryError, inside, signed_area
+
+
+def file_digest(path: str | Path) -> str:
+    """SHA-256 of a file's bytes (hex)."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """z-component of the cross product of 2-vectors (…, 2)."""
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+
+def _rectilinear(poly: np.ndarray) -> bool:
+    d = np.roll(poly, -1, axis=0) - poly
+    return bool(np.all((np.abs(d[:, 0]) <= 1e-12 * np.abs(d).max())
+                       | (np.abs(d[:, 1]) <= 1e-12 * np.abs(d).max())))
+
+
+def _lines(coords: np.ndarray, h: float) -> np.ndarray:
+    """Sorted unique coordinates with every gap split to at most h."""
+    c = np.unique(np.round(coords, 12))
+    out = [c[:1]]
+    for lo, hi in zip(c[:-1], c[1:]):
+        k = max(1, int(math.ceil((hi - lo) / h - 1e-9)))
+        out.append(lo + (hi - lo) * np.arange(1, k + 1) / k)
+    return np.concatenate(out)
+
+
+def _compact(nodes: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    used, inverse = np.unique(cells.ravel(), return_inverse=True)
+    return nodes[used], inverse.reshape(cells.shape)
+
+
+def _grid(outline, holes, zone_polys, h):
+    allpts = np.vstack([outline] + holes + zone_polys)
+    xs, ys = _lines(allpts[:, 0], h), _lines(allpts[:, 1], h)
+    X, Y = np.meshgrid(xs, ys)
+    nodes = np.column_stack([X.ravel(), Y.ravel()])
+    i, j = np.meshgrid(np.arange(xs.size - 1), np.arange(ys.size - 1))
+    n0 = (i + j * xs.size).ravel()
+    cells = np.column_stack([n0, n0 + 1, n0 + xs.size + 1, n0 + xs.size])
+    return nodes, cells
+
+
+def _segments(polys: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    a = np.vstack([p for p in polys])
+    b = np.vstack([np.roll(p, -1, axis=0) for p in polys])
+    return a, b
+
+
+def _distance(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance of each point (P, 2) to the nearest segment a-b (S, 2)."""
+    out = np.full(pts.shape[0], np.inf)
+    d = b - a
+    L2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    for start in range(0, pts.shape[0], 2048):
+        p = pts[start:start + 2048, None, :]
+        t = np.clip(np.einsum("psj,sj->ps", p - a, d) / L2, 0.0, 1.0)
+        q = a + t[..., None] * d
+        out[start:start + 2048] = np.sqrt(np.min(np.sum((p - q) ** 2, axis=-1), axis=1))
+    return out
+
+
+def _boundary_points(poly: np.ndarray, spacing: float) -> np.ndarray:
+    nxt = np.roll(poly, -1, axis=0)
+    out = []
+    for p, q in zip(poly, nxt):
+        k = max(1, int(math.ceil(np.linalg.norm(q - p) / spacing - 1e-9)))
+        s = np.arange(k) / k
+        out.append(p + s[:, None] * (q - p))
+    return np.vstack(out)
+
+
+def split_triangles(nodes: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Three quadrilaterals per counter-clockwise triangle: corner, edge
+    mid-point, centroid, edge mid-point (mid-points shared between
+    neighbours)."""
+    N = nodes.shape[0]
+    edges = np.sort(np.vstack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
+    uniq, inv = np.unique(edges, axis=0, return_inverse=True)
+    inv = inv.reshape(3, -1)
+    mids = 0.5 * (nodes[uniq[:, 0]] + nodes[uniq[:, 1]])
+    cent = nodes[tri].mean(axis=1)
+    m_ab, m_bc, m_ca = (N + inv[k] for k in range(3))
+    g = N + uniq.shape[0] + np.arange(tri.shape[0])
+    a, b, c = tri.T
+    quads = np.vstack([np.column_stack([a, m_ab, g, m_ca]), np.column_stack([b, m_bc, g, m_ab]),
+                       np.column_stack([c, m_ca, g, m_bc])])
+    return np.vstack([nodes, mids, cent]), quads
+
+
+def _general(outline, holes, zone_polys, h):
+    spacing = 2.0 * h                       # triangles of side 2h → quads of side h
+    constraint = [outline] + holes + zone_polys
+    bpts = np.vstack([_boundary_points(p, spacing) for p in constraint])
+    lo, hi = outline.min(axis=0), outline.max(axis=0)
+    dy = spacing * math.sqrt(3) / 2
+    rows = []
+    for k, y in enumerate(np.arange(lo[1] + dy / 2, hi[1], dy)):
+        x = np.arange(lo[0] + (spacing / 2 if k % 2 else 0.0), hi[0], spacing)
+        rows.append(np.column_stack([x, np.full(x.size, y)]))
+    lattice = np.vstack(rows) if rows else np.zeros((0, 2))
+    a, b = _segments(constraint)
+    keep = inside(outline, lattice) & (_distance(lattice, a, b) > 0.5 * spacing)
+    for hole in holes:
+        keep &= ~inside(hole, lattice)
+    pts = np.vstack([bpts, lattice[keep]])
+    # drop constraint points off the domain (zone edges beyond the outline)
+    on = _distance(pts, *_segments([outline] + holes)) <= 1e-9 * spacing
+    domain = inside(outline, pts)
+    for hole in holes:
+        domain &= ~inside(hole, pts)
+    pts = np.unique(np.round(pts[on | domain], 12), axis=0)
+    from scipy.spatial import Delaunay
+    tri = Delaunay(pts).simplices
+    cent = pts[tri].mean(axis=1)
+    keep = inside(outline, cent)
+    for hole in holes:
+        keep &= ~inside(hole, cent)
+    tri = tri[keep]
+    area = 0.5 * _cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
+    flat = np.abs(area) <= 1e-9 * spacing * spacing     # collinear boundary points
+    tri, area = tri[~flat], area[~flat]
+    tri[area < 0] = tri[area < 0][:, [0, 2, 1]]
+    target = signed_area(outline) - sum(signed_area(hh) for hh in holes)
+    if abs(np.abs(area).sum() - target) > 1e-9 * target:
+        raise GeometryError("element_size", f"the mesh does not follow the outline and "
+                                            f"cut-outs (area {np.abs(area).sum():.6g} against "
+                                            f"{target:.6g} m^2); give a smaller element_size "
+                                            f"(now {h:g} m)")
+    return split_triangles(pts, tri)
+
+
+def read_mesh_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes (N, 2) and counter-clockwise quads (ne, 4) of a meshio mesh
+    (its quads, and its triangles split in three).
+
+    Raises
+    ------
+    GeometryError
+        Unreadable, or without quads or triangles.
+    """
+    import meshio
+    try:
+        mesh = meshio.read(path)
+    except Exception as exc:                       # meshio raises many kinds
+        raise GeometryError("mesh_file", f"mesh_file = {str(path)!r}: cannot read it "
+                                         f"({exc})") from None
+    pts = np.asarray(mesh.points, dtype=float)[:, :2]
+    quads = [np.asarray(b.data) for b in mesh.cells if b.type == "quad"]
+    tris = [np.asarray(b.data) for b in mesh.cells if b.type == "triangle"]
+    if not quads and not tris:
+        raise GeometryError("mesh_file", f"mesh_file = {str(path)!r} has no quad or triangle "
+                                         f"cells (it has {', '.join(b.type for b in mesh.cells) or 'none'})")
+    cells = np.vstack(quads).astype(np.int64) if quads else np.zeros((0, 4), np.int64)
+    if tris:
+        tri = np.vstack(tris).astype(np.int64)
+        area = _cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
+        tri[area < 0] = tri[area < 0][:, [0, 2, 1]]
+        pts, split = split_triangles(pts, tri)
+        cells = np.vstack([cells, split])
+    xy = pts[cells]
+    area = 0.5 * np.sum(xy[:, :, 0] * np.roll(xy[:, :, 1], -1, axis=1)
+                        - np.roll(xy[:, :, 0], -1, axis=1) * xy[:, :, 1], axis=1)
+    cells[area < 0] = cells[area < 0][:, ::-1]
+    if np.any(np.abs(area) <= 0):
+        raise GeometryError("mesh_file", f"mesh_file = {str(path)!r} has cells of zero area")
+    return _compact(pts, cells)
+
+
+def _check_cells(nodes: np.ndarray, cells: np.ndarray, geometry: BedGeometry) -> None:
+    """Every quadrilateral convex and counter-clockwise (positive Jacobian at
+    its corners), else a GeometryError naming the first bad cell."""
+    xy = nodes[cells]
+    nxt, prv = np.roll(xy, -1, axis=1), np.roll(xy, 1, axis=1)
+    turn = _cross(nxt - xy, prv - xy)                      # (ne, 4) corner Jacobians
+    bad = np.flatnonzero(np.any(turn <= 1e-12 * np.max(np.abs(turn)), axis=1))
+    if bad.size:
+        entry = "mesh_file" if geometry.mesh_file is not None else "element_size"
+        raise GeometryError(entry, f"cell {int(bad[0])} (corners {xy[bad[0]].round(6).tolist()}"
+                                   f" m) is not a convex counter-clockwise quadrilateral "
+                                   f"({bad.size} such cells)")
+
+
+def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness: float,
+             nx: int, ny: int, folder: Path | None = None, lines=()
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Mesh a bed in its drawing frame.
+
+    Parameters
+    ----------
+    geometry : BedGeometry
+    length_x, length_y, thickness : float
+        The rectangle used when there is no outline, and the thickness
+        outside zones [m].
+    nx, ny : int
+        Grid of the rectangle; with no ``element_size`` the element side is
+        min(bounding box x / nx, bounding box y / ny).
+    folder : Path, optional
+        Where a relative ``mesh_file`` is.
+    lines : sequence of ((x0, y0), (x1, y1))
+        Segments the mesh must have edges along (stiffeners).
+
+    Returns
+    -------
+    nodes : ndarray (N, 2) [m]
+    cells : ndarray (ne, 4), counter-clockwise
+    cell_thickness : ndarray (ne,) [m]
+    """
+    if geometry.mesh_file is not None:
+        path = Path(geometry.mesh_file)
+        if folder is not None and not path.is_absolute():
+            path = folder / path
+        nodes, cells = read_mesh_file(path)
+        ext = np.ptp(nodes, axis=0)
+        h = geometry.element_size or min(ext[0] / nx, ext[1] / ny)
+        zones = [(z.region.polygon(h), z.thickness) for z in geometry.zones]
+    else:
+        if geometry.outline is None:
+            outline = np.array([[-length_x / 2, -length_y / 2], [length_x / 2, -length_y / 2],
+                                [length_x / 2, length_y / 2], [-length_x / 2, length_y / 2]])
+        else:
+            outline = np.array(geometry.outline)
+            if signed_area(outline) < 0:
+                outline = outline[::-1].copy()
+        ext = np.ptp(outline, axis=0)
+        h = geometry.element_size or min(ext[0] / nx, ext[1] / ny)
+        holes = [c.polygon(h) for c in geometry.cutouts]
+        zones = [(z.region.polygon(h), z.thickness) for z in geometry.zones]
+        polys = [outline] + holes + [p for p, _ in zones]
+        segs = [np.array(seg, dtype=float) for seg in lines]
+        if all(_rectilinear(p) for p in polys + segs):
+            nodes, cells = _grid(outline, holes, [p for p, _ in zones] + segs, h)
+            cent = nodes[cells].mean(axis=1)
+            keep = inside(outline, cent)
+            for hole in holes:
+                keep &= ~inside(hole, cent)
+            nodes, cells = _compact(nodes, cells[keep])
+        else:
+            nodes, cells = _general(outline, holes, [p for p, _ in zones] + segs, h)
+            nodes, cells = _compact(nodes, cells)
+    _check_cells(nodes, cells, geometry)
+    t = np.full(cells.shape[0], float(thickness))
+    cent = nodes[cells].mean(axis=1)
+    for poly, tz in zones:
+        t[inside(poly, cent)] = tz
+    return nodes, cells, t

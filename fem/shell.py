@@ -1,0 +1,283 @@
+"""Reissner–Mindlin flat shell (MITC4 bending and shear, plane-stress
+membrane with incompatible modes) assembled on a quadrilateral mesh.
+
+Five degrees of freedom per node, u, v, w, θx, θy (see
+:mod:`flexbed.fem.mitc4`); the bed frame's z is the mid-surface normal.
+Unlike the Kirchhoff plate the model has in-plane motion and so all six
+rigid-body motions, and its mass matrix carries every translation: the
+bed's mass, centre of mass and inertia come from it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+import scipy.sparse as sp
+
+from .fixed_masses import attachment
+from .geometry import GeometryError
+from .mitc4 import element_drilling, element_matrices
+from .spec import PlateSpec, PlateSpecError
+from .stiffeners import stiffener_matrices
+
+DOFS_PER_NODE = 5
+DOF_NAMES = ("u", "v", "w", "theta_x", "theta_y")
+
+
+def grid_mesh(spec: PlateSpec) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes (N, 2) [m] and counter-clockwise quads (ne, 4) of the
+    rectangular nx × ny grid centred on the origin (node index = i + j (nx+1))."""
+    a, b = spec.length_x, spec.length_y
+    x = np.linspace(-a / 2, a / 2, spec.nx + 1)
+    y = np.linspace(-b / 2, b / 2, spec.ny + 1)
+    X, Y = np.meshgrid(x, y)
+    nodes = np.column_stack([X.ravel(), Y.ravel()])
+    i, j = np.meshgrid(np.arange(spec.nx), np.arange(spec.ny))
+    n0 = (i + j * (spec.nx + 1)).ravel()
+    cells = np.column_stack([n0, n0 + 1, n0 + spec.nx + 2, n0 + spec.nx + 1])
+    return nodes, cells
+
+
+def _assemble(blocks: np.ndarray, dofs: np.ndarray, n: int) -> sp.csr_matrix:
+    """Sum element blocks (ne, k, k) into an (n, n) CSR matrix."""
+    k = dofs.shape[1]
+    rows = np.repeat(dofs, k, axis=1).ravel()
+    cols = np.tile(dofs, (1, k)).ravel()
+    return sp.coo_matrix((blocks.ravel(), (rows, cols)), shape=(n, n)).tocsr()
+
+
+@dataclass(frozen=True)
+class ShellModel:
+    """Assembled Mindlin shell. Matrices are (ndof, ndof) CSR, ndof = 5 N.
+
+    Attributes
+    ----------
+    spec : PlateSpec
+    nodes : ndarray (N, 2)
+        Node coordinates [m].
+    cells : ndarray (ne, 4)
+        Quadrilaterals, counter-clockwise.
+    K, M : sparse (ndof, ndof)
+        Stiffness and consistent mass.
+    M0 : sparse (N, N)
+        Scalar nodal mass ∫ρt N_i N_j dA [kg]: the mass of each
+        translation component.
+    M2 : sparse (N, N)
+        ∫ρt³/12 N_i N_j dA [kg m²]: the rotary inertia of each rotation.
+    K_xx, K_yy, K_twist, K_membrane, K_shear : sparse (ndof, ndof)
+        Parts of K (bending βx,x², βy,y², the rest of the bending, the
+        membrane, the transverse shear) that tell mode shapes apart.
+    drilling : sparse (N, ndof)
+        Nodal in-plane rotation ½(∂v/∂x − ∂u/∂y): element-centre values
+        averaged over the elements around each node.
+    thickness : ndarray (ne,)
+        Thickness of each element [m].
+    origin : ndarray (2,)
+        Where the model's origin, the bed's centre of mass, is in the
+        drawing frame the geometry was given in [m] (zero for the plain
+        rectangle).
+    mid_z : float
+        Height of the mid-surface in the bed frame [m]: minus the centre of
+        mass's height when fixed masses lift it.
+    fixed : tuple
+        Fixed masses as (FixedMass, centre in the bed frame's x, y and its
+        height above the mid-surface (3,), DOFs (20,), T (3, 20), R (3, 20))
+        (:mod:`flexbed.fem.fixed_masses`); their mass is in ``M``.
+    """
+
+    spec: PlateSpec
+    nodes: np.ndarray
+    cells: np.ndarray
+    K: sp.csr_matrix
+    M: sp.csr_matrix
+    M0: sp.csr_matrix
+    M2: sp.csr_matrix
+    K_xx: sp.csr_matrix
+    K_yy: sp.csr_matrix
+    K_twist: sp.csr_matrix
+    K_membrane: sp.csr_matrix
+    K_shear: sp.csr_matrix
+    drilling: sp.csr_matrix
+    thickness: np.ndarray
+    origin: np.ndarray
+    mid_z: float = 0.0
+    fixed: tuple = ()
+
+    n_rigid = 6
+
+    @property
+    def node_dofs(self) -> np.ndarray:
+        """Global DOF index (5, N): rows u, v, w, θx, θy."""
+        N = self.nodes.shape[0]
+        return np.arange(DOFS_PER_NODE * N).reshape(N, DOFS_PER_NODE).T
+
+    def dof_vector(self, u=0.0, v=0.0, w=0.0, tx=0.0, ty=0.0) -> np.ndarray:
+        """DOF vector (ndof,) from nodal values."""
+        N = self.nodes.shape[0]
+        out = np.empty((N, DOFS_PER_NODE))
+        for k, values in enumerate((u, v, w, tx, ty)):
+            out[:, k] = np.broadcast_to(values, (N,))
+        return out.ravel()
+
+    def rigid_vectors(self) -> np.ndarray:
+        """DOF vectors (ndof, 6): translations along x, y, z, rotations about
+        x, y, z (about the origin)."""
+        x, y = self.nodes.T
+        return np.column_stack([self.dof_vector(u=1.0), self.dof_vector(v=1.0),
+                                self.dof_vector(w=1.0), self.dof_vector(w=y, tx=1.0),
+                                self.dof_vector(w=-x, ty=1.0), self.dof_vector(u=-y, v=x)])
+
+    def band_order(self) -> np.ndarray:
+        """DOF ordering (ndof,) node row by node row along the shorter side."""
+        x, y = self.nodes.T
+        span_x, span_y = np.ptp(x), np.ptp(y)
+        fast, slow = (x, y) if span_x <= span_y else (y, x)
+        node_order = np.lexsort((fast, slow))
+        return self.node_dofs[:, node_order].T.ravel()
+
+    def translations(self, phi: np.ndarray) -> np.ndarray:
+        """Nodal translations (n, N, 3) of DOF vectors phi (ndof, n)."""
+        d = self.node_dofs
+        return np.stack([phi[d[0]].T, phi[d[1]].T, phi[d[2]].T], axis=-1)
+
+    def rotations(self, phi: np.ndarray) -> np.ndarray:
+        """Nodal rotations (n, N, 3): θx, θy and the in-plane rotation."""
+        d = self.node_dofs
+        return np.stack([phi[d[3]].T, phi[d[4]].T, (self.drilling @ phi).T], axis=-1)
+
+    def sign_field(self, phi: np.ndarray) -> np.ndarray:
+        """The values (3N, n) whose largest decides a mode's sign."""
+        d = self.node_dofs
+        return np.concatenate([phi[d[2]], phi[d[0]], phi[d[1]]])
+
+    def energy_parts(self) -> tuple:
+        """Bending parts (βx,x², βy,y², rest) then membrane and shear."""
+        return (self.K_xx, self.K_yy, self.K_twist, self.K_membrane, self.K_shear)
+
+    def mirror_maps(self) -> tuple[np.ndarray, np.ndarray]:
+        """Index maps of the nodes mirrored in x and in y (a node without a
+        mirror image maps to itself)."""
+        scale = max(np.ptp(self.nodes[:, 0]), np.ptp(self.nodes[:, 1]))
+        key = {(round(x / scale, 9), round(y / scale, 9)): i
+               for i, (x, y) in enumerate(self.nodes)}
+        mx = np.array([key.get((round(-x / scale, 9), round(y / scale, 9)), i)
+                       for i, (x, y) in enumerate(self.nodes)])
+        my = np.array([key.get((round(x / scale, 9), round(-y / scale, 9)), i)
+                       for i, (x, y) in enumerate(self.nodes)])
+        return mx, my
+
+    def symmetry_fields(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Translations (3N, n), and the same mirrored in x and in y: a field
+        symmetric under x → -x has u(-x) = -u(x), v and w even."""
+        mx, my = self.mirror_maps()
+        d = self.node_dofs
+        u, v, w = phi[d[0]], phi[d[1]], phi[d[2]]
+        # a mesh that is not its own mirror image: no symmetry to test ("-")
+        nan = np.full((3 * self.nodes.shape[0], phi.shape[1]), np.nan)
+        sx = np.concatenate([-u[mx], v[mx], w[mx]]) if self._mirrored(mx, 0) else nan
+        sy = np.concatenate([u[my], -v[my], w[my]]) if self._mirrored(my, 1) else nan
+        return np.concatenate([u, v, w]), sx, sy
+
+    def _mirrored(self, m: np.ndarray, axis: int) -> bool:
+        """True when map m sends every node to its mirror image in ``axis``."""
+        p, q = self.nodes, self.nodes[m]
+        scale = float(np.max(np.ptp(p, axis=0)))
+        other = 1 - axis
+        return bool(np.all(np.abs(q[:, axis] + p[:, axis]) <= 1e-9 * scale)
+                    and np.all(np.abs(q[:, other] - p[:, other]) <= 1e-9 * scale))
+
+
+def assemble_mesh(spec: PlateSpec, nodes: np.ndarray, cells: np.ndarray,
+                  thickness: np.ndarray | None = None,
+                  origin: np.ndarray | None = None) -> ShellModel:
+    """Assemble the shell on a given quadrilateral mesh.
+
+    Parameters
+    ----------
+    spec : PlateSpec
+        Material (and the thickness when ``thickness`` is None).
+    nodes : ndarray (N, 2)
+        Node coordinates [m].
+    cells : ndarray (ne, 4)
+        Counter-clockwise quadrilaterals.
+    thickness : ndarray (ne,), optional
+        Thickness of each element [m].
+    origin : ndarray (2,), optional
+        Recorded as :attr:`ShellModel.origin`.
+
+    Returns
+    -------
+    ShellModel
+    """
+    nodes = np.asarray(nodes, dtype=float)
+    cells = np.asarray(cells, dtype=np.int64)
+    ne, N = cells.shape[0], nodes.shape[0]
+    t = np.full(ne, spec.thickness) if thickness is None else np.asarray(thickness, float)
+    xy = nodes[cells]
+    e = element_matrices(xy, t, spec.young, spec.poisson, spec.density)
+    dofs = (DOFS_PER_NODE * cells[:, :, None] + np.arange(DOFS_PER_NODE)).reshape(ne, -1)
+    ndof = DOFS_PER_NODE * N
+    parts = {k: _assemble(e[k], dofs, ndof)
+             for k in ("membrane", "shear", "bend_xx", "bend_yy", "bend_rest")}
+    K = parts["membrane"] + parts["shear"] + parts["bend_xx"] + parts["bend_yy"] \
+        + parts["bend_rest"]
+    M0 = _assemble(e["mass0"], cells, N)
+    M2 = _assemble(e["mass2"], cells, N)
+    blocks = [M0, M0, M0, M2, M2]
+    M = sp.csr_matrix((ndof, ndof))
+    for k, blk in enumerate(blocks):
+        sel = sp.csr_matrix((np.ones(N), (DOFS_PER_NODE * np.arange(N) + k, np.arange(N))),
+                            shape=(ndof, N))
+        M = M + sel @ blk @ sel.T
+    # drilling: element-centre rotation, averaged over the elements at a node
+    op = element_drilling(xy)                                            # (ne, 8)
+    uv = (DOFS_PER_NODE * cells[:, :, None] + np.arange(2)).reshape(ne, 8)
+    count = np.bincount(cells.ravel(), minlength=N).astype(float)
+    rows = np.broadcast_to(cells[:, :, None], (ne, 4, 8))
+    data = np.broadcast_to(op[:, None, :], (ne, 4, 8)) / count[cells][:, :, None]
+    colsd = np.broadcast_to(uv[:, None, :], (ne, 4, 8))
+    drilling = sp.coo_matrix((data.ravel(), (rows.ravel(), colsd.ravel())),
+                             shape=(N, ndof)).tocsr()
+    K = (0.5 * (K + K.T)).tocsr()
+    return ShellModel(spec=spec, nodes=nodes, cells=cells, K=K, M=M.tocsr(), M0=M0, M2=M2,
+                      K_xx=parts["bend_xx"], K_yy=parts["bend_yy"], K_twist=parts["bend_rest"],
+                      K_membrane=parts["membrane"], K_shear=parts["shear"], drilling=drilling,
+                      thickness=t, origin=np.zeros(2) if origin is None else np.asarray(origin))
+
+
+def assemble_shell(spec: PlateSpec) -> ShellModel:
+    """The shell on the spec's mesh, origin at the bed's centre of mass
+    (:func:`flexbed.fem.layout.bed_layout`), fixed masses included."""
+    from .layout import bed_layout
+    lay = bed_layout(spec)
+    model = assemble_mesh(spec, lay.nodes, lay.cells, lay.thickness, origin=lay.centre[:2])
+    if not lay.fixed and not spec.stiffeners:
+        return model
+    mass_blocks, stiff_blocks, attached = [], [], []
+    for item, where in lay.fixed:
+        cell, s_nat = lay.locate(where[0], where[1])
+        dofs, T, R = attachment(lay.nodes, lay.cells, cell, s_nat, item.position[2])
+        mass_blocks.append((dofs, item.mass * T.T @ T + R.T @ np.array(item.inertia) @ R))
+        attached.append((item, where, dofs, T, R))
+    for st in spec.stiffeners:
+        try:
+            K, M, slices = stiffener_matrices(st, lay.nodes, model.drilling, lay.centre[:2],
+                                              spec.young, spec.poisson, spec.density)
+        except GeometryError as exc:
+            raise PlateSpecError("stiffener", str(exc)) from None
+        stiff_blocks += K
+        mass_blocks += M
+        attached += slices
+    n = model.M.shape[0]
+    K = (model.K + _sum_blocks(stiff_blocks, n)).tocsr() if stiff_blocks else model.K
+    return replace(model, K=K, M=(model.M + _sum_blocks(mass_blocks, n)).tocsr(),
+                   mid_z=lay.mid_z, fixed=tuple(attached))
+
+
+def _sum_blocks(blocks: list, n: int) -> sp.csr_matrix:
+    """Σ of dense blocks (dofs (k,), (k, k)) into an (n, n) matrix."""
+    data = np.concatenate([b.ravel() for _, b in blocks])
+    rows = np.concatenate([np.repeat(d, d.size) for d, _ in blocks])
+    cols = np.concatenate([np.tile(d, d.size) for d, _ in blocks])
+    return sp.coo_matrix((data, (rows, cols)), shape=(n, n)).tocsr()

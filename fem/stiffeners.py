@@ -1,0 +1,251 @@
+"""Stiffeners: straight beams along lines of the plate's mesh, joined to
+it with their eccentricity.
+
+A stiffener's section is a flat bar, a T, an I or a general one (A, Iy, Iz,
+J); its centroid sits at ``offset`` from the mid-surface (negative:
+below). Its centroid moves with the shell node it is joined to by the
+shell's kinematics at that height, U = (u + e θy, v − e θx, w), and turns
+with the node (θx, θy, and the in-plane rotation ½(∂v/∂x − ∂u/∂y) of the
+elements around it). Along the beam (axis s, in-plane normal n):
+
+* axial EA and torsion GJ, linear;
+* bending in the vertical plane EIy, cubic Hermite in w with slope −θ·n;
+* bending in the plane EIz, cubic Hermite in U·n with slope θz;
+* mass ρA on the centroid's translation and the section's rotary inertia
+  ρ(Iy + Iz), ρIy, ρIz about s, n, z, both interpolated linearly and
+  integrated with two Gauss points — which makes them exactly the mass of
+  a row of rigid slices, so every modal invariant of the stiffener follows
+  from :func:`flexbed.fem.fixed_masses.moments` at those points.
+
+Pure NumPy/SciPy.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .geometry import GeometryError
+
+SECTIONS = ("flat", "T", "I", "general")
+
+
+def _positive(entry: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (
+            math.isfinite(value) and value > 0):
+        raise GeometryError(entry, f"{entry} = {value!r} must be a number > 0")
+    return float(value)
+
+
+@dataclass(frozen=True, slots=True)
+class Section:
+    """Section properties [m², m⁴] and the centroid's height above the
+    section's base c [m] (for flat/T/I; 0 for general)."""
+
+    area: float
+    Iy: float
+    Iz: float
+    J: float
+    centroid: float
+
+
+def section_of(kind: str, *, height=None, width=None, web=None, flange_width=None,
+               flange=None, area=None, Iy=None, Iz=None, J=None) -> Section:
+    """Properties of a flat bar (height × width), a T (web height × web
+    thickness, flange width × flange thickness at the free end), a doubly
+    symmetric I (overall height, web, flange width, flange thickness) or a
+    general section (A, Iy, Iz, J). Iy is about the horizontal axis through
+    the centroid (vertical bending), Iz about the vertical axis; J by the
+    thin-walled open-section formula Σ b t³ / 3 for flat, T and I."""
+    if kind == "flat":
+        h, b = _positive("height", height), _positive("width", width)
+        return Section(h * b, b * h ** 3 / 12, h * b ** 3 / 12, _thin(h, b), h / 2)
+    if kind == "T":
+        h, tw = _positive("height", height), _positive("web", web)
+        bf, tf = _positive("flange_width", flange_width), _positive("flange", flange)
+        Aw, Af = h * tw, bf * tf
+        c = (Aw * h / 2 + Af * (h + tf / 2)) / (Aw + Af)
+        Iy = tw * h ** 3 / 12 + Aw * (h / 2 - c) ** 2 + bf * tf ** 3 / 12 + Af * (h + tf / 2 - c) ** 2
+        Iz = h * tw ** 3 / 12 + tf * bf ** 3 / 12
+        return Section(Aw + Af, Iy, Iz, _thin(h, tw) + _thin(bf, tf), c)
+    if kind == "I":
+        h, tw = _positive("height", height), _positive("web", web)
+        bf, tf = _positive("flange_width", flange_width), _positive("flange", flange)
+        hw = h - 2 * tf
+        if hw <= 0:
+            raise GeometryError("height", f"height = {h!r} must exceed twice flange = {tf!r}")
+        A = hw * tw + 2 * bf * tf
+        Iy = tw * hw ** 3 / 12 + 2 * (bf * tf ** 3 / 12 + bf * tf * (h / 2 - tf / 2) ** 2)
+        Iz = hw * tw ** 3 / 12 + 2 * tf * bf ** 3 / 12
+        return Section(A, Iy, Iz, _thin(hw, tw) + 2 * _thin(bf, tf), h / 2)
+    if kind == "general":
+        return Section(_positive("area", area), _positive("Iy", Iy), _positive("Iz", Iz),
+                       _positive("J", J), 0.0)
+    raise GeometryError("section", f"section = {kind!r} must be one of "
+                                   + ", ".join(f'"{s}"' for s in SECTIONS))
+
+
+def _thin(b: float, t: float) -> float:
+    """Saint-Venant torsion constant of a thin rectangle, b t³/3 (b ≥ t)."""
+    b, t = max(b, t), min(b, t)
+    return b * t ** 3 / 3 * (1 - 0.63 * t / b)
+
+
+@dataclass(frozen=True, slots=True)
+class Stiffener:
+    """A stiffener on the line start → end (drawing frame) [m].
+
+    ``offset`` is the centroid's height above the mid-surface [m]
+    (negative below the plate).
+    """
+
+    name: str
+    start: tuple[float, float]
+    end: tuple[float, float]
+    section: Section
+    offset: float
+
+    def __post_init__(self) -> None:
+        for key in ("start", "end"):
+            p = np.array(getattr(self, key), dtype=float)
+            if p.shape != (2,) or not np.all(np.isfinite(p)):
+                raise GeometryError(key, f"{key} = {getattr(self, key)!r} must be [x, y] [m]")
+            object.__setattr__(self, key, (float(p[0]), float(p[1])))
+        if np.hypot(self.end[0] - self.start[0], self.end[1] - self.start[1]) <= 0:
+            raise GeometryError("end", f"end = {self.end!r} equals start")
+        if not math.isfinite(self.offset):
+            raise GeometryError("offset", f"offset = {self.offset!r} must be finite [m]")
+        object.__setattr__(self, "offset", float(self.offset))
+
+    @property
+    def length(self) -> float:
+        return float(np.hypot(self.end[0] - self.start[0], self.end[1] - self.start[1]))
+
+    def rotary(self, density: float) -> np.ndarray:
+        """Rotary inertia per unit length about the centroid, bed axes (3, 3) [kg m]."""
+        s, n = self.axes()
+        sec = self.section
+        local = np.diag([density * (sec.Iy + sec.Iz), density * sec.Iy, density * sec.Iz])
+        Q = np.column_stack([s, n, [0.0, 0.0, 1.0]])
+        return Q @ local @ Q.T
+
+    def axes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Unit axis s and in-plane normal n = z × s, (3,) each."""
+        d = np.array([self.end[0] - self.start[0], self.end[1] - self.start[1], 0.0])
+        s = d / np.linalg.norm(d)
+        return s, np.array([-s[1], s[0], 0.0])
+
+
+def line_mass_properties(st: Stiffener, density: float, centre: np.ndarray
+                         ) -> tuple[float, np.ndarray, np.ndarray]:
+    """Mass [kg], first moment (3,) [kg m] and inertia about the origin
+    (3, 3) [kg m²] of a stiffener, drawing frame shifted by ``centre``."""
+    m = density * st.section.area * st.length
+    a = np.array([st.start[0], st.start[1], st.offset]) - centre
+    b = np.array([st.end[0], st.end[1], st.offset]) - centre
+    mid = 0.5 * (a + b)
+    d = b - a
+    second = m * (np.outer(mid, mid) + np.outer(d, d) / 12.0)       # ∫ρA r rᵀ ds
+    J = np.trace(second) * np.eye(3) - second + st.rotary(density) * st.length
+    return m, m * mid, J
+
+
+def _hermite(EI: float, L: float) -> np.ndarray:
+    return EI / L ** 3 * np.array([[12, 6 * L, -12, 6 * L], [6 * L, 4 * L * L, -6 * L, 2 * L * L],
+                                   [-12, -6 * L, 12, -6 * L], [6 * L, 2 * L * L, -6 * L, 4 * L * L]])
+
+
+def stiffener_matrices(st: Stiffener, nodes: np.ndarray, drilling, centre: np.ndarray,
+                       young: float, poisson: float, density: float):
+    """Stiffness and mass of one stiffener on the shell's DOFs.
+
+    Parameters
+    ----------
+    st : Stiffener
+    nodes : ndarray (N, 2)
+        Shell nodes in the bed frame [m].
+    drilling : sparse (N, 5N)
+        The shell's nodal in-plane rotation operator.
+    centre : ndarray (2,)
+        The bed frame's origin in the drawing frame [m].
+    young, poisson, density : float
+
+    Returns
+    -------
+    K, M : list of (dofs (k,), block (k, k))
+    slices : list of (FixedMass, where (3,), dofs, T (3, k), R (3, k))
+        The rigid slices at the Gauss points (mass and invariants).
+
+    Raises
+    ------
+    GeometryError
+        The line does not run along edges of the mesh.
+    """
+    from .fixed_masses import FixedMass
+    a = np.array(st.start) - centre
+    b = np.array(st.end) - centre
+    s3, n3 = st.axes()
+    s, L = s3[:2], st.length
+    rel = nodes - a
+    along = rel @ s
+    across = rel @ n3[:2]
+    scale = max(L, float(np.max(np.ptp(nodes, axis=0))))
+    on = np.flatnonzero((np.abs(across) <= 1e-9 * scale) & (along >= -1e-9 * scale)
+                        & (along <= L + 1e-9 * scale))
+    order = on[np.argsort(along[on])]
+    covered = along[order[-1]] - along[order[0]] if order.size > 1 else 0.0
+    if order.size < 2 or abs(along[order[0]]) > 1e-9 * scale or abs(covered - L) > 1e-9 * scale:
+        raise GeometryError("stiffener", f"stiffener {st.name!r} from {list(st.start)} to "
+                                         f"{list(st.end)} m does not run along lines of the "
+                                         f"mesh (set element_size so the mesher puts lines "
+                                         f"through its ends, or move it onto grid lines)")
+    sec, e = st.section, st.offset
+    G = young / (2 * (1 + poisson))
+    D = drilling.tocsr()
+    K, M, slices = [], [], []
+    rot = st.rotary(density)
+    g = 1 / math.sqrt(3)
+    for k, (ia, ib) in enumerate(zip(order[:-1], order[1:])):
+        Le = along[ib] - along[ia]
+        cols = set(range(5 * ia, 5 * ia + 5)) | set(range(5 * ib, 5 * ib + 5))
+        for i in (ia, ib):
+            cols |= set(D.indices[D.indptr[i]:D.indptr[i + 1]].tolist())
+        dofs = np.array(sorted(cols))
+        pos = {d: j for j, d in enumerate(dofs)}
+
+        def ops(i):
+            T = np.zeros((3, dofs.size))
+            R = np.zeros((3, dofs.size))
+            u, v, w, tx, ty = (pos[5 * i + c] for c in range(5))
+            T[0, u], T[0, ty] = 1.0, e
+            T[1, v], T[1, tx] = 1.0, -e
+            T[2, w] = 1.0
+            R[0, tx] = R[1, ty] = 1.0
+            row = slice(D.indptr[i], D.indptr[i + 1])
+            for c, val in zip(D.indices[row], D.data[row]):
+                R[2, pos[c]] += val
+            return T, R
+
+        (Ta, Ra), (Tb, Rb) = ops(ia), ops(ib)
+        us = np.array([s3 @ Ta, s3 @ Tb])
+        ts = np.array([s3 @ Ra, s3 @ Rb])
+        vert = np.array([Ta[2], -(n3 @ Ra), Tb[2], -(n3 @ Rb)])
+        plane = np.array([n3 @ Ta, Ra[2], n3 @ Tb, Rb[2]])
+        bar = np.array([[1.0, -1.0], [-1.0, 1.0]]) / Le
+        Ke = (young * sec.area * us.T @ bar @ us + G * sec.J * ts.T @ bar @ ts
+              + vert.T @ _hermite(young * sec.Iy, Le) @ vert
+              + plane.T @ _hermite(young * sec.Iz, Le) @ plane)
+        K.append((dofs, Ke))
+        Me = np.zeros((dofs.size, dofs.size))
+        for xi in (-g, g):
+            Na, Nb = 0.5 * (1 - xi), 0.5 * (1 + xi)
+            T, R = Na * Ta + Nb * Tb, Na * Ra + Nb * Rb
+            p = Na * nodes[ia] + Nb * nodes[ib]
+            item = FixedMass(f"{st.name}:{k}:{xi:+.3f}", (p[0], p[1], e),
+                             density * sec.area * Le / 2, rot * Le / 2)
+            Me += item.mass * T.T @ T + R.T @ np.array(item.inertia) @ R
+            slices.append((item, np.array([p[0], p[1], e]), dofs, T, R))
+        M.append((dofs, Me))
+    return K, M, slices

@@ -1,0 +1,168 @@
+"""The ``[bed]`` table's geometry keys: ``outline``, ``[[bed.cutout]]``,
+``[[bed.zone]]``, ``element_size`` and ``mesh_file``, read into a
+:class:`flexbed.fem.geometry.BedGeometry` (whose own checks are reused, so
+the scene file and the modes stage agree on what a valid bed is).
+
+Every message is one line naming the file, the entry and the value.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from flexbed.fem.fixed_masses import FixedMass
+from flexbed.fem.geometry import BedGeometry, GeometryError, Region, Zone
+from flexbed.fem.stiffeners import Stiffener, section_of
+
+from flexbed.errors import InputError
+
+GEOMETRY_KEYS = ("outline", "cutout", "zone", "element_size", "mesh_file", "fixed_mass",
+                 "stiffener")
+_STIFFENER_KEYS = ("name", "start", "end", "section", "side", "offset", "height", "width", "web",
+                   "flange_width", "flange", "area", "Iy", "Iz", "J")
+_MASS_KEYS = ("name", "position", "mass", "inertia")
+_REGION_KEYS = ("shape", "centre", "size", "radius", "points")
+
+
+def _region(t, where: str) -> Region:
+    if not isinstance(t, dict):
+        raise InputError(f"{where}: must be a table {{shape = ..., ...}}")
+    for key in t:
+        if key not in _REGION_KEYS + ("thickness",):
+            raise InputError(f"{where}: unknown key '{key}' (known: {', '.join(_REGION_KEYS)})")
+    if "shape" not in t:
+        raise InputError(f"{where}: 'shape' is required (\"rectangle\", \"circle\" or "
+                         f"\"polygon\")")
+    args = {k: t[k] for k in _REGION_KEYS if k in t}
+    for k in ("centre", "size"):
+        if k in args and isinstance(args[k], list):
+            args[k] = tuple(args[k])
+    try:
+        return Region(**args)
+    except (GeometryError, TypeError, ValueError) as exc:
+        raise InputError(f"{where}: {exc}") from None
+
+
+def read_fixed_masses(table: dict, where: str) -> tuple[FixedMass, ...]:
+    """``[[bed.fixed_mass]]`` tables: name, position [x, y, z] (drawing frame,
+    z above the mid-surface) [m], mass [kg], inertia about its centre of
+    mass (3 numbers or 3 × 3, default zero) [kg m²]."""
+    value = table.get("fixed_mass", [])
+    if not isinstance(value, list):
+        raise InputError(f"{where}: fixed_mass must be an array of tables [[bed.fixed_mass]]")
+    out = []
+    for i, t in enumerate(value):
+        w = f"{where}: fixed_mass {i + 1}"
+        if not isinstance(t, dict):
+            raise InputError(f"{w}: must be a table")
+        if isinstance(t.get("name"), str):
+            w = f"{where}: fixed_mass {t['name']!r}"
+        for key in t:
+            if key not in _MASS_KEYS:
+                raise InputError(f"{w}: unknown key '{key}' (known: {', '.join(_MASS_KEYS)})")
+        for key in ("name", "position", "mass"):
+            if key not in t:
+                raise InputError(f"{w}: '{key}' is required")
+        if not isinstance(t["name"], str):
+            raise InputError(f"{w}: name = {t['name']!r} must be a string")
+        try:
+            out.append(FixedMass(t["name"], t["position"], t["mass"],
+                                 t.get("inertia", [0.0, 0.0, 0.0])))
+        except (GeometryError, TypeError, ValueError) as exc:
+            raise InputError(f"{w}: {exc}") from None
+    return tuple(out)
+
+
+def read_stiffeners(table: dict, where: str) -> tuple[Stiffener, ...]:
+    """``[[bed.stiffener]]`` tables: name, start and end [x, y] (drawing frame)
+    [m], section = "flat" (height, width), "T" (height, web, flange_width,
+    flange), "I" (height, web, flange_width, flange) or "general" (area,
+    Iy, Iz, J, offset); side = "below" (default) or "above" places flat, T
+    and I sections on the plate's face (offset = ∓(thickness/2 + centroid
+    height)); offset [m] is the centroid's height above the mid-surface."""
+    value = table.get("stiffener", [])
+    if not isinstance(value, list):
+        raise InputError(f"{where}: stiffener must be an array of tables [[bed.stiffener]]")
+    thickness = table.get("thickness", 0.1)
+    out = []
+    for i, t in enumerate(value):
+        w = f"{where}: stiffener {i + 1}"
+        if not isinstance(t, dict):
+            raise InputError(f"{w}: must be a table")
+        if isinstance(t.get("name"), str):
+            w = f"{where}: stiffener {t['name']!r}"
+        for key in t:
+            if key not in _STIFFENER_KEYS:
+                raise InputError(f"{w}: unknown key '{key}' (known: "
+                                 f"{', '.join(_STIFFENER_KEYS)})")
+        for key in ("name", "start", "end", "section"):
+            if key not in t:
+                raise InputError(f"{w}: '{key}' is required")
+        kind = t["section"]
+        side = t.get("side", "below")
+        if side not in ("below", "above"):
+            raise InputError(f"{w}: side = {side!r} must be \"below\" or \"above\"")
+        try:
+            sec = section_of(kind, **{k: t[k] for k in ("height", "width", "web",
+                                                        "flange_width", "flange", "area", "Iy",
+                                                        "Iz", "J") if k in t})
+            if kind == "general":
+                if "offset" not in t:
+                    raise GeometryError("offset", "'offset' is required for section = "
+                                                  "'general' [m]")
+                offset = t["offset"]
+            else:
+                if "offset" in t:
+                    raise GeometryError("offset", f"offset = {t['offset']!r} applies to "
+                                                  f"section = 'general' only (use side)")
+                offset = (thickness / 2 + sec.centroid) * (-1 if side == "below" else 1)
+            out.append(Stiffener(t["name"], tuple(t["start"]), tuple(t["end"]), sec, offset))
+        except (GeometryError, TypeError, ValueError) as exc:
+            raise InputError(f"{w}: {exc}") from None
+    return tuple(out)
+
+
+def read_geometry(table: dict, where: str, folder: Path | None) -> BedGeometry | None:
+    """The geometry keys of a parsed ``[bed]`` table (None when there are none).
+
+    Parameters
+    ----------
+    table : dict
+        The ``[bed]`` table.
+    where : str
+        Message prefix, e.g. ``"lee.toml: bed"``.
+    folder : Path or None
+        The scene file's folder (a relative ``mesh_file`` is there).
+    """
+    if not any(k in table for k in GEOMETRY_KEYS if k not in ("fixed_mass", "stiffener")):
+        return None
+    cut = table.get("cutout", [])
+    zones = table.get("zone", [])
+    for key, value in (("cutout", cut), ("zone", zones)):
+        if not isinstance(value, list):
+            raise InputError(f"{where}: {key} must be an array of tables [[bed.{key}]]")
+    cutouts = tuple(_region(c, f"{where}: cutout {i + 1}") for i, c in enumerate(cut))
+    zs = []
+    for i, z in enumerate(zones):
+        w = f"{where}: zone {i + 1}"
+        if not isinstance(z, dict) or "thickness" not in z:
+            raise InputError(f"{w}: 'thickness' is required [m]")
+        try:
+            zs.append(Zone(_region({k: v for k, v in z.items() if k != "thickness"}, w),
+                           z["thickness"]))
+        except GeometryError as exc:
+            raise InputError(f"{w}: {exc}") from None
+    mesh_file = table.get("mesh_file")
+    if mesh_file is not None:
+        if not isinstance(mesh_file, str):
+            raise InputError(f"{where}: mesh_file = {mesh_file!r} must be a string")
+        path = Path(mesh_file)
+        if folder is not None and not path.is_absolute():
+            path = folder / path
+        mesh_file = str(path.resolve())
+    try:
+        return BedGeometry(outline=table.get("outline"), cutouts=cutouts, zones=tuple(zs),
+                           element_size=table.get("element_size"), mesh_file=mesh_file)
+    except GeometryError as exc:
+        shown = str(exc).replace(mesh_file or "\0", str(table.get("mesh_file")))
+        raise InputError(f"{where}: {shown}") from None
