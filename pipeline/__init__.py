@@ -16,10 +16,10 @@ stages, analyses and benchmarks live beside them.
 from __future__ import annotations
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-           "Statics", "Results", "Comparison", "InputError", "NumericalError", "__version__"]
+           "sweep", "Statics", "Results", "Comparison", "InputError", "NumericalError", "__version__"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-        "Statics", "Results", "Comparison"}
+        "sweep", "Statics", "Results", "Comparison"}
 
 
 def __getattr__(name: str):

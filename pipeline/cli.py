@@ -39,6 +39,7 @@ COMMANDS = {
     "post": "points of interest and mount forces from a results file",
     "run": "the whole pipeline on one scene, into one folder",
     "bench": "benchmarks: speed against error, written as a report",
+    "sweep": "a design study of many variants on Dask -> one table and plots",
 }
 
 
