@@ -17,7 +17,19 @@ from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile
 from flexbed.threads import thread_count
 
-__all__ = ["cluster_client", "worker_environment"]
+__all__ = ["cluster_client", "worker_environment", "LOCAL_CONFIG"]
+
+
+#: Dask settings of the local cluster: its housekeeping costs CPU that the
+#: points would use (measured idle, 2 workers: 74 ms of CPU per second with
+#: Dask's defaults, 20 ms/s with these): no statistical profiler sampling
+#: the workers every 10 ms, the event-loop watchdog, system monitor, memory
+#: monitor and work stealing at 1-2 s instead of 20-500 ms.
+LOCAL_CONFIG = {"distributed.worker.profile.enabled": False,
+                "distributed.admin.tick.interval": "1s",
+                "distributed.admin.system-monitor.interval": "2s",
+                "distributed.worker.memory.monitor-interval": "1s",
+                "distributed.scheduler.work-stealing-interval": "1s"}
 
 
 def worker_environment() -> dict:
@@ -44,6 +56,7 @@ def cluster_client(scheduler=None, workers: int | None = None,
     warm_scene : SceneFile, optional
         Warm every worker's compiled code on this scene.
     """
+    import dask
     from distributed import Client, LocalCluster
 
     from flexbed.study.point import WarmUp
@@ -72,7 +85,8 @@ def cluster_client(scheduler=None, workers: int | None = None,
     n = workers or os.cpu_count() or 1
     if n < 1:
         raise InputError(f"--workers = {n!r} must be >= 1")
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                      dashboard_address=":0", env=worker_environment()) as cluster, \
+    with dask.config.set(LOCAL_CONFIG), \
+            LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                         dashboard_address=":0", env=worker_environment()) as cluster, \
             Client(cluster) as client:
         yield ready(client)

@@ -7,6 +7,7 @@ anything else) comes back as its one-line message, so the study goes on.
 
 from __future__ import annotations
 
+import pickle
 import time
 from dataclasses import dataclass, field
 
@@ -16,15 +17,16 @@ from flexbed.errors import FlexbedError
 from flexbed.files.scene import SceneFile
 from flexbed.study.analyses import ANALYSES
 
-__all__ = ["PointResult", "run_point", "bed_modes", "WarmUp", "warm"]
+__all__ = ["PointResult", "run_point", "run_packed", "pack", "bed_modes", "WarmUp", "warm"]
 
 
 @dataclass(frozen=True)
 class PointResult:
     """status : "ok" or "failed"; message : str (one line; "" when ok);
     values : tuple of float (the metrics' cells; NaN when failed);
-    solve_time, cpu_time : float [s] — wall-clock and CPU time of the
-    analyses on the worker; files : dict suffix → (datasets, attrs)."""
+    solve_time, cpu_time : float [s] — wall-clock time and CPU time of the
+    analyses on the worker (the CPU time of the thread that ran them, so
+    not the worker's own housekeeping threads); files : dict suffix → (datasets, attrs)."""
 
     status: str
     message: str
@@ -56,7 +58,7 @@ def run_point(scene: SceneFile, analyses: tuple, metrics: tuple, modes=None,
         Return the analyses' results files' contents.
     """
     n = sum(len(m.columns) for m in metrics)
-    t0, c0 = time.perf_counter(), time.process_time()
+    t0, c0 = time.perf_counter(), time.thread_time()
     try:
         if isinstance(modes, Exception):             # the bed's modes failed
             raise modes
@@ -66,14 +68,29 @@ def run_point(scene: SceneFile, analyses: tuple, metrics: tuple, modes=None,
         values = tuple(v for m in metrics for v in m.values(outcomes))
     except Exception as exc:                       # the study goes on
         return PointResult("failed", _one_line(exc), (float("nan"),) * n,
-                           time.perf_counter() - t0, time.process_time() - c0)
-    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+                           time.perf_counter() - t0, time.thread_time() - c0)
+    wall, cpu = time.perf_counter() - t0, time.thread_time() - c0
     files = {}
     if keep:
         for name in analyses:
             if ANALYSES[name].files is not None:
                 files.update(ANALYSES[name].files(outcomes[name]))
     return PointResult("ok", "", values, wall, cpu, files)
+
+
+def pack(obj) -> bytes:
+    """``obj`` pickled once on the client: Dask ships bytes as they are,
+    where it would pickle a scene's ~130 dataclass objects with
+    cloudpickle's pure-Python pickler at every submission (5 ms of CPU a
+    task, measured; 0.3 ms this way)."""
+    return pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
+
+
+def run_packed(scene: bytes, setup: bytes, modes=None) -> PointResult:
+    """:func:`run_point` of ``pack(scene)`` and ``pack((analyses, metrics,
+    keep))``: the task a worker runs."""
+    analyses, metrics, keep = pickle.loads(setup)
+    return run_point(pickle.loads(scene), analyses, metrics, modes, keep)
 
 
 def bed_modes(scene: SceneFile):
