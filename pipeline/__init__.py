@@ -16,10 +16,10 @@ stages, analyses and benchmarks live beside them.
 from __future__ import annotations
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-           "modal", "frf", "srs", "Statics", "Results", "Comparison", "Modal", "Transmissibility", "InputError", "NumericalError", "__version__"]
+           "modal", "frf", "srs", "sweep", "Statics", "Results", "Comparison", "Modal", "Transmissibility", "InputError", "NumericalError", "__version__"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-        "modal", "frf", "srs", "Statics", "Results", "Comparison", "Modal", "Transmissibility"}
+        "modal", "frf", "srs", "sweep", "Statics", "Results", "Comparison", "Modal", "Transmissibility"}
 
 
 def __getattr__(name: str):

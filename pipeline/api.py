@@ -49,7 +49,7 @@ from flexbed.stages.system import compile_scene
 from flexbed.threads import limited
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-           "modal", "frf", "srs", "Statics", "Results", "Comparison", "Modal", "Transmissibility"]
+           "modal", "frf", "srs", "sweep", "Statics", "Results", "Comparison", "Modal", "Transmissibility"]
 
 
 def _pinned(fn):
@@ -66,7 +66,7 @@ _MODES: dict[tuple, ModesData] = {}      # modes computed in memory, by plate an
 
 
 def _modes_in_memory(sf: SceneFile) -> ModesData:
-    key = _request(sf)
+    key = modes_request(sf)
     if key not in _MODES:
         if len(_MODES) >= 8:
             _MODES.pop(next(iter(_MODES)))
@@ -74,7 +74,9 @@ def _modes_in_memory(sf: SceneFile) -> ModesData:
     return _MODES[key]
 
 
-def _request(sf: SceneFile) -> tuple:
+def modes_request(sf: SceneFile) -> tuple:
+    """What a bed's modes depend on: (plate hash, modes, fmax, correction
+    modes) — the key under which they are computed once and shared."""
     bed = sf.bed
     return (bed.plate.digest(), bed.modes, bed.fmax,
             bed.correction_modes if bed.static_correction else 0)
@@ -462,3 +464,52 @@ from flexbed.frequency_api import frf as _frf, modal as _modal  # noqa: E402
 
 modal = _pinned(_modal)
 frf = _pinned(_frf)
+
+
+# ---------------------------------------------------------------------- sweep
+def sweep(study, scheduler=None, *, output: str | Path | None = None, workers: int | None = None,
+          keep_results: bool = False, retry_failed: bool = False, progress: bool = False,
+          plots: bool = True):
+    """Run a design study on Dask (as ``flexbed sweep``).
+
+    Parameters
+    ----------
+    study : path or flexbed.study.spec.Study
+        The study file (TOML; see "Study file" in the README).
+    scheduler : str or distributed.Client, optional
+        ``"tcp://HOST:PORT"`` of a running Dask scheduler, or a Client;
+        default: a local cluster of processes, one per core, for the call.
+        (Started from a script, the local cluster's processes import the
+        script again: keep its work under ``if __name__ == "__main__":``.)
+    output : path, optional
+        Folder for ``table.csv``, ``table.h5``, ``plots/`` and, with
+        ``keep_results``, ``results/``; a re-run with the same folder
+        skips the points done. Default: nothing written.
+    workers : int, optional
+        Size of the local cluster.
+    keep_results, retry_failed, progress, plots : bool
+        As the command's ``--keep-results``, ``--retry-failed``, progress
+        bar (stderr) and ``--no-plots``.
+
+    Returns
+    -------
+    flexbed.study.table.StudyTable
+        A row per point: ``table["peak_mount_force.M5"]``, ``table.ok``,
+        ``table.rows()``; ``complete``.
+
+    Raises
+    ------
+    InputError
+        The study refused (unknown parameter path, metric, …) before
+        anything runs.
+    """
+    from flexbed.study.plan import make_plan
+    from flexbed.study.runner import run_plan
+    from flexbed.study.spec import Study, read_study
+    from flexbed.study.table import check_folder
+
+    plan = make_plan(study if isinstance(study, Study) else read_study(study))
+    folder = check_folder(output) if output is not None else None
+    return run_plan(plan, scheduler=scheduler, workers=workers, folder=folder,
+                    keep_results=keep_results, retry_failed=retry_failed, progress=progress,
+                    plots=plots)

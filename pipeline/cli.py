@@ -46,6 +46,7 @@ COMMANDS = {
     "srs": "shock response spectra of points from a results file",
     "run": "the whole pipeline on one scene, into one folder",
     "bench": "benchmarks: speed against error, written as a report",
+    "sweep": "a design study of many variants on Dask -> one table and plots",
 }
 
 

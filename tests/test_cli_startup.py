@@ -11,7 +11,7 @@ import pytest
 
 from flexbed.cli import COMMANDS, EXIT_PIPE, build_parser, main
 
-HEAVY = ("numba", "scipy", "matplotlib", "h5py", "skfem", "meshio")
+HEAVY = ("numba", "scipy", "matplotlib", "h5py", "skfem", "meshio", "dask", "distributed")
 
 #: runs flexbed's main() in a fresh interpreter, then prints on stderr the
 #: heavy packages it imported
@@ -53,7 +53,7 @@ def test_simulate_does_not_import_plotting_or_fem(tmp_path):
     code, out, imported = probe("simulate", "-o", str(tmp_path / "r.h5"), "--t-end", "0.05",
                                 "--no-progress", cwd=tmp_path)
     assert code == 0 and "wrote" in out
-    assert not imported & {"matplotlib", "skfem", "meshio"}, imported
+    assert not imported & {"matplotlib", "skfem", "meshio", "dask", "distributed"}, imported
 
 
 def test_a_whole_simulate_of_the_built_in_scene_skips_scipy_integrate_and_interpolate(tmp_path):
@@ -79,7 +79,8 @@ def test_help_lists_every_command_and_each_commands_options(capsys):
                 "post": "--modes-file", "bench": "--quick", "modes": "--fmax",
                 "static": "--tol", "scene": "--output", "modal": "--equilibrium",
                 "frf": "--relative-to",
-                "srs": "--per-octave"}
+                "srs": "--per-octave",
+                "sweep": "--scheduler"}
     assert set(expected) == set(COMMANDS)
     for name, option in expected.items():
         with pytest.raises(SystemExit):

@@ -1,0 +1,307 @@
+"""The numbers a study keeps per point, by kind, checked against the scene
+before anything runs.
+
+Kinds (``[[metric]] kind = …``; every kind takes an optional ``name``, the
+column's name):
+
+- ``peak_displacement`` / ``peak_acceleration`` (simulate): the largest
+  displacement from where the point starts, ``max_t |ρ(t) − ρ(0)|`` [m], or
+  the largest acceleration ``max_t |ρ̈(t)|`` [m/s²], of a point — a scene
+  ``[[point]]`` by ``point = NAME`` (relative to its ``relative_to`` body
+  when it has one), or ``body``, ``position`` [m, body frame] and optional
+  ``relative_to`` — in the inertial frame or the ``relative_to`` body's;
+  ``direction = "x" | "y" | "z"``: that component's largest absolute value
+  instead of the norm.
+- ``peak_mount_force`` [N] / ``peak_mount_deflection`` [m] (simulate):
+  ``max_t |f(t)|`` per mount (``mounts = [...]``, default all; one column
+  each), norm over the mount's three axes or, with ``axis = 1 | 2 | 3``,
+  that axis's largest absolute value.
+- ``static_deflection`` [m] (static): each mount's deflection at the
+  static equilibrium, the norm over its axes or, with ``axis``, that
+  axis's signed value.
+- ``max_static_deflection`` [m] (static): the largest of the mounts' static
+  deflections (norm, or ``|axis|``).
+- ``compare`` (compare): a figure of ``flexbed compare``'s table for one
+  ``equipment`` body and ``case`` (rigid, flexible, damped):
+  ``quantity = "peak" | "rms"`` [m], ``"static_z"`` [m], ``"frequency"`` [Hz].
+
+New kinds join :data:`KINDS` (a class with ``analysis``, ``columns``,
+``units``, ``values(outcomes)`` and a ``build(table, scene, where)``
+constructor).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from flexbed.errors import InputError
+from flexbed.files.scene import SceneFile
+from flexbed.study.spec import MetricTable
+
+__all__ = ["KINDS", "build_metric", "PeakMotion", "PeakMount", "StaticDeflection",
+           "MaxStaticDeflection", "CompareFigure"]
+
+_DIRECTIONS = {"x": 0, "y": 1, "z": 2}
+_CASES = ("rigid", "flexible", "damped")
+_QUANTITIES = {"peak": "m", "rms": "m", "static_z": "m", "frequency": "Hz"}
+
+
+def _options(table: MetricTable, keys: tuple, where: str) -> dict:
+    opts = dict(table.options)
+    for key in opts:
+        if key not in keys + ("name",):
+            raise InputError(f"{where}: unknown key {key!r} for kind {table.kind!r} "
+                             f"(known: {', '.join(keys + ('name',))})")
+    name = opts.get("name")
+    if name is not None and (not isinstance(name, str) or not name):
+        raise InputError(f"{where}: name = {name!r} must be a non-empty string")
+    return opts
+
+
+def _body(scene: SceneFile, name, where: str, key: str) -> str:
+    names = [b.name for b in scene.scene.bodies]
+    if name not in names:
+        raise InputError(f"{where}: {key} = {name!r} is not a body of the scene "
+                         f"(bodies: {', '.join(names)})")
+    return name
+
+
+def _mounts(scene: SceneFile, opts: dict, where: str) -> tuple:
+    names = [m.name for m in scene.scene.mounts]
+    chosen = opts.get("mounts", names)
+    if isinstance(chosen, str) or not isinstance(chosen, list) or not chosen:
+        raise InputError(f"{where}: mounts = {chosen!r} must be a list of mount names")
+    for m in chosen:
+        if m not in names:
+            raise InputError(f"{where}: mount {m!r} is not a mount of the scene "
+                             f"(mounts: {', '.join(names)})")
+    return tuple(names.index(m) for m in chosen), tuple(chosen)
+
+
+def _axis(opts: dict, where: str) -> int | None:
+    axis = opts.get("axis")
+    if axis is None:
+        return None
+    if axis not in (1, 2, 3) or isinstance(axis, bool):
+        raise InputError(f"{where}: axis = {axis!r} must be 1, 2 or 3 (the mount's axes)")
+    return axis
+
+
+@dataclass(frozen=True)
+class PeakMotion:
+    """Peak displacement or acceleration of a point (see the module)."""
+
+    kind: str
+    column: str
+    body: str
+    position: tuple
+    relative_to: str | None
+    direction: int | None
+    analysis = "simulate"
+
+    @classmethod
+    def build(cls, table: MetricTable, scene: SceneFile, where: str) -> "PeakMotion":
+        opts = _options(table, ("point", "body", "position", "relative_to", "direction"), where)
+        if "point" in opts:
+            for key in ("body", "position"):
+                if key in opts:
+                    raise InputError(f"{where}: give point, or body and position, not both")
+            pts = {p.name: p for p in scene.points}
+            if opts["point"] not in pts:
+                raise InputError(f"{where}: point = {opts['point']!r} is not a [[point]] of the "
+                                 f"scene (points: {', '.join(pts) or 'none'})")
+            p = pts[opts["point"]]
+            body, pos, rel = p.body, tuple(p.position), opts.get("relative_to", p.relative_to)
+            label = p.name
+        else:
+            if "body" not in opts or "position" not in opts:
+                raise InputError(f"{where}: give point = NAME, or body and position")
+            body = _body(scene, opts["body"], where, "body")
+            pos = opts["position"]
+            if (not isinstance(pos, list) or len(pos) != 3
+                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                               and np.isfinite(x) for x in pos)):
+                raise InputError(f"{where}: position = {pos!r} must be 3 finite numbers [m]")
+            pos, rel = tuple(float(x) for x in pos), opts.get("relative_to")
+            label = f"{body} ({' '.join(f'{x:g}' for x in pos)})"
+        if rel is not None:
+            _body(scene, rel, where, "relative_to")
+        direction = opts.get("direction")
+        if direction is not None and direction not in _DIRECTIONS:
+            raise InputError(f"{where}: direction = {direction!r} must be x, y or z")
+        column = opts.get("name") or (f"{table.kind}.{label}" + (f"@{rel}" if rel else "")
+                                      + (f".{direction}" if direction else ""))
+        return cls(table.kind, column, body, pos, rel,
+                   None if direction is None else _DIRECTIONS[direction])
+
+    @property
+    def columns(self) -> tuple:
+        return (self.column,)
+
+    @property
+    def units(self) -> tuple:
+        return ("m" if self.kind == "peak_displacement" else "m/s^2",)
+
+    def values(self, outcomes: dict) -> tuple:
+        m = outcomes["simulate"].point(self.body, self.position, relative_to=self.relative_to)
+        if self.kind == "peak_displacement":
+            v = m.position - m.position[0]
+        else:
+            v = m.acceleration
+        v = np.abs(v[:, self.direction]) if self.direction is not None \
+            else np.linalg.norm(v, axis=1)
+        return (float(v.max()),)
+
+
+@dataclass(frozen=True)
+class PeakMount:
+    """Peak force or deflection of each mount over the run."""
+
+    kind: str
+    indices: tuple
+    names: tuple
+    axis: int | None
+    label: str | None
+    analysis = "simulate"
+
+    @classmethod
+    def build(cls, table: MetricTable, scene: SceneFile, where: str) -> "PeakMount":
+        opts = _options(table, ("mounts", "axis"), where)
+        idx, names = _mounts(scene, opts, where)
+        if opts.get("name") and len(names) > 1:
+            raise InputError(f"{where}: name applies to one mount (mounts = [...] with one name)")
+        return cls(table.kind, idx, names, _axis(opts, where), opts.get("name"))
+
+    @property
+    def columns(self) -> tuple:
+        if self.label:
+            return (self.label,)
+        ax = f".axis{self.axis}" if self.axis else ""
+        return tuple(f"{self.kind}.{m}{ax}" for m in self.names)
+
+    @property
+    def units(self) -> tuple:
+        return ("N" if self.kind == "peak_mount_force" else "m",) * len(self.names)
+
+    def values(self, outcomes: dict) -> tuple:
+        run = outcomes["simulate"]
+        data = run.mount_force if self.kind == "peak_mount_force" else run.mount_deflection
+        data = data[:, list(self.indices)]                              # (k, m, 3)
+        v = np.abs(data[:, :, self.axis - 1]) if self.axis else np.linalg.norm(data, axis=2)
+        return tuple(float(x) for x in v.max(axis=0))
+
+
+def static_deflections(outcomes: dict) -> np.ndarray:
+    """(M, 3) [m]: every mount's deflection along its axes at the static
+    equilibrium (the right-hand side's own evaluation, as the results
+    file's ``mounts/deflection``)."""
+    st = outcomes["static"]
+    return st.system.observe(0.0, st.equilibrium.y).dx
+
+
+@dataclass(frozen=True)
+class StaticDeflection:
+    """Each mount's static deflection."""
+
+    kind: str
+    indices: tuple
+    names: tuple
+    axis: int | None
+    label: str | None
+    analysis = "static"
+    build = classmethod(PeakMount.build.__func__)
+    columns = PeakMount.columns
+
+    @property
+    def units(self) -> tuple:
+        return ("m",) * len(self.names)
+
+    def values(self, outcomes: dict) -> tuple:
+        dx = static_deflections(outcomes)[list(self.indices)]
+        v = dx[:, self.axis - 1] if self.axis else np.linalg.norm(dx, axis=1)
+        return tuple(float(x) for x in v)
+
+
+@dataclass(frozen=True)
+class MaxStaticDeflection:
+    """The largest static mount deflection."""
+
+    kind: str
+    column: str
+    axis: int | None
+    analysis = "static"
+
+    @classmethod
+    def build(cls, table: MetricTable, scene: SceneFile, where: str) -> "MaxStaticDeflection":
+        opts = _options(table, ("axis",), where)
+        if not scene.scene.mounts:
+            raise InputError(f"{where}: the scene has no mounts")
+        axis = _axis(opts, where)
+        return cls(table.kind, opts.get("name") or (table.kind + (f".axis{axis}" if axis else "")),
+                   axis)
+
+    columns = PeakMotion.columns
+    units = property(lambda self: ("m",))
+
+    def values(self, outcomes: dict) -> tuple:
+        dx = static_deflections(outcomes)
+        v = np.abs(dx[:, self.axis - 1]) if self.axis else np.linalg.norm(dx, axis=1)
+        return (float(v.max()),)
+
+
+@dataclass(frozen=True)
+class CompareFigure:
+    """A figure of the rigid / flexible / damped comparison."""
+
+    kind: str
+    column: str
+    equipment: str
+    case: str
+    quantity: str
+    analysis = "compare"
+
+    @classmethod
+    def build(cls, table: MetricTable, scene: SceneFile, where: str) -> "CompareFigure":
+        opts = _options(table, ("equipment", "case", "quantity"), where)
+        names = [b.name for b in scene.scene.bodies]
+        bed = scene.bed.body or (names[1] if len(names) > 1 else None)
+        equipment = [n for n in names[1:] if n != bed]
+        eq = opts.get("equipment")
+        if eq not in equipment:
+            raise InputError(f"{where}: equipment = {eq!r} must be one of "
+                             f"{', '.join(equipment) or 'none'}")
+        case = opts.get("case", "damped")
+        if case not in _CASES:
+            raise InputError(f"{where}: case = {case!r} must be one of {', '.join(_CASES)}")
+        q = opts.get("quantity", "peak")
+        if q not in _QUANTITIES:
+            raise InputError(f"{where}: quantity = {q!r} must be one of "
+                             f"{', '.join(_QUANTITIES)}")
+        return cls(table.kind, opts.get("name") or f"compare.{case}.{eq}.{q}", eq, case, q)
+
+    columns = PeakMotion.columns
+    units = property(lambda self: (_QUANTITIES[self.quantity],))
+
+    def values(self, outcomes: dict) -> tuple:
+        for row in outcomes["compare"].rows:
+            if row["equipment"] == self.equipment and row["case"] == self.case:
+                return (float(row[self.quantity]),)
+        raise InputError(f"compare: no row for {self.equipment!r}, {self.case!r}")
+
+
+#: metric kinds by name
+KINDS = {"peak_displacement": PeakMotion, "peak_acceleration": PeakMotion,
+         "peak_mount_force": PeakMount, "peak_mount_deflection": PeakMount,
+         "static_deflection": StaticDeflection, "max_static_deflection": MaxStaticDeflection,
+         "compare": CompareFigure}
+
+
+def build_metric(table: MetricTable, scene: SceneFile, study_name: str):
+    """The metric of a ``[[metric]]`` table, checked against the scene."""
+    where = f"{study_name}: metric {table.index} ({table.kind})"
+    if table.kind not in KINDS:
+        raise InputError(f"{study_name}: metric {table.index}: unknown kind {table.kind!r} "
+                         f"(known: {', '.join(KINDS)})")
+    return KINDS[table.kind].build(table, scene, where)

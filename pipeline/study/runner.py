@@ -1,0 +1,203 @@
+"""Run a planned study on Dask and gather its table.
+
+The points already in the output folder's table (same scene hash, same
+analyses and metrics) are skipped; each distinct bed's modes are one task
+that every point needing them depends on; each distinct scene is one task
+(keyed by its hash, so identical points run once); rows are written
+(atomically) as they arrive, at most every 5 s, and once more at the
+end or on Ctrl-C (then marked incomplete). A point that fails keeps its
+one-line message; a point whose worker died is re-run by the scheduler on
+another worker (Dask's ``allowed-failures``), and if every try is lost its
+row says so.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+from flexbed.study.plan import Plan, modes_scene
+from flexbed.study.point import PointResult, bed_modes, pack, run_packed
+from flexbed.study.table import Row, StudyTable, build_table, read_done, write_table
+
+__all__ = ["run_plan", "StudyProgress"]
+
+#: seconds between two writes of the table while the study runs (each
+#: write is the whole table, CSV and HDF5: tens of ms of the client's CPU)
+WRITE_EVERY = 5.0
+
+
+class StudyProgress:
+    """A progress bar on stderr: points done of the total, failures, time
+    spent and an estimate of the time left (from this run's rate)."""
+
+    def __init__(self, total: int, already: int, enabled: bool, stream=None):
+        self.total, self.already = total, already
+        self.enabled = enabled
+        self.stream = stream if stream is not None else sys.stderr
+        self.t0 = time.perf_counter()
+        self.last = -1.0
+        self.shown = False
+        self.counts = (already, 0)
+
+    def update(self, done: int, failed: int, force: bool = False) -> None:
+        """Redraw (at most 4 times a second) with ``done`` rows of which ``failed``."""
+        if not self.enabled:
+            return
+        self.counts = (done, failed)
+        now = time.perf_counter()
+        if not force and now - self.last < 0.25:
+            return
+        self.last = now
+        spent = now - self.t0
+        new = done - self.already
+        left = self.total - done
+        eta = f", ~{_duration(spent / new * left)} left" if new > 0 and left > 0 else ""
+        frac = done / self.total if self.total else 1.0
+        bar = "#" * int(round(30 * frac))
+        fails = f", {failed} failed" if failed else ""
+        self.stream.write(f"\rsweep [{bar:<30}] {done}/{self.total} points{fails}, "
+                          f"{_duration(spent)}{eta}   ")
+        self.stream.flush()
+        self.shown = True
+
+    def close(self) -> None:
+        """Draw the last state and end the line."""
+        if self.shown:
+            self.update(*self.counts, force=True)
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+def _duration(s: float) -> str:
+    if s < 90:
+        return f"{s:.0f} s"
+    if s < 5400:
+        return f"{s / 60:.0f} min"
+    return f"{s / 3600:.1f} h"
+
+
+def _row(plan: Plan, point, res: PointResult) -> Row:
+    return Row(point.index, plan.parameter_row(point.values), tuple(res.values), res.status,
+               res.message, float(res.solve_time), float(res.cpu_time), point.key)
+
+
+def run_plan(plan: Plan, *, scheduler=None, workers: int | None = None,
+             folder: Path | None = None, keep_results: bool = False,
+             retry_failed: bool = False, progress: bool = False, plots: bool = True,
+             log=None) -> StudyTable:
+    """Run the points of ``plan`` not already done; return the whole table.
+
+    Parameters
+    ----------
+    plan : Plan
+    scheduler : str, distributed.Client or None
+        See :func:`flexbed.study.engine.cluster_client`.
+    workers : int, optional
+        Local cluster size (default one per core).
+    folder : Path, optional
+        Output folder: ``table.csv``, ``table.h5``, ``plots/``,
+        ``results/`` (None: nothing written, nothing resumed).
+    keep_results : bool
+        Write each point's results file(s) into ``folder/results``.
+    retry_failed : bool
+        Run again the points that failed in a previous run.
+    progress : bool
+        Progress bar on stderr.
+    plots : bool
+        Write the plots at the end.
+    log : callable(str), optional
+        One-line notes (points skipped, tables ignored).
+    """
+    log = log or (lambda msg: None)
+    done = read_done(folder, plan, log) if folder is not None else {}
+    rows: dict[int, Row] = {}
+    todo: dict[str, list] = {}
+    for p in plan.points:
+        prev = done.get(p.key)
+        if prev is not None and (prev[0] == "ok" or not retry_failed):
+            rows[p.index] = _row(plan, p, PointResult(*prev))
+        else:
+            todo.setdefault(p.key, []).append(p)
+    if rows:
+        log(f"{len(rows)} of {len(plan.points)} points already done in {folder / 'table.h5'}; "
+            f"skipped")
+    bar = StudyProgress(len(plan.points), len(rows), progress)
+    last_write = [-float("inf")]
+
+    def save(complete: bool, force: bool = True) -> StudyTable | None:
+        now = time.perf_counter()
+        if not force and (folder is None or now - last_write[0] < WRITE_EVERY):
+            return None
+        table = build_table(plan, rows, complete, folder)
+        if folder is not None:
+            write_table(table, plan, folder)
+            last_write[0] = now
+        return table
+
+    try:
+        if todo:
+            _run(plan, todo, rows, scheduler, workers, folder if keep_results else None,
+                 bar, lambda: save(False, force=False))
+    except KeyboardInterrupt:
+        bar.close()
+        save(False)
+        raise
+    bar.close()
+    table = save(len(rows) == len(plan.points))
+    if plots and folder is not None and len(table):
+        from flexbed.study.plots import plot_study
+        plot_study(table, folder / "plots")
+    return table
+
+
+def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint) -> None:
+    from distributed import as_completed
+
+    from flexbed.study.engine import cluster_client
+
+    with cluster_client(scheduler, workers, warm_scene=plan.base) as client:
+        modes = {}
+        for pts in todo.values():
+            p = pts[0]
+            if p.modes_key is not None and p.modes_key not in modes:
+                modes[p.modes_key] = client.submit(bed_modes, modes_scene(p.scene),
+                                                   key=f"flexbed-modes-{p.modes_key}")
+        # one graph for all the points (a submission each would cost the
+        # scheduler several times the CPU per task)
+        setup = pack((plan.analyses, plan.metrics, keep_folder is not None))
+        firsts = [pts[0] for pts in todo.values()]
+        names = [f"flexbed-point-{key[:24]}-{plan.signature}" for key in todo]
+        futures = client.map(run_packed, [pack(p.scene) for p in firsts],
+                             [setup] * len(firsts), [modes.get(p.modes_key) for p in firsts],
+                             key=names, retries=1)
+        owner = dict(zip(names, todo))
+        failed = sum(r.status != "ok" for r in rows.values())
+        bar.update(len(rows), failed, force=True)
+        try:
+            for fut in as_completed(futures):
+                try:
+                    res = fut.result()
+                except Exception as exc:                # every try lost, or cancelled
+                    text = str(exc).splitlines()[0] if str(exc) else ""
+                    res = PointResult("failed", f"{type(exc).__name__}: {text}".rstrip(": "),
+                                      (float("nan"),) * len(plan.metric_columns),
+                                      float("nan"), float("nan"))
+                fut.release()
+                for p in todo[owner[fut.key]]:
+                    rows[p.index] = _row(plan, p, res)
+                    if keep_folder is not None and res.files:
+                        _keep(keep_folder, p.index, res.files)
+                    failed += res.status != "ok"
+                bar.update(len(rows), failed)
+                checkpoint()
+        except KeyboardInterrupt:
+            client.cancel(futures + list(modes.values()))
+            raise
+
+
+def _keep(folder: Path, index: int, files: dict) -> None:
+    from flexbed.files.results import write_results_contents
+    for suffix, contents in files.items():
+        write_results_contents(folder / "results" / f"point-{index:04d}-{suffix}.h5", *contents)

@@ -1,0 +1,361 @@
+"""Design studies on Dask (issue 15): a real scheduler and two worker
+processes run a study through ``--scheduler`` and every metric equals the
+one of a single in-process statics / simulate of the same scene, bit for
+bit; the local cluster by default; a failing point; resumption; an
+interrupted study keeps its finished rows; a study is refused, with the
+path or metric named, before anything runs.
+
+Studies are tiny: the reference scene (rigid bed) over 0.05 s."""
+
+from __future__ import annotations
+
+import csv
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import flexbed
+from flexbed.cli import main
+from flexbed.errors import InputError
+from flexbed.files.store import read_file
+from flexbed.study.plan import make_plan
+from flexbed.study.samplers import latin_hypercube, points
+from flexbed.study.spec import parse_study
+
+T_END = 0.05
+
+METRICS = """
+[[metric]]
+kind = "peak_displacement"
+point = "A top"
+
+[[metric]]
+kind = "peak_acceleration"
+body = "equipment B"
+position = [0.1, 0.0, 0.15]
+direction = "z"
+
+[[metric]]
+kind = "peak_mount_force"
+mounts = ["M5", "M12"]
+
+[[metric]]
+kind = "peak_mount_deflection"
+mounts = ["M1"]
+axis = 3
+
+[[metric]]
+kind = "static_deflection"
+mounts = ["M1", "M9"]
+axis = 3
+
+[[metric]]
+kind = "max_static_deflection"
+"""
+
+
+def study_file(folder: Path, body: str, t_end: float = T_END, metrics: str = METRICS,
+               name: str = "study.toml") -> Path:
+    path = folder / name
+    path.write_text(f'[study]\nname = "test"\n{body}\n[study.set]\n"solver.t_end" = {t_end}\n'
+                    f'{metrics}', encoding="utf-8")
+    return path
+
+
+GRID = """sampling = "grid"
+
+[[parameter]]
+path = "mount.M5.k"
+values = [[1.0e5, 1.0e5, 1.0e5], [2.0e5, 2.0e5, 1.5e5]]
+
+[[parameter]]
+path = "bed.thickness"
+values = [0.1, 0.12]
+"""
+
+
+def expected(values: dict) -> dict:
+    """The metrics from a single in-process statics and simulate of the
+    point's scene, computed here from the runs' arrays."""
+    scene = flexbed.vary(flexbed.load_scene(), {"solver.t_end": T_END, **values})
+    st = flexbed.statics(scene)
+    run = flexbed.simulate(scene)
+    a = run.point("equipment A", [0.0, 0.0, 0.15], relative_to="bed")
+    b = run.point("equipment B", [0.1, 0.0, 0.15])
+    dx = run.mount_deflection[0]                  # the run starts at the equilibrium
+    np.testing.assert_array_equal(dx, st.system.observe(0.0, st.equilibrium.y).dx)
+    names = run.mount_names
+    return {
+        "peak_displacement.A top@bed": np.linalg.norm(a.position - a.position[0], axis=1).max(),
+        "peak_acceleration.equipment B (0.1 0 0.15).z": np.abs(b.acceleration[:, 2]).max(),
+        "peak_mount_force.M5": np.linalg.norm(run.mount_force[:, names.index("M5")], axis=1).max(),
+        "peak_mount_force.M12": np.linalg.norm(run.mount_force[:, names.index("M12")],
+                                               axis=1).max(),
+        "peak_mount_deflection.M1.axis3": np.abs(run.mount_deflection[:, 0, 2]).max(),
+        "static_deflection.M1.axis3": dx[0, 2],
+        "static_deflection.M9.axis3": dx[names.index("M9"), 2],
+        "max_static_deflection": np.linalg.norm(dx, axis=1).max(),
+    }
+
+
+def table_columns(folder: Path) -> tuple[dict, dict]:
+    c = read_file(folder / "table.h5", schema="flexbed.study", major=1)
+    cols = {k[len("table/"):]: np.atleast_1d(v) for k, v in c.datasets.items()}
+    return cols, c.attrs[""]
+
+
+# ------------------------------------------------------------------ a real cluster
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def scheduler(tmp_path_factory):
+    """``dask scheduler`` and two ``dask worker`` processes on localhost."""
+    from distributed import Client
+
+    where = tmp_path_factory.mktemp("cluster")
+    dask = str(Path(sys.executable).parent / "dask")
+    address = f"tcp://127.0.0.1:{_free_port()}"
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "FLEXBED_THREADS": "1"}
+    log = open(where / "cluster.log", "w")
+    procs = [subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port",
+                               address.rsplit(":", 1)[1], "--no-dashboard"],
+                              cwd=where, env=env, stdout=log, stderr=log,
+                              start_new_session=True)]
+    try:
+        for i in range(2):
+            procs.append(subprocess.Popen([dask, "worker", address, "--nthreads", "1",
+                                           "--no-dashboard", "--name", f"w{i}",
+                                           "--local-directory", str(where)],
+                                          cwd=where, env=env, stdout=log, stderr=log,
+                                          start_new_session=True))
+        with Client(address, timeout="60s") as client:
+            client.wait_for_workers(2, timeout=120)
+        yield address
+        with Client(address, timeout="20s") as client:
+            client.shutdown()                 # the scheduler and its workers, at once
+    finally:
+        deadline = time.monotonic() + 3.0
+        for p in procs:              # each its own process group: the worker and its nanny
+            try:
+                p.wait(timeout=max(0.1, deadline - time.monotonic()))
+            except subprocess.TimeoutExpired:
+                os.killpg(p.pid, signal.SIGKILL)
+                p.wait(timeout=20)
+        log.close()
+
+
+def test_a_study_on_a_scheduler_and_two_workers_equals_single_runs(tmp_path, scheduler,
+                                                                    capsys):
+    study = study_file(tmp_path, GRID)
+    out = tmp_path / "out"
+    assert main(["sweep", str(study), "--scheduler", scheduler, "-o", str(out),
+                 "--no-progress", "--no-plots"]) == 0
+    assert "4 points" in capsys.readouterr().out
+    cols, attrs = table_columns(out)
+    assert attrs["complete"] and attrs["points_done"] == 4
+    assert list(cols["point"]) == [0, 1, 2, 3]
+    assert list(cols["status"]) == ["ok"] * 4
+    assert list(cols["bed.thickness"]) == [0.1, 0.12, 0.1, 0.12]
+    assert list(cols["mount.M5.k[2]"]) == [1e5, 1e5, 1.5e5, 1.5e5]
+    for i in range(4):
+        values = {"mount.M5.k": [cols[f"mount.M5.k[{j}]"][i] for j in range(3)],
+                  "bed.thickness": cols["bed.thickness"][i]}
+        for name, value in expected(values).items():
+            assert cols[name][i] == value, (i, name)          # exactly
+        assert cols["scene_hash"][i] == flexbed.vary(
+            flexbed.load_scene(), {"solver.t_end": T_END, **values}).digest
+    # the CSV holds the same numbers, exactly
+    with open(out / "table.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    for name in ("peak_mount_force.M5 [N]", "static_deflection.M1.axis3 [m]"):
+        assert [float(r[name]) for r in rows] == list(cols[name.split(" [")[0]])
+
+
+def test_an_interrupted_study_keeps_its_finished_rows(tmp_path, scheduler):
+    """SIGINT (Ctrl-C) to a running ``flexbed sweep``: exit 130, every row
+    finished so far written, the table marked incomplete."""
+    body = """sampling = "grid"
+
+[[parameter]]
+path = "bed.thickness"
+from = 0.08
+to = 0.14
+num = 60
+"""
+    study = study_file(tmp_path, body, t_end=0.5, metrics='[[metric]]\nkind = "peak_mount_force"'
+                       '\nmounts = ["M5"]\n')
+    out = tmp_path / "out"
+    p = subprocess.Popen([sys.executable, "-m", "flexbed.cli", "sweep", str(study),
+                          "--scheduler", scheduler, "-o", str(out), "--no-plots"],
+                         cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    csv = out / "table.csv"
+    deadline = time.monotonic() + 120
+    seen = 0
+    while time.monotonic() < deadline and p.poll() is None:
+        if csv.exists():
+            seen = len(csv.read_text().splitlines()) - 1
+            if seen >= 1:
+                break
+        time.sleep(0.02)
+    assert seen >= 1, p.communicate()
+    p.send_signal(signal.SIGINT)
+    out_text, err = p.communicate(timeout=120)
+    assert p.returncode == 130, (seen, out_text, err)
+    assert "flexbed sweep: interrupted" in err
+    cols, attrs = table_columns(out)
+    assert not attrs["complete"]
+    assert seen <= attrs["points_done"] < 60
+    assert set(cols["status"]) == {"ok"}
+    assert np.all(np.isfinite(cols["peak_mount_force.M5"]))
+
+
+# ------------------------------------------------------------ an in-process cluster
+@pytest.fixture(scope="module")
+def client():
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                      dashboard_address=":0") as cluster, Client(cluster) as c:
+        yield c
+
+
+def test_a_failing_point_keeps_its_message_and_the_study_goes_on(tmp_path, client):
+    body = """sampling = "list"
+
+[[point]]
+"solver.static_tol" = 1.0e-6
+
+[[point]]
+"solver.static_tol" = 1.0e-30
+"""
+    table = flexbed.sweep(study_file(tmp_path, body), client, output=tmp_path / "out",
+                          plots=False)
+    assert table.complete and len(table) == 2
+    assert list(table["status"]) == ["ok", "failed"]
+    assert table["message"][0] == ""
+    assert table["message"][1].startswith("lee1999.toml: no static equilibrium after 50 "
+                                          "Newton–Raphson iterations")
+    assert "\n" not in table["message"][1]
+    assert np.isnan(table["max_static_deflection"][1])
+    assert table["max_static_deflection"][0] == expected({})["max_static_deflection"]
+    cols, _ = table_columns(tmp_path / "out")
+    assert list(cols["status"]) == ["ok", "failed"]
+
+
+def test_a_rerun_skips_the_points_done(tmp_path, client):
+    body = """sampling = "zip"
+
+[[parameter]]
+path = "bed.thickness"
+values = [0.1, 0.12]
+
+[[parameter]]
+path = "mount.M9.k"
+values = [[1.0e5, 1.0e5, 1.0e5], [2.0e5, 2.0e5, 2.0e5]]
+"""
+    out = tmp_path / "out"
+    first = flexbed.sweep(study_file(tmp_path, body), client, output=out, plots=False)
+    assert first.complete and list(first["status"]) == ["ok", "ok"]
+    # one more point: the two done are read back (their solve times are
+    # those recorded, not new ones), the new one runs
+    more = body.replace("[0.1, 0.12]", "[0.1, 0.12, 0.09]").replace(
+        "[2.0e5, 2.0e5, 2.0e5]]", "[2.0e5, 2.0e5, 2.0e5], [3.0e5, 3.0e5, 3.0e5]]")
+    second = flexbed.sweep(study_file(tmp_path, more), client, output=out, plots=False)
+    assert second.complete and len(second) == 3
+    np.testing.assert_array_equal(second["solve_time"][:2], first["solve_time"])
+    np.testing.assert_array_equal(second["scene_hash"][:2], first["scene_hash"])
+    assert second["scene_hash"][2] not in first["scene_hash"]
+    assert second["peak_mount_force.M5"][2] == expected(
+        {"bed.thickness": 0.09, "mount.M9.k": [3e5, 3e5, 3e5]})["peak_mount_force.M5"]
+
+
+def test_the_local_cluster_is_the_default(tmp_path, capsys):
+    """No --scheduler: a local cluster of processes, one per core, started
+    and stopped by the command; plots of each metric against the varied
+    parameter."""
+    body = """sampling = "grid"
+
+[[parameter]]
+path = "bed.thickness"
+values = [0.1, 0.12]
+"""
+    study = study_file(tmp_path, body, metrics='[[metric]]\nkind = "max_static_deflection"\n')
+    out = tmp_path / "out"
+    assert main(["sweep", str(study), "-o", str(out), "--no-progress"]) == 0
+    cols, attrs = table_columns(out)
+    assert attrs["complete"] and list(cols["status"]) == ["ok", "ok"]
+    assert cols["max_static_deflection"][1] == expected(
+        {"bed.thickness": 0.12})["max_static_deflection"]
+    assert (out / "plots" / "max_static_deflection--bed.thickness.png").stat().st_size > 0
+
+
+# --------------------------------------------------- refused before anything runs
+@pytest.mark.parametrize("body, metrics, message", [
+    ('sampling = "grid"\n[[parameter]]\npath = "mount.M55.k"\nvalues = [[1.0, 1.0, 1.0]]\n',
+     METRICS, "parameter 'mount.M55.k': variant path 'mount.M55.k': no entry named 'M55'"),
+    ('sampling = "grid"\n[[parameter]]\npath = "bed.thickness"\nvalues = [0.1, -0.1]\n',
+     METRICS, "point 1 (bed.thickness = -0.1)"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "peak_stress"\n',
+     "metric 1: unknown kind 'peak_stress'"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "peak_mount_force"\nmounts = ["M13"]\n',
+     "metric 1 (peak_mount_force): mount 'M13' is not a mount of the scene"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "peak_displacement"\npoint = "C top"\n',
+     "point = 'C top' is not a [[point]] of the scene"),
+    ('sampling = "lhs"\nsamples = 0\n', METRICS, "samples = 0 must be an integer >= 1"),
+])
+def test_a_study_is_refused_with_the_entry_named(tmp_path, capsys, body, metrics, message):
+    study = study_file(tmp_path, body, metrics=metrics)
+    out = tmp_path / "out"
+    assert main(["sweep", str(study), "-o", str(out), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("flexbed sweep: study.toml: ") and message in err, err
+    assert err.count("\n") == 1
+    assert not out.exists()
+
+
+# ------------------------------------------------------------------------ samplers
+def test_samplers():
+    def study(body):
+        return parse_study(f"[study]\n{body}\n[[metric]]\nkind = \"max_static_deflection\"\n",
+                           Path("s.toml"))
+    grid = points(study('sampling = "grid"\n[[parameter]]\npath = "a"\nfrom = 1.0\nto = 100.0\n'
+                        'num = 3\nscale = "log"\n[[parameter]]\npath = "b"\nvalues = ["x", "y"]'))
+    assert [(p["a"], p["b"]) for p in grid] == [(1.0, "x"), (1.0, "y"), (10.0, "x"),
+                                               (10.0, "y"), (100.0, "x"), (100.0, "y")]
+    z = points(study('sampling = "zip"\n[[parameter]]\npath = "k"\nfrom = [1.0, 2.0]\n'
+                     'to = [3.0, 6.0]\nnum = 3\n[[parameter]]\npath = "b"\nvalues = [7, 8, 9]'))
+    assert z == [{"k": [1.0, 2.0], "b": 7}, {"k": [2.0, 4.0], "b": 8},
+                 {"k": [3.0, 6.0], "b": 9}]
+    # Latin hypercube: one sample in each of the n strata of every parameter
+    u = latin_hypercube(50, 3, seed=7)
+    for j in range(3):
+        assert sorted(np.floor(u[:, j] * 50).astype(int)) == list(range(50))
+    np.testing.assert_array_equal(u, latin_hypercube(50, 3, seed=7))
+    assert not np.array_equal(u, latin_hypercube(50, 3, seed=8))
+    lhs = points(study('sampling = "lhs"\nsamples = 5\nseed = 3\n[[parameter]]\npath = "t"\n'
+                       'low = 0.1\nhigh = 0.2'))
+    assert sorted(int((p["t"] - 0.1) / 0.02) for p in lhs) == [0, 1, 2, 3, 4]
+    with pytest.raises(InputError, match="counts differ: a 2, b 3"):
+        study('sampling = "zip"\n[[parameter]]\npath = "a"\nvalues = [1, 2]\n'
+              '[[parameter]]\npath = "b"\nvalues = [1, 2, 3]')
+
+
+def test_identical_points_are_one_computation(tmp_path):
+    plan = make_plan(parse_study(
+        '[study]\nsampling = "list"\n[[point]]\n"bed.thickness" = 0.1\n[[point]]\n'
+        '"bed.thickness" = 0.12\n[[point]]\n"bed.thickness" = 0.1\n'
+        '[[metric]]\nkind = "max_static_deflection"\n', tmp_path / "s.toml"))
+    keys = [p.key for p in plan.points]
+    assert keys[0] == keys[2] != keys[1]
+    assert plan.analyses == ("static",)
