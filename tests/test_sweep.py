@@ -244,8 +244,7 @@ def test_a_failing_point_keeps_its_message_and_the_study_goes_on(tmp_path, clien
     assert table.complete and len(table) == 2
     assert list(table["status"]) == ["ok", "failed"]
     assert table["message"][0] == ""
-    assert table["message"][1].startswith("lee1999.toml: no static equilibrium after 50 "
-                                          "Newton–Raphson iterations")
+    assert table["message"][1].startswith("lee1999.toml: no static equilibrium")
     assert "\n" not in table["message"][1]
     assert np.isnan(table["max_static_deflection"][1])
     assert table["max_static_deflection"][0] == expected({})["max_static_deflection"]

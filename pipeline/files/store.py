@@ -55,12 +55,17 @@ class Dataset:
         One line saying what it is (stored as the ``description`` attribute).
     attrs : mapping, optional
         Further attributes of the dataset.
+    missing : bool
+        NaN marks a missing value here (a study's metric at a point that
+        failed); it is allowed and recorded as the attribute
+        ``missing_value = "nan"``. ±inf is refused all the same.
     """
 
     data: Any
     units: str
     description: str = ""
     attrs: Mapping[str, Any] | None = None
+    missing: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -116,10 +121,13 @@ def write_file(path: str | os.PathLike, *, schema: str, version: str,
     for name, ds in datasets.items():
         if not isinstance(ds.data, str):
             arr = np.asarray(ds.data)
-            if arr.dtype.kind in "fc" and not np.all(np.isfinite(arr)):
-                bad = np.argwhere(~np.isfinite(arr))[0]
+            finite = np.isfinite(arr) if arr.dtype.kind in "fc" else True
+            if ds.missing and arr.dtype.kind in "fc":
+                finite = finite | np.isnan(arr)
+            if not np.all(finite):
+                bad = np.argwhere(~finite)[0]
                 raise NumericalError(f"{path}: not written: dataset '{name}' holds "
-                                     f"{int(np.sum(~np.isfinite(arr)))} non-finite values "
+                                     f"{int(np.sum(~finite))} non-finite values "
                                      f"(first at index {tuple(int(i) for i in bad)}; a "
                                      f"floating-point overflow or a diverging solution)")
 
@@ -152,6 +160,8 @@ def write_file(path: str | os.PathLike, *, schema: str, version: str,
             d.attrs["units"] = ds.units
             if ds.description:
                 d.attrs["description"] = ds.description
+            if ds.missing:
+                d.attrs["missing_value"] = "nan"
             for key, value in (ds.attrs or {}).items():
                 d.attrs[key] = value
         for group, values in (attrs or {}).items():
