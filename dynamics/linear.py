@@ -17,20 +17,28 @@ Along the linear solution the nonlinear model leaves the defect
 ``d(t) = f(z(t), t) − (A z + b0 + B Δu)``. The nonlinear solution differs
 from the linear one by ``e`` with ``ė = A e + d + O(e²)``; ``e`` is
 propagated exactly with ``d`` piecewise linear. ``d`` is evaluated (the
-right-hand side in one compiled batch) on every m-th output sample, m ≤ 16
-the largest for which straight lines between those samples follow the
-linear solution's point displacements to 1e-3 of their largest value (the
-defect, quadratic in the motion, to a few 1e-3), and interpolated linearly
-in between. The largest error it implies in the position of a point that
+right-hand side in one compiled batch) on every m-th output sample (the
+nodes), m ≤ 16 the largest for which straight lines between those samples
+follow the linear solution's point displacements to 1e-3 of their largest
+value (the defect, quadratic in the motion, to a few 1e-3), and taken as
+linear in between; one compiled scan of the point displacements gives
+that choice and the largest motion. ``e`` is then propagated from node to
+node with the propagators of the stride (the short last interval its
+own), in one compiled pass that also takes the defect from the nonlinear
+rates and the largest errors; on every sample only when asked for
+(:attr:`ErrorEstimate.e`, e.g. for the first-order correction): the
+defect between the nodes is linear, so the nodes' values are the same. The
+largest error it implies at the nodes in the position of a point that
 matters (the centres of mass of bodies 2… and both ends of every mount on
 them, rotations and modes included with their lever arms) is the reported
-estimate [m]; it is a first-order (Newton) estimate, reliable while ``e``
-is small against the motion, which :attr:`ErrorEstimate.reliable` checks.
+estimate [m] (the nodes resolve the motion to 1e-3, so the largest over
+every sample is at most a few 1e-3 above it); it is a first-order (Newton)
+estimate, reliable while ``e`` is small against the motion, which
+:attr:`ErrorEstimate.reliable` checks.
 
 The energy quadratures of the state (works of mounts, loads, drive and
 structural damping) are integrated by the trapezoidal rule from the powers
-at the samples where the defect is evaluated, interpolated linearly in
-between.
+at the nodes, interpolated linearly in between.
 """
 
 from __future__ import annotations
@@ -45,7 +53,7 @@ from scipy.linalg import expm
 from .integrate import Run, Settings, Stats
 from .linear_model import Coordinates, Linearisation, linearise
 from .linear_propagation import _lengths, propagate
-from .steppers.propagate import linear_sweep
+from .steppers.propagate import defect_sweep, linear_sweep, point_scan
 from .system import System
 
 __all__ = ["Coordinates", "Linearisation", "LinearRun", "linearise", "propagate",
@@ -56,23 +64,38 @@ __all__ = ["Coordinates", "Linearisation", "LinearRun", "linearise", "propagate"
 class ErrorEstimate:
     """First-order estimate of the linear model's error against the nonlinear one.
 
-    position : float [m], the largest error |δP| of a point that matters:
-    the centres of mass of bodies 2… and both ends of every mount on them
-    (so that rotations and, on a flexible bed, the modes count with their
-    lever arms); rotation : float [rad], the largest rotation error;
+    position : float [m], the largest error |δP| of a point that matters
+    (the centres of mass of bodies 2… and both ends of every mount on
+    them, so that rotations and, on a flexible bed, the modes count with
+    their lever arms) over the samples where the defect is evaluated;
+    rotation : float [rad], the largest rotation error there;
     motion : float [m], the largest displacement of those points in the
-    linear solution from the equilibrium; e : (k, nz);
+    linear solution from the equilibrium, over every sample;
     reliable : bool, ``position <= 0.1 × motion`` (or both tiny);
-    evaluations : right-hand sides it took.
+    evaluations : right-hand sides it took; powers : (k, 4) [W] at every
+    sample; nodes : (n,) int, the samples where the defect is evaluated;
+    e_nodes : (n, nz), the error there. :attr:`e` gives it on every sample
+    (k, nz), computed when first asked for.
     """
 
     position: float
     rotation: float
     motion: float
-    e: np.ndarray
     reliable: bool
     evaluations: int
     powers: np.ndarray = field(repr=False, default=None)
+    nodes: np.ndarray = field(repr=False, default=None)
+    e_nodes: np.ndarray = field(repr=False, default=None)
+    _every_sample: object = field(repr=False, default=None)
+    _e: np.ndarray = field(repr=False, default=None)
+
+    @property
+    def e(self) -> np.ndarray:
+        """The error e (k, nz) on every sample: the defect interpolated
+        linearly between its nodes and propagated sample by sample."""
+        if self._e is None:
+            self._e = self._every_sample()
+        return self._e
 
 
 def _point_map(system: System, coords: Coordinates) -> np.ndarray:
@@ -139,33 +162,86 @@ def _interpolate(t: np.ndarray, nodes: np.ndarray, values: np.ndarray) -> np.nda
     return values[j] * (1.0 - w) + values[j + 1] * w
 
 
-def _defect_nodes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
-    """The samples where the defect is evaluated: every m-th (and the last),
-    m the largest of :data:`_STRIDES` whose straight lines between them
-    miss the point displacements d (k, 3P) at the midway samples by at most
-    :data:`_DEFECT_SHARE` of their largest value; else every sample."""
+def _defect_nodes(t: np.ndarray, dP: np.ndarray) -> tuple[np.ndarray, float]:
+    """The samples where the defect is evaluated, and the largest |δP| [m].
+
+    Every m-th sample (and the last), m the largest of :data:`_STRIDES`
+    whose straight lines between them miss the point displacements dP
+    (k, 3P) at the midway samples by at most :data:`_DEFECT_SHARE` of their
+    largest value; else every sample. One compiled pass
+    (:func:`flexbed.dynamics.steppers.propagate.point_scan`)."""
     k = t.size
-    scale = float(np.max(np.abs(d - d[0]))) if d.size else 0.0
-    for m in _STRIDES:
+    strides = np.array(_STRIDES, dtype=np.int64)
+    misses = np.empty(strides.size)
+    motion, scale = point_scan(t, np.ascontiguousarray(dP), strides, misses)
+    for m, miss in zip(_STRIDES, misses):
         nodes = np.arange(0, k, m)
         if nodes[-1] != k - 1:
             nodes = np.append(nodes, k - 1)
         if nodes.size < 3 or nodes.size == k:
             continue
-        a, b = nodes[:-1], nodes[1:]
-        mid = (a + b) // 2
-        w = ((t[mid] - t[a]) / (t[b] - t[a]))[:, None]
-        miss = d[mid] - (d[a] * (1.0 - w) + d[b] * w)
-        if np.max(np.abs(miss)) <= _DEFECT_SHARE * scale:
-            return nodes
-    return np.arange(k)
+        if miss <= _DEFECT_SHARE * scale:
+            return nodes, motion
+    return np.arange(k), motion
 
 
-def _largest(d: np.ndarray) -> float:
-    """Largest |δP| [m] of point displacements d (k, 3P)."""
-    if not d.size:
-        return 0.0
-    return float(np.sqrt(np.max(np.sum(d.reshape(d.shape[0], -1, 3) ** 2, axis=2))))
+#: the Taylor series of the propagators are summed over L / 2^s with ‖A‖ L / 2^s at most this ...
+_TAYLOR_NORM = 0.5
+#: ... to this many terms (the next is below 1e-17 of the first)
+_TAYLOR_TERMS = 15
+
+
+def defect_propagators(A: np.ndarray, lengths: np.ndarray) -> tuple:
+    """Φ, P0, P1 (m, nz, nz) of ė = A e + d over each length L (m,) [s],
+    d rising linearly from d0 to d1 on it: ``e(L) = Φ e(0) + P0 d0 + P1
+    (d1 − d0)``, i.e. the blocks of Van Loan's exponential. Scaling and
+    squaring on the nz × nz blocks: the Taylor series over h = L / 2^s,
+    ‖hA‖₁ ≤ 1/2 (to (hA)^16), Φ = Σ (hA)^k/k!, P0 = h Σ (hA)^k/(k + 1)!,
+    P1 = h Σ (hA)^k/(k + 2)!, then s exact doublings
+    Φ ← Φ², P0 ← (Φ + 1) P0, P1 ← (Φ P1 + P0 + P1)/2."""
+    nz = A.shape[0]
+    norm = float(np.linalg.norm(A, 1))
+    Phis = np.empty((lengths.size, nz, nz))
+    P0s, P1s = np.empty_like(Phis), np.empty_like(Phis)
+    eye = np.eye(nz)
+    for i, L in enumerate(lengths):
+        x = norm * L
+        s = max(0, math.ceil(math.log2(x / _TAYLOR_NORM))) if x > _TAYLOR_NORM else 0
+        h = L / 2.0 ** s
+        X = h * A
+        powers = [eye, X]
+        for _ in range(_TAYLOR_TERMS):
+            powers.append(powers[-1] @ X)
+        Phi, P0, P1 = (np.zeros((nz, nz)) for _ in range(3))
+        for k in range(len(powers) - 1, -1, -1):       # the smallest terms first
+            Phi += powers[k] / math.factorial(k)
+            P0 += powers[k] / math.factorial(k + 1)
+            P1 += powers[k] / math.factorial(k + 2)
+        P0 *= h
+        P1 *= h
+        for _ in range(s):
+            P1 = 0.5 * (Phi @ P1 + P0 + P1)
+            P0 = P0 + Phi @ P0
+            Phi = Phi @ Phi
+        Phis[i], P0s[i], P1s[i] = Phi, P0, P1
+    return Phis, P0s, P1s
+
+
+def _error_on_every_sample(A: np.ndarray, t: np.ndarray, nodes: np.ndarray,
+                           D: np.ndarray) -> np.ndarray:
+    """e (k, nz) on every sample: the defect D (n, nz) at the nodes
+    interpolated linearly and propagated sample by sample from e(0) = 0."""
+    Dk = _interpolate(t, nodes, D)
+    lengths, which = _lengths(np.diff(t))
+    Phis, P0s, P1s = defect_propagators(A, lengths)
+    nz = A.shape[0]
+    Q = np.empty((t.size - 1, nz))
+    for i in range(lengths.size):
+        sel = np.flatnonzero(which == i)
+        Q[sel] = Dk[sel] @ P0s[i].T + (Dk[sel + 1] - Dk[sel]) @ P1s[i].T
+    E = np.empty((t.size, nz))
+    linear_sweep(Phis, which, Q, np.zeros(nz), E)
+    return E
 
 
 def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
@@ -176,39 +252,26 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
     coords = lin.coords
     nfev0 = system.nfev
     lay = system.layout
-    to_points = _point_map(system, coords)
-    T = to_points.reshape(-1, coords.nz)                                  # (3P, nz)
-    dZ = Z @ T.T
-    every = _defect_nodes(t, dZ)
-    Zc = Z[every]
-    system.set_segment(None)
-    dY, _ = system.rhs_batch(t[every], coords.to_y(Zc))
-    Dc = coords.rate(dY) - (Zc @ lin.A.T + lin.b0 + lin.inputs(t[every]) @ lin.B.T)
-    D = _interpolate(t, every, Dc)
-    powers = _interpolate(t, every, dY[:, lay.work])
-    # ė = A e + d, d linear between samples: Φ, P0, P1 per distinct interval
-    lengths, which = _lengths(np.diff(t))
     nz = coords.nz
-    Phis = np.empty((lengths.size, nz, nz))
-    P0s, P1s = np.empty_like(Phis), np.empty_like(Phis)
-    for i, h in enumerate(lengths):
-        M = np.zeros((3 * nz, 3 * nz))
-        M[:nz, :nz] = h * lin.A
-        M[:nz, nz:2 * nz] = h * np.eye(nz)
-        M[nz:2 * nz, 2 * nz:] = np.eye(nz)
-        X = expm(M)
-        Phis[i], P0s[i], P1s[i] = X[:nz, :nz], X[:nz, nz:2 * nz], X[:nz, 2 * nz:]
-    Q = np.empty((t.size - 1, nz))
-    for i in range(lengths.size):
-        sel = np.flatnonzero(which == i)
-        Q[sel] = D[sel] @ P0s[i].T + (D[sel + 1] - D[sel]) @ P1s[i].T
-    E = np.empty_like(Z)
-    linear_sweep(Phis, which, Q, np.zeros(nz), E)
-    pos = _largest(E @ T.T)
-    rot = float(np.max(np.abs(E[:, coords.th_index]))) if coords.n_rigid else 0.0
-    motion = _largest(dZ)
+    T = _point_map(system, coords).reshape(-1, nz)                      # (3P, nz)
+    nodes, motion = _defect_nodes(t, Z @ T.T)
+    Zn = Z[nodes]
+    tn = t[nodes]
+    system.set_segment(None)
+    dY, _ = system.rhs_batch(tn, coords.to_y(Zn))
+    R = coords.rate(dY) - lin.b0 - lin.inputs(tn) @ lin.B.T
+    powers = _interpolate(t, nodes, dY[:, lay.work])
+    # ė = A e + d, d linear between the nodes: Φ, P0, P1 per distinct interval
+    lengths, which = _lengths(np.diff(tn))
+    Phis, P0s, P1s = defect_propagators(lin.A, lengths)
+    A = np.ascontiguousarray(lin.A)
+    D = np.empty_like(Zn)
+    En = np.empty_like(Zn)
+    pos, rot = defect_sweep(R, Zn, A, Phis, P0s, P1s, which, T,
+                            coords.th_index.reshape(-1).astype(np.int64), D, En)
     reliable = pos <= 0.1 * motion or pos < 1e-12
-    return ErrorEstimate(pos, rot, motion, E, reliable, system.nfev - nfev0, powers)
+    return ErrorEstimate(pos, rot, motion, reliable, system.nfev - nfev0, powers, nodes, En,
+                         lambda: _error_on_every_sample(A, t, nodes, D))
 
 
 @dataclass(frozen=True)
@@ -265,8 +328,10 @@ def run_linear(system: System, y_eq: np.ndarray, y0: np.ndarray,
                    f"model does not apply")
         run = Run(t=np.zeros(1), y=y_start, complete=False, message=message, stats=stats,
                   settings=settings, t_reached=0.0)
-        est = ErrorEstimate(math.inf, math.inf, 0.0, np.zeros((1, lin.coords.nz)), False,
-                            0, np.zeros((1, system.layout.work.stop - system.layout.work.start)))
+        est = ErrorEstimate(math.inf, math.inf, 0.0, False, 0,
+                            np.zeros((1, system.layout.work.stop - system.layout.work.start)),
+                            np.zeros(1, dtype=np.int64), np.zeros((1, lin.coords.nz)),
+                            _e=np.zeros((1, lin.coords.nz)))
         return LinearRun(run, est, lin, w1 - w0, 0.0, 0.0, 0)
     z0 = lin.coords.to_z(np.asarray(y0, dtype=float))
     t, Z, pieces = propagate(lin, z0, settings.t_end, settings.output_dt)
