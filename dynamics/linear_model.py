@@ -106,10 +106,26 @@ class Coordinates:
         self.y_base_v = np.arange(lay.v_base.start, lay.v_base.stop)
         self.y_a = np.arange(lay.q_modal.start, lay.q_modal.stop)
         self.y_ad = np.arange(lay.v_modal.start, lay.v_modal.stop)
+        # (z index, y index) of the entries added to y_eq and of those put
+        # in place, for the compiled to_y of many rows
+        self._add = np.stack([np.concatenate([self.base_index, self.r_index.ravel(), self.a_index]),
+                              np.concatenate([self.y_base, self.y_r.ravel(), self.y_a])],
+                             axis=1).astype(np.int64)
+        self._put = np.stack([np.concatenate([self.base_v_index, self.v_index.ravel(),
+                                              self.w_index.ravel(), self.ad_index]),
+                              np.concatenate([self.y_base_v, self.y_rd.ravel(), self.y_w.ravel(),
+                                              self.y_ad])], axis=1).astype(np.int64)
 
     def to_y(self, z: np.ndarray) -> np.ndarray:
         """States for deviations z (..., nz) → (..., ny); work entries from y_eq."""
         z = np.asarray(z, dtype=float)
+        if z.ndim == 2 and z.shape[0] > 8:         # many rows: one compiled pass
+            from .steppers.propagate import deviations_to_states
+            y = np.empty((z.shape[0], self.y_eq.size))
+            deviations_to_states(np.ascontiguousarray(z), self.y_eq, self._add, self._put,
+                                 self.th_index.astype(np.int64), self.y_p.astype(np.int64),
+                                 self.p_eq, y)
+            return y
         y = np.broadcast_to(self.y_eq, z.shape[:-1] + self.y_eq.shape).copy()
         y[..., self.y_base] += z[..., self.base_index]
         y[..., self.y_base_v] = z[..., self.base_v_index]

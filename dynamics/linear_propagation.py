@@ -150,6 +150,8 @@ def _inputs_on_pieces(lin: Linearisation, t: np.ndarray, terms: list) -> np.ndar
 
 def _step_inputs(Psis: np.ndarray, which: np.ndarray, W: np.ndarray) -> np.ndarray:
     """P_i = Ψ_{which[i]} W_i (k, nz), one matrix product per distinct length."""
+    if Psis.shape[0] == 1:
+        return W @ Psis[0].T
     P = np.empty((W.shape[0], Psis.shape[1]))
     for i in range(Psis.shape[0]):
         sel = which == i
@@ -173,5 +175,7 @@ def propagate(lin: Linearisation, z0: np.ndarray, t_end: float,
     P = _step_inputs(Psis, which, _inputs_on_pieces(lin, t, terms))
     Z = np.empty((t.size, lin.A.shape[0]))
     linear_sweep(Phis, which, P, np.ascontiguousarray(z0, dtype=float), Z)
+    if t.size == grid.size:                  # no knot between the output samples
+        return grid, Z, int(t.size - 1)
     on_grid = np.searchsorted(t, grid)
     return grid, Z[on_grid], int(t.size - 1)

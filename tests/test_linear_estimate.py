@@ -101,3 +101,19 @@ def test_defect_sweep_on_the_nodes_equals_the_sweep_over_every_sample():
     dP = (E @ T.T).reshape(nodes.size, 3, 3)
     assert abs(pos - np.sqrt(np.max(np.sum(dP ** 2, axis=2)))) < 1e-13 * pos
     assert rot == np.max(np.abs(E[:, rot_index]))
+
+
+def test_compiled_states_of_many_deviations_equal_the_numpy_map():
+    from flexbed.dynamics.linear_model import Coordinates
+    from flexbed.dynamics.statics import solve_statics
+    from flexbed.files.scene import load_scene
+    from flexbed.stages.system import compile_scene
+
+    system = compile_scene(load_scene(None))
+    y_eq = solve_statics(system, tol=1e-9).y
+    c = Coordinates(system, y_eq)
+    Z = 1e-2 * np.random.default_rng(11).standard_normal((40, c.nz))
+    Y = c.to_y(Z)                                          # compiled: > 8 rows
+    ref = np.concatenate([c.to_y(Z[i:i + 4]) for i in range(0, 40, 4)])   # NumPy
+    assert np.max(np.abs(Y - ref)) < 1e-15 * np.max(np.abs(ref))
+    assert np.max(np.abs(c.to_z(Y) - Z)) < 1e-13

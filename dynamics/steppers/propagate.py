@@ -1,8 +1,9 @@
 """The linear fast path's compiled loops: the recursion
 x_{i+1} = Φ_{j(i)} x_i + p_i over every piece with precomputed propagators,
-the scan of the point displacements (largest motion, stride check) and the
+the scan of the point displacements (largest motion, stride check), the
 error estimate's sweep over the defect's nodes (see
-:mod:`flexbed.dynamics.linear`)."""
+:mod:`flexbed.dynamics.linear`) and the states of the linear model's
+deviations (:meth:`flexbed.dynamics.linear_model.Coordinates.to_y`)."""
 
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ import numba
 #: their meaning
 jit = numba.njit(cache=True, error_model="numpy", fastmath={"reassoc", "contract"})
 
-__all__ = ["linear_sweep", "point_scan", "defect_sweep"]
+__all__ = ["linear_sweep", "point_scan", "defect_sweep", "deviations_to_states"]
 
 
 @jit
@@ -171,3 +172,30 @@ def defect_sweep(R, Zn, A, Phis, P0s, P1s, which, T, rot_index, D, E):
             if v > rot:
                 rot = v
     return math.sqrt(pos2), rot
+
+
+@jit
+def deviations_to_states(Z, y_eq, add, put, th_index, p_index, p_eq, Y):
+    """States Y (k, ny) of deviations Z (k, nz) (see
+    :meth:`flexbed.dynamics.linear_model.Coordinates.to_y`): y_eq, plus
+    ``Z[:, add[:, 0]]`` at ``add[:, 1]``, ``Z[:, put[:, 0]]`` put at
+    ``put[:, 1]``, and each body's Euler parameters p_eq ⊗ (√(1 − |θ/2|²), θ/2),
+    θ at ``th_index`` (n, 3), written at ``p_index`` (n, 4)."""
+    k = Z.shape[0]
+    for i in range(k):
+        for j in range(y_eq.size):
+            Y[i, j] = y_eq[j]
+        for j in range(add.shape[0]):
+            Y[i, add[j, 1]] += Z[i, add[j, 0]]
+        for j in range(put.shape[0]):
+            Y[i, put[j, 1]] = Z[i, put[j, 0]]
+        for b in range(th_index.shape[0]):
+            s1 = 0.5 * Z[i, th_index[b, 0]]
+            s2 = 0.5 * Z[i, th_index[b, 1]]
+            s3 = 0.5 * Z[i, th_index[b, 2]]
+            s0 = math.sqrt(max(1.0 - (s1 * s1 + s2 * s2 + s3 * s3), 0.0))
+            a0, a1, a2, a3 = p_eq[b, 0], p_eq[b, 1], p_eq[b, 2], p_eq[b, 3]
+            Y[i, p_index[b, 0]] = a0 * s0 - a1 * s1 - a2 * s2 - a3 * s3
+            Y[i, p_index[b, 1]] = a0 * s1 + s0 * a1 + a2 * s3 - a3 * s2
+            Y[i, p_index[b, 2]] = a0 * s2 + s0 * a2 + a3 * s1 - a1 * s3
+            Y[i, p_index[b, 3]] = a0 * s3 + s0 * a3 + a1 * s2 - a2 * s1
