@@ -145,6 +145,16 @@ def find_modes_file(results: Path, bed: dict, modes_file=None):
                      f"--modes-file FILE (or re-run 'flexbed modes' and the simulation)")
 
 
+def _rigid_bed_centre(table: dict, path: Path) -> np.ndarray:
+    """Centre of mass (3,) [m] of a rigid bed from the scene's [bed] table
+    (zero for the plain rectangle; a mesh_file is looked for beside the run)."""
+    from flexbed.files.bed_section import read_bed
+    try:
+        return read_bed(table, f"{path}: scene [bed]", path.parent).mass_properties.centre
+    except InputError as exc:
+        raise InputError(f"{exc}; cannot place the points on the bed") from None
+
+
 class Run:
     """A run opened for post-processing: a results file, or its contents in
     memory (:class:`flexbed.files.store.Contents`), and the modes of a
@@ -177,7 +187,8 @@ class Run:
                        if f"mounts/{key}" in c.datasets}
         text = str(c.datasets.get("scene/toml", ""))
         try:
-            self.scene_points = tuple(self._scene_points(tomllib.loads(text)))
+            toml = tomllib.loads(text)
+            self.scene_points = tuple(self._scene_points(toml))
         except tomllib.TOMLDecodeError:
             raise InputError(f"{self.path}: dataset 'scene/toml' is not valid TOML") from None
         bed = c.attrs.get("bed", {})
@@ -186,8 +197,16 @@ class Run:
         self.shapes = None
         self.translation = None
         self.modes_path = None
+        # points on the bed are given in its drawing frame; the bed body's
+        # frame has its origin at the bed's centre of mass, bed_centre
+        self.bed_body = None
+        self.bed_centre = np.zeros(3)
+        if isinstance(toml.get("bed"), dict) and len(self.names) > 1:
+            self.bed_body = toml["bed"].get("body") or self.names[1]
         if self.bed_model == "flexible":
             self._open_modes(c, bed, modes_file)
+        elif self.bed_body is not None:
+            self.bed_centre = _rigid_bed_centre(toml["bed"], self.path)
 
     def _scene_points(self, data: dict):
         for i, p in enumerate(data.get("point", [])):
@@ -223,6 +242,7 @@ class Run:
         self.add = np.asarray(add, dtype=float)[:, :n]
         toml = tomllib.loads(str(c.datasets.get("scene/toml", "")))
         self.bed_name = toml.get("bed", {}).get("body") or self.names[1]
+        self.bed_centre = np.asarray(data.origin, dtype=float)
         self.translation, rotation, twist = run_shapes(data, basis)
         self.shapes = mode_shapes(data.plate.theory, data.nodes, data.cells, self.translation,
                                   rotation, twist)
@@ -237,6 +257,8 @@ class Run:
         """Inertial position, velocity and acceleration of a point."""
         b = self.body_index(point.body, f"point '{point.name}': body")
         s = np.asarray(point.position, dtype=float)
+        if self.names[b] == self.bed_body:
+            s = s - self.bed_centre                    # drawing frame -> bed frame
         k = self.t.size
         u = np.broadcast_to(s, (k, 3)).copy()
         ud = np.zeros((k, 3))
