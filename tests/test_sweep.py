@@ -359,3 +359,32 @@ def test_identical_points_are_one_computation(tmp_path):
     keys = [p.key for p in plan.points]
     assert keys[0] == keys[2] != keys[1]
     assert plan.analyses == ("static",)
+
+
+def test_a_flexible_bed_s_modes_are_one_task_shared_by_its_points(tmp_path, client):
+    """Two points on the same flexible bed (one plate): one modes request;
+    the mount force and the compare figure equal single in-process runs."""
+    body = """sampling = "list"
+
+[[point]]
+"mount.M5.k" = [1.0e5, 1.0e5, 1.0e5]
+
+[[point]]
+"mount.M5.k" = [2.0e5, 2.0e5, 2.0e5]
+"""
+    metrics = ('[[metric]]\nkind = "peak_mount_force"\nmounts = ["M5"]\n\n'
+               '[[metric]]\nkind = "compare"\nequipment = "equipment A"\n')
+    study = study_file(tmp_path, body, metrics=metrics).read_text().replace(
+        '[study.set]\n', '[study.set]\n"bed.model" = "flexible"\n')
+    (tmp_path / "study.toml").write_text(study)
+    plan = make_plan(parse_study(study, tmp_path / "study.toml"))
+    assert len({p.modes_key for p in plan.points}) == 1
+    table = flexbed.sweep(tmp_path / "study.toml", client, plots=False)
+    assert list(table["status"]) == ["ok", "ok"]
+    scene = flexbed.vary(flexbed.load_scene(), {"solver.t_end": T_END, "bed.model": "flexible",
+                                                "mount.M5.k": [2e5, 2e5, 2e5]})
+    run = flexbed.simulate(scene)
+    assert table["peak_mount_force.M5"][1] == np.linalg.norm(run.mount_force[:, 4], axis=1).max()
+    rows = flexbed.compare(scene).rows
+    assert table["compare.damped.equipment A.peak"][1] == next(
+        r["peak"] for r in rows if r["equipment"] == "equipment A" and r["case"] == "damped")
