@@ -31,6 +31,7 @@ import scipy
 from flexbed.files.destination import write_text
 from flexbed.bench.cases import CASES, CaseSpec, kernel_cost, rhs_cost
 from flexbed.bench.fastpath import section_linear, section_modes_auto
+from flexbed.bench.inputs import section_inputs
 from flexbed.bench.context import FULL, QUICK, BenchContext
 from flexbed.bench.dynamics import (LADDERS, QUICK_LADDERS, fastest_reaching, ladder_table,
                              observed_orders, run_ladders)
@@ -304,6 +305,7 @@ SECTIONS: list[Section] = [
     Section("invariants", section_invariants),
     Section("linear", section_linear),
     Section("modes_auto", section_modes_auto),
+    Section("inputs", section_inputs),
 ]
 
 

@@ -39,6 +39,7 @@ TARGETS = {
     "rigid": (["integrators", "aims"], ("rigid",)),
     "flexible": (["integrators", "aims"], ("flexible", "damped")),
     "modelling": (["modes_count", "mesh", "invariants"], None),
+    "inputs": (["inputs"], None),
 }
 
 
