@@ -28,9 +28,10 @@ estimate [m]; it is a first-order (Newton) estimate, reliable while ``e``
 is small against the motion, which :attr:`ErrorEstimate.reliable` checks.
 
 The energy quadratures of the state (works of mounts, loads, drive and
-structural damping) are integrated by the trapezoidal rule from the powers
-at the samples where the defect is evaluated, interpolated linearly in
-between.
+structural damping) are integrated by the trapezoidal rule on every
+sample from the powers at the samples where the defect is evaluated,
+interpolated in between by not-a-knot cubic splines (linear interpolation
+made them 15–60 times less accurate on the reference scene).
 """
 
 from __future__ import annotations
@@ -45,6 +46,7 @@ from scipy.linalg import expm
 from .integrate import Run, Settings, Stats
 from .linear_model import Coordinates, Linearisation, linearise
 from .linear_propagation import _lengths, propagate
+from .piecewise import spline_with_tails
 from .steppers.propagate import linear_sweep
 from .system import System
 
@@ -139,6 +141,17 @@ def _interpolate(t: np.ndarray, nodes: np.ndarray, values: np.ndarray) -> np.nda
     return values[j] * (1.0 - w) + values[j + 1] * w
 
 
+def _smooth(t: np.ndarray, nodes: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Values (n, c) at t[nodes] on every sample t (k,) → (k, c) by
+    not-a-knot cubic splines (the powers of the energy quadratures: smooth
+    between the nodes, their integrals to O(H⁴)); linear below 4 nodes."""
+    if nodes.size == t.size or nodes.size < 4:
+        return _interpolate(t, nodes, values)
+    tn = t[nodes]
+    return np.column_stack([spline_with_tails(tn, values[:, j], left="hold", right="hold")
+                            .evaluate(t) for j in range(values.shape[1])])
+
+
 def _defect_nodes(t: np.ndarray, d: np.ndarray) -> np.ndarray:
     """The samples where the defect is evaluated: every m-th (and the last),
     m the largest of :data:`_STRIDES` whose straight lines between them
@@ -185,7 +198,7 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
     dY, _ = system.rhs_batch(t[every], coords.to_y(Zc))
     Dc = coords.rate(dY) - (Zc @ lin.A.T + lin.b0 + lin.inputs(t[every]) @ lin.B.T)
     D = _interpolate(t, every, Dc)
-    powers = _interpolate(t, every, dY[:, lay.work])
+    powers = _smooth(t, every, dY[:, lay.work])
     # ė = A e + d, d linear between samples: Φ, P0, P1 per distinct interval
     lengths, which = _lengths(np.diff(t))
     nz = coords.nz
