@@ -600,7 +600,8 @@ class _Watch:
             raise _Stop(f"diverged at t = {t:.6g} s: body '{self.names[i]}' is {d[i]:.3g} m "
                         f"from where it started (relative to the base; beyond "
                         f"{DIVERGE_FACTOR:g} x the scene's size of {self.size:.3g} m): "
-                        f"the motion grows without bound")
+                        f"the motion grows without bound (if the scene is stable, the "
+                        f"integration is not: try a smaller step or an implicit method)")
 
     def collapsed(self, method: str, t: float, h: float, y: np.ndarray) -> str:
         """The message for a step size that collapsed at t: the run

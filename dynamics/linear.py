@@ -37,8 +37,10 @@ is a first-order (Newton) estimate, reliable while ``e`` is small against
 the motion, which :attr:`ErrorEstimate.reliable` checks.
 
 The energy quadratures of the state (works of mounts, loads, drive and
-structural damping) are integrated by the trapezoidal rule from the powers
-at the nodes, interpolated linearly in between.
+structural damping) are integrated by the trapezoidal rule on every
+sample from the powers at the nodes, interpolated in between by
+not-a-knot cubic splines (linear interpolation made them 15–60 times less
+accurate on the reference scene).
 """
 
 from __future__ import annotations
@@ -53,6 +55,7 @@ from scipy.linalg import expm
 from .integrate import Run, Settings, Stats
 from .linear_model import Coordinates, Linearisation, linearise
 from .linear_propagation import _lengths, propagate
+from .piecewise import spline_with_tails
 from .steppers.propagate import defect_sweep, linear_sweep, point_scan
 from .system import System
 
@@ -162,6 +165,17 @@ def _interpolate(t: np.ndarray, nodes: np.ndarray, values: np.ndarray) -> np.nda
     return values[j] * (1.0 - w) + values[j + 1] * w
 
 
+def _smooth(t: np.ndarray, nodes: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Values (n, c) at t[nodes] on every sample t (k,) → (k, c) by
+    not-a-knot cubic splines (the powers of the energy quadratures: smooth
+    between the nodes, their integrals to O(H⁴)); linear below 4 nodes."""
+    if nodes.size == t.size or nodes.size < 4:
+        return _interpolate(t, nodes, values)
+    tn = t[nodes]
+    return np.column_stack([spline_with_tails(tn, values[:, j], left="hold", right="hold")
+                            .evaluate(t) for j in range(values.shape[1])])
+
+
 def _defect_nodes(t: np.ndarray, dP: np.ndarray) -> tuple[np.ndarray, float]:
     """The samples where the defect is evaluated, and the largest |δP| [m].
 
@@ -260,7 +274,7 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
     system.set_segment(None)
     dY, _ = system.rhs_batch(tn, coords.to_y(Zn))
     R = coords.rate(dY) - lin.b0 - lin.inputs(tn) @ lin.B.T
-    powers = _interpolate(t, nodes, dY[:, lay.work])
+    powers = _smooth(t, nodes, dY[:, lay.work])
     # ė = A e + d, d linear between the nodes: Φ, P0, P1 per distinct interval
     lengths, which = _lengths(np.diff(tn))
     Phis, P0s, P1s = defect_propagators(lin.A, lengths)

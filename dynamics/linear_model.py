@@ -216,7 +216,7 @@ def _channels(system: System) -> tuple[list[_Channel], list[tuple[str, int]]]:
     for kind, k, shapes in groups:
         if not shapes:
             continue
-        fs = [s.compile() for s in shapes]
+        fs = [system.compiled_input(s) for s in shapes]
         attr = {"load": "values", "displacement": "seconds", "velocity": "firsts"}[kind]
         funcs = [getattr(f, attr) for f in fs]
         knots, max_piece, sines = [], math.inf, []

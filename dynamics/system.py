@@ -334,6 +334,15 @@ class System:
                 a[k] += f.value(t, at)
         return r, v, a
 
+    def compiled_input(self, shape):
+        """The compiled form (value and exact integrals) of one of the base's
+        input shapes, as built once with the system."""
+        for item, f in zip(list(self.scene.base.drives) + list(self.scene.base.loads),
+                           self._compiled_inputs):
+            if item.shape is shape:
+                return f
+        return shape.compile()
+
     def max_step(self, t_a: float, t_b: float) -> float:
         """Longest adaptive step [s] allowed on [t_a, t_b] by the inputs active there."""
         out = np.inf

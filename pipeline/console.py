@@ -17,34 +17,15 @@
 from __future__ import annotations
 
 import argparse
-import errno
 import os
 import sys
 import warnings
 from types import ModuleType
 
-from flexbed.errors import FlexbedError, FlexbedWarning, InputError, NumericalError
+from flexbed.errors import (FlexbedError, FlexbedWarning, InputError, NumericalError,
+                            os_error_text)
 
-__all__ = ["run_command", "os_error_text"]
-
-#: what to do, per errno, after a failed write
-ADVICE = {
-    errno.ENOSPC: "the device is full: free some space or write elsewhere",
-    errno.EFBIG: "the file would exceed the size allowed (a file size limit, ulimit -f, or "
-                 "the file system's): write elsewhere or raise the limit",
-    errno.EDQUOT: "the disk quota is used up: free some space or write elsewhere",
-    errno.EACCES: "permission denied: choose a folder you may write in",
-    errno.EPERM: "operation not permitted: choose a folder you may write in",
-    errno.EROFS: "the file system is read-only: choose another folder",
-}
-
-
-def os_error_text(exc: OSError) -> str:
-    """The reason of an OSError in words, with what to do when known."""
-    reason = exc.strerror or str(exc) or type(exc).__name__
-    advice = ADVICE.get(exc.errno)
-    return f"{reason}; {advice}" if advice else reason
-
+__all__ = ["run_command"]
 
 def run_command(module: ModuleType, args: argparse.Namespace) -> int:
     """``module.run(args)`` with the rules of the module docstring; returns

@@ -4,6 +4,8 @@ Exit codes shared by every subcommand: 0 success, 1 numerical failure,
 2 bad input (scene, options or files).
 """
 
+import errno
+
 EXIT_OK = 0
 EXIT_NUMERICAL = 1
 EXIT_INPUT = 2
@@ -30,3 +32,22 @@ class NumericalError(FlexbedError):
 class FlexbedWarning(UserWarning):
     """Input that is accepted but probably not meant (e.g. a mount point far
     from its body); the command line prints it as one line on stderr."""
+
+
+#: what to do, per errno, after a failed write
+ADVICE = {
+    errno.ENOSPC: "the device is full: free some space or write elsewhere",
+    errno.EFBIG: "the file would exceed the size allowed (a file size limit, ulimit -f, or "
+                 "the file system's): write elsewhere or raise the limit",
+    errno.EDQUOT: "the disk quota is used up: free some space or write elsewhere",
+    errno.EACCES: "permission denied: choose a folder you may write in",
+    errno.EPERM: "operation not permitted: choose a folder you may write in",
+    errno.EROFS: "the file system is read-only: choose another folder",
+}
+
+
+def os_error_text(exc: OSError) -> str:
+    """The reason of an OSError in words, with what to do when known."""
+    reason = exc.strerror or str(exc) or type(exc).__name__
+    advice = ADVICE.get(exc.errno)
+    return f"{reason}; {advice}" if advice else reason

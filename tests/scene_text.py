@@ -24,3 +24,22 @@ mass = {mass}
 inertia = {inertia}
 position = [0.0, 0.0, 0.5]
 {body_extra}"""
+
+
+#: the corners of the mounts' square under body "mass" [m]
+CORNERS = ((-0.2, -0.2), (0.2, -0.2), (0.2, 0.2), (-0.2, 0.2))
+
+
+def four_mounts(law: str, *, corners=CORNERS, prefix: str = "M") -> str:
+    """Four ``[[mount]]`` tables from the base (at z = 0.5 m) to body
+    "mass" (at its centre's height) at ``corners`` (x, y) [m]; ``law``: the
+    law's keys as TOML lines (e.g. ``'law = "linear"\\nk = [...]'``)."""
+    return "".join(f"""
+[[mount]]
+name = "{prefix}{i}"
+body_i = "base"
+body_j = "mass"
+point_i = [{x}, {y}, 0.5]
+point_j = [{x}, {y}, 0.0]
+{law.strip()}
+""" for i, (x, y) in enumerate(corners, 1))

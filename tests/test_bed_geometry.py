@@ -161,3 +161,24 @@ def test_asymmetric_bed_frame_at_its_centre_of_mass(tmp_path):
     assert np.allclose(data.invariants.inertia, mp.inertia, rtol=1e-12, atol=1e-9)
     eq = flexbed.statics(sf)
     assert eq.equilibrium.success
+
+
+def test_post_takes_bed_points_in_the_drawing_frame(tmp_path):
+    """After a run of the asymmetric bed, a point given at a mount's bed end
+    (drawing frame, as in the scene) moves with that mount end: the
+    mount's deflection is the distance of its two points, to round-off."""
+    from flexbed.analyses.points import Point, Run
+    from flexbed.cli import main
+    hole = '[[bed.cutout]]\nshape = "rectangle"\ncentre = [0.2, 1.0]\nsize = [0.2, 0.6]\n'
+    scene = _scene(tmp_path, "", hole)
+    modes, results = tmp_path / "m.h5", tmp_path / "r.h5"
+    assert main(["modes", str(scene), "-o", str(modes)]) == 0
+    assert main(["simulate", str(scene), "--modes-file", str(modes), "-o", str(results),
+                 "--t-end", "0.05", "--no-progress"]) == 0
+    run = Run(results)
+    assert np.allclose(run.bed_centre, flexbed.load_scene(scene).bed.mass_properties.centre)
+    Pi = run.absolute(Point("i", "base", np.array([-0.4, -2.4, 5.0])))
+    Pj = run.absolute(Point("j", "bed", np.array([-0.4, -2.4, 0.0])))
+    m = run.mount_names.index("M1")
+    dx = Pj.position - Pi.position - np.array([0.0, 0.0, 0.1])
+    assert np.abs(dx - run.mounts["deflection"][:, m]).max() < 1e-12

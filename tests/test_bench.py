@@ -132,6 +132,8 @@ def test_refused_and_failed_runs_are_classified():
     status, note = classify(_run("stiff scene: the fastest rate 1.7e+04 1/s limits rk4 ..."))
     assert status == "stiff: refused" and note.startswith("stiff scene")
     assert classify(_run("rk4: the state became non-finite at t = 0.1 s"))[0] == "unstable"
+    assert classify(_run("diverged at t = 0.2 s: body 'A' is 3e+04 m from where it "
+                         "started"))[0] == "unstable"
     assert classify(_run("the maximum number of steps was reached"))[0] == "failed"
 
 

@@ -9,7 +9,7 @@ import pytest
 
 from flexbed.cli import main as flexbed
 from flexbed.files.results import read_results
-from scene_text import base_and_body
+from scene_text import base_and_body, four_mounts
 
 
 def _scene(z_law: str, t_end: float = 3.0) -> str:
@@ -19,16 +19,10 @@ def _scene(z_law: str, t_end: float = 3.0) -> str:
 [solver]
 t_end = {t_end}
 start = "initial"
-""" + "".join(f"""
-[[mount]]
-name = "M{i}"
-body_i = "base"
-body_j = "mass"
-point_i = [{x}, {y}, 0.5]
-point_j = [{x}, {y}, 0.0]
+""" + four_mounts(f"""
 law = "polynomial"
 stiffness = [[0.0, 1.0e4], [0.0, 1.0e4], {z_law}]
-""" for i, (x, y) in enumerate([(-0.2, -0.2), (0.2, -0.2), (0.2, 0.2), (-0.2, 0.2)], 1))
+""")
 
 
 def test_exponential_growth_is_stopped_as_divergence(tmp_path, capsys):

@@ -30,21 +30,15 @@ import numpy as np
 import pytest
 
 from flexbed.files.results import read_results
-from scene_text import base_and_body
+from scene_text import base_and_body, four_mounts
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
 
-MOUNTS = "".join(f"""
-[[mount]]
-name = "M{i}"
-body_i = "base"
-body_j = "mass"
-point_i = [{x}, {y}, 0.5]
-point_j = [{x}, {y}, 0.0]
+MOUNTS = four_mounts(f"""
 law = "linear"
 k = [1.0e5, 1.0e5, 1.0e5]
 c = [5.0, 5.0, 5.0]
-""" for i, (x, y) in enumerate([(-0.2, -0.2), (0.2, -0.2), (0.2, 0.2), (-0.2, 0.2)], 1))
+""")
 
 #: 400 s of a lightly damped body: seconds of integration, 40,001 samples
 LONG = base_and_body("long", body_extra="velocity = [0.1, 0.2, 0.3]\n"

@@ -18,7 +18,7 @@ from flexbed.stages.modes import ensure_modes
 from flexbed.stages.system import compile_scene
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
-from scene_text import base_and_body
+from scene_text import base_and_body, four_mounts
 
 SDOF = Path(__file__).parent / "scenes" / "linear_sdof.toml"
 
@@ -194,16 +194,10 @@ UNSTABLE = base_and_body("unstable", gravity=0.0, mass=10.0, inertia="[1.0, 1.0,
 
 [solver]
 t_end = 0.5
-""" + "".join(f"""
-[[mount]]
-name = "M{i}"
-body_i = "base"
-body_j = "mass"
-point_i = [{x}, {y}, 0.5]
-point_j = [{x}, {y}, 0.0]
+""" + four_mounts(f"""
 law = "polynomial"
 stiffness = [[0.0, 1.0e4], [0.0, 1.0e4], [0.0, -1.0e4, 0.0, 1.0e8]]
-""" for i, (x, y) in enumerate([(-0.2, -0.2), (0.2, -0.2), (0.2, 0.2), (-0.2, 0.2)], 1))
+""")
 
 
 def test_an_unstable_equilibrium_is_reported_not_propagated(tmp_path):

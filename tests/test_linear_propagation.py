@@ -15,7 +15,7 @@ from flexbed.dynamics.linear_model import linearise
 from flexbed.dynamics.statics import solve_statics
 from flexbed.files.scene import load_scene
 from flexbed.stages.system import compile_scene
-from scene_text import base_and_body
+from scene_text import base_and_body, four_mounts
 
 K, C, M = 1.25e5, 200.0, 50.0              # per mount, vertical [N/m, N s/m]; mass [kg]
 AMP, FREQ = 3.0, 13.0                      # base acceleration [m/s²], [Hz]
@@ -29,17 +29,11 @@ direction = "z"
 shape = "sinusoid"
 amplitude = {AMP}
 frequency = {FREQ}
-""" + "".join(f"""
-[[mount]]
-name = "S{i}"
-body_i = "base"
-body_j = "mass"
-point_i = [{x}, {y}, 0.5]
-point_j = [{x}, {y}, 0.0]
+""" + four_mounts(f"""
 law = "linear"
 k = [5.0e4, 7.5e4, {K}]
 c = [0.0, 0.0, {C}]
-""" for i, (x, y) in enumerate([(-0.2, -0.3), (0.2, -0.3), (-0.2, 0.3), (0.2, 0.3)], 1))
+""", corners=[(-0.2, -0.3), (0.2, -0.3), (-0.2, 0.3), (0.2, 0.3)], prefix="S")
 
 
 def _closed_form(t, w2, c):

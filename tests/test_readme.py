@@ -3,7 +3,9 @@
 Every line of a ```console block that starts with ``$ `` is run, in the
 order the README shows them, in one scratch folder (as a reader following
 the tour would), with bash and this interpreter's ``flexbed`` first on the
-PATH; each must exit with 0. The quick start is exactly two commands, and
+PATH; each must exit with 0. A ```toml block whose first line is a comment
+naming a file (``# stiffness.toml``) is that file: it is written into the
+scratch folder first, as the reader would save it. The quick start is exactly two commands, and
 ``.ci/run`` runs the second.
 """
 
@@ -49,7 +51,19 @@ def test_quick_start_is_two_commands_and_ci_runs_the_second():
     assert found[1].strip() in ci
 
 
+def named_files() -> dict[str, str]:
+    """The ```toml blocks that name their file on their first line."""
+    files = {}
+    for block in blocks("toml"):
+        m = re.match(r"# ([\w.-]+\.toml)\n", block)
+        if m:
+            files[m.group(1)] = block
+    return files
+
+
 def test_every_command_line_runs(tmp_path):
+    for name, text in named_files().items():
+        (tmp_path / name).write_text(text)
     cmds = commands()
     assert len(cmds) >= 10
     env = dict(os.environ)

@@ -20,7 +20,7 @@ from flexbed.errors import InputError
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
 from flexbed.stages.system import compile_scene
-from scene_text import base_and_body
+from scene_text import base_and_body, four_mounts
 
 P, T, S = 200.0, 0.011, 0.0023        # peak [m/s²], rise [s], start [s]
 M, K, C = 50.0, 1.25e5, 20.0          # body [kg]; per mount, z: [N/m], [N s/m]
@@ -82,17 +82,11 @@ rise = {T}
 [solver]
 t_end = 0.1
 output_dt = 1.0e-4
-""" + "".join(f"""
-[[mount]]
-name = "S{i}"
-body_i = "base"
-body_j = "mass"
-point_i = [{x}, {y}, 0.5]
-point_j = [{x}, {y}, 0.0]
+""" + four_mounts(f"""
 law = "linear"
 k = [5.0e4, 7.5e4, {K}]
 c = [{C}, {C}, {C}]
-""" for i, (x, y) in enumerate([(-0.2, -0.3), (0.2, -0.3), (-0.2, 0.3), (0.2, 0.3)], 1))
+""", corners=[(-0.2, -0.3), (0.2, -0.3), (-0.2, 0.3), (0.2, 0.3)], prefix="S")
 
 
 @pytest.fixture(scope="module")

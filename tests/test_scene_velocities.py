@@ -18,7 +18,7 @@ from flexbed.files.results import read_results
 from flexbed.files.scene import builtin_scene_path, load_scene
 from flexbed.stages.modes import ensure_modes
 from flexbed.stages.system import compile_scene
-from scene_text import base_and_body
+from scene_text import base_and_body, four_mounts
 
 TOP = """
 [scene]
@@ -93,16 +93,10 @@ integrator = "dop853"
 rtol = 1.0e-11
 atol = 1.0e-13
 output_dt = 1.0e-3
-""" + "".join(f"""
-[[mount]]
-name = "S{i}"
-body_i = "base"
-body_j = "mass"
-point_i = [{x}, {y}, 0.5]
-point_j = [{x}, {y}, 0.0]
+""" + four_mounts(f"""
 law = "linear"
 k = [5.0e4, 7.5e4, 1.25e5]
-""" for i, (x, y) in enumerate([(-0.2, -0.3), (0.2, -0.3), (-0.2, 0.3), (0.2, 0.3)], 1))
+""", corners=[(-0.2, -0.3), (0.2, -0.3), (-0.2, 0.3), (0.2, 0.3)], prefix="S")
 
 K_LAUNCH = np.array([5.0e4, 7.5e4, 1.25e5])
 V_LAUNCH = np.array([0.2, -0.1, -0.5])

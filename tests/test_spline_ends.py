@@ -15,7 +15,7 @@ from flexbed.dynamics.shapes import Curve, SplineEnds
 from flexbed.errors import InputError
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
-from scene_text import base_and_body
+from scene_text import base_and_body, four_mounts
 
 RNG = np.random.default_rng(11)
 X = np.sort(RNG.uniform(0.0, 1.0, 9)) * 0.04 + np.linspace(0.0, 0.2, 9)   # uneven spacing
@@ -187,17 +187,11 @@ integrator = "dop853"
 rtol = 1.0e-10
 atol = 1.0e-12
 output_dt = 1.0e-3
-""" + "".join(f"""
-[[mount]]
-name = "S{i}"
-body_i = "base"
-body_j = "mass"
-point_i = [{x}, {y}, 0.5]
-point_j = [{x}, {y}, 0.0]
+""" + four_mounts(f"""
 law = "curve"
 spring_curve = [SPRING, SPRING, SPRING]
 damper_curve = [DAMPER, DAMPER, DAMPER]
-""" for i, (x, y) in enumerate([(-0.2, -0.3), (0.2, -0.3), (-0.2, 0.3), (0.2, 0.3)], 1))
+""", corners=[(-0.2, -0.3), (0.2, -0.3), (-0.2, 0.3), (0.2, 0.3)], prefix="S")
 
 SPRING = ("{deflection = [-0.02, -0.01, -0.004, 0.0, 0.004, 0.01, 0.02], "
           "force = [-3300.0, -1350.0, -506.4, 0.0, 506.4, 1350.0, 3300.0]SPRING_ENDS}")

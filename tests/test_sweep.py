@@ -220,6 +220,42 @@ num = 60
     assert np.all(np.isfinite(cols["peak_mount_force.M5"]))
 
 
+def test_a_worker_lost_mid_study_has_its_points_run_again(tmp_path, scheduler):
+    """SIGKILL to one worker process once the first row is in: its points
+    are run again on the other worker (or its restart); every row ok."""
+    import threading
+
+    from distributed import Client
+
+    with Client(scheduler, timeout="30s") as c:
+        victim = sorted(c.run(os.getpid).values())[0]
+    body = ('sampling = "grid"\n\n[[parameter]]\npath = "bed.thickness"\nfrom = 0.08\n'
+            'to = 0.14\nnum = 24\n')
+    study = study_file(tmp_path, body, t_end=0.3,
+                       metrics='[[metric]]\nkind = "peak_mount_force"\nmounts = ["M5"]\n')
+    csv_path = tmp_path / "out" / "table.csv"
+    killed = []
+
+    def kill_after_the_first_row():
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline:
+            if csv_path.exists() and len(csv_path.read_text().splitlines()) > 1:
+                killed.append(len(csv_path.read_text().splitlines()) - 1)
+                os.kill(victim, signal.SIGKILL)
+                return
+            time.sleep(0.02)
+
+    killer = threading.Thread(target=kill_after_the_first_row, daemon=True)
+    killer.start()
+    table = flexbed.sweep(study, scheduler, output=tmp_path / "out", plots=False)
+    killer.join(timeout=5)
+    assert killed and killed[0] < 24                   # killed while points were left
+    with pytest.raises(ProcessLookupError):
+        os.kill(victim, 0)
+    assert table.complete and len(table) == 24
+    assert set(table["status"]) == {"ok"}, set(table["message"])
+
+
 # ------------------------------------------------------------ an in-process cluster
 @pytest.fixture(scope="module")
 def client():
@@ -358,3 +394,32 @@ def test_identical_points_are_one_computation(tmp_path):
     keys = [p.key for p in plan.points]
     assert keys[0] == keys[2] != keys[1]
     assert plan.analyses == ("static",)
+
+
+def test_a_flexible_bed_s_modes_are_one_task_shared_by_its_points(tmp_path, client):
+    """Two points on the same flexible bed (one plate): one modes request;
+    the mount force and the compare figure equal single in-process runs."""
+    body = """sampling = "list"
+
+[[point]]
+"mount.M5.k" = [1.0e5, 1.0e5, 1.0e5]
+
+[[point]]
+"mount.M5.k" = [2.0e5, 2.0e5, 2.0e5]
+"""
+    metrics = ('[[metric]]\nkind = "peak_mount_force"\nmounts = ["M5"]\n\n'
+               '[[metric]]\nkind = "compare"\nequipment = "equipment A"\n')
+    study = study_file(tmp_path, body, metrics=metrics).read_text().replace(
+        '[study.set]\n', '[study.set]\n"bed.model" = "flexible"\n')
+    (tmp_path / "study.toml").write_text(study)
+    plan = make_plan(parse_study(study, tmp_path / "study.toml"))
+    assert len({p.modes_key for p in plan.points}) == 1
+    table = flexbed.sweep(tmp_path / "study.toml", client, plots=False)
+    assert list(table["status"]) == ["ok", "ok"]
+    scene = flexbed.vary(flexbed.load_scene(), {"solver.t_end": T_END, "bed.model": "flexible",
+                                                "mount.M5.k": [2e5, 2e5, 2e5]})
+    run = flexbed.simulate(scene)
+    assert table["peak_mount_force.M5"][1] == np.linalg.norm(run.mount_force[:, 4], axis=1).max()
+    rows = flexbed.compare(scene).rows
+    assert table["compare.damped.equipment A.peak"][1] == next(
+        r["peak"] for r in rows if r["equipment"] == "equipment A" and r["case"] == "damped")

@@ -8,23 +8,17 @@ import pytest
 
 from flexbed.cli import main as flexbed
 from flexbed.files.store import read_file
-from scene_text import base_and_body
+from scene_text import base_and_body, four_mounts
 
 
 def _scene(k_z: float) -> str:
     """10 kg without gravity on four mounts of vertical stiffness k_z (plus
     a hardening cubic), stiff sideways: the equilibrium at zero deflection
     has vertical stiffness 4 k_z."""
-    return base_and_body("held", gravity=0.0, mass=10.0, inertia="[1.0, 1.0, 1.0]") + "".join(f"""
-[[mount]]
-name = "M{i}"
-body_i = "base"
-body_j = "mass"
-point_i = [{x}, {y}, 0.5]
-point_j = [{x}, {y}, 0.0]
+    return base_and_body("held", gravity=0.0, mass=10.0, inertia="[1.0, 1.0, 1.0]") + four_mounts(f"""
 law = "polynomial"
 stiffness = [[0.0, 1.0e4], [0.0, 1.0e4], [0.0, {k_z}, 0.0, 1.0e8]]
-""" for i, (x, y) in enumerate([(-0.2, -0.2), (0.2, -0.2), (0.2, 0.2), (-0.2, 0.2)], 1))
+""")
 
 
 def test_negative_stiffness_is_warned_and_recorded(tmp_path, capsys):

@@ -159,6 +159,16 @@ def numeric(c: Contents, name: str, shape: tuple) -> np.ndarray:
     return a.astype(float)
 
 
+def _rigid_bed_centre(table: dict, path: Path) -> np.ndarray:
+    """Centre of mass (3,) [m] of a rigid bed from the scene's [bed] table
+    (zero for the plain rectangle; a mesh_file is looked for beside the run)."""
+    from flexbed.files.bed_section import read_bed
+    try:
+        return read_bed(table, f"{path}: scene [bed]", path.parent).mass_properties.centre
+    except InputError as exc:
+        raise InputError(f"{exc}; cannot place the points on the bed") from None
+
+
 class Run:
     """A run opened for post-processing: a results file, or its contents in
     memory (:class:`flexbed.files.store.Contents`), and the modes of a
@@ -210,8 +220,16 @@ class Run:
         self.shapes = None
         self.translation = None
         self.modes_path = None
+        # points on the bed are given in its drawing frame; the bed body's
+        # frame has its origin at the bed's centre of mass, bed_centre
+        self.bed_body = None
+        self.bed_centre = np.zeros(3)
+        if isinstance(scene.get("bed"), dict) and len(self.names) > 1:
+            self.bed_body = scene["bed"].get("body") or self.names[1]
         if self.bed_model == "flexible":
             self._open_modes(c, bed, modes_file)
+        elif self.bed_body is not None:
+            self.bed_centre = _rigid_bed_centre(scene["bed"], self.path)
 
     def _scene_points(self, data: dict):
         for i, p in enumerate(data.get("point", [])):
@@ -247,6 +265,7 @@ class Run:
         self.add = np.asarray(add, dtype=float)[:, :n]
         toml = tomllib.loads(str(c.datasets.get("scene/toml", "")))
         self.bed_name = toml.get("bed", {}).get("body") or self.names[1]
+        self.bed_centre = np.asarray(data.origin, dtype=float)
         self.translation, rotation, twist = run_shapes(data, basis)
         self.shapes = mode_shapes(data.plate.theory, data.nodes, data.cells, self.translation,
                                   rotation, twist)
@@ -261,6 +280,8 @@ class Run:
         """Inertial position, velocity and acceleration of a point."""
         b = self.body_index(point.body, f"point '{point.name}': body")
         s = np.asarray(point.position, dtype=float)
+        if self.names[b] == self.bed_body:
+            s = s - self.bed_centre                    # drawing frame -> bed frame
         k = self.t.size
         u = np.broadcast_to(s, (k, 3)).copy()
         ud = np.zeros((k, 3))

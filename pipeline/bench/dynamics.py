@@ -109,7 +109,7 @@ def classify(run: Run) -> tuple[str, str]:
         return "stiff: refused", msg
     if "step too long" in msg:
         return "step too long: refused", msg
-    if "non-finite" in msg:
+    if "non-finite" in msg or msg.startswith("diverged"):
         return "unstable", msg
     return "failed", msg
 

@@ -43,6 +43,7 @@ TARGETS = {
     "modelling": (["modes_count", "mesh", "invariants"], None),
     "frequency": (["frequency"], None),
     "linear": (["integrators", "linear"], None),
+    "inputs": (["inputs"], None),
 }
 
 

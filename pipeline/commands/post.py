@@ -26,8 +26,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "its frame) and mount forces, from a results file.")
     parser.add_argument("results", help="results file written by simulate, compare or run")
     parser.add_argument("--point", action="append", default=[], metavar="NAME=BODY:x,y,z",
-                        help="a point in a body's frame [m] (repeatable); the scene's "
-                             "[[point]] tables are always included")
+                        help="a point in a body's frame [m] (on the bed: the frame its "
+                             "geometry is drawn in, as in the scene) (repeatable); the "
+                             "scene's [[point]] tables are always included")
     parser.add_argument("--relative-to", default=None, metavar="BODY",
                         help="also give every point's motion relative to this body, in its frame")
     parser.add_argument("--mounts", action="store_true",

@@ -25,8 +25,7 @@ import tempfile
 from pathlib import Path
 from typing import Callable
 
-from flexbed.errors import InputError
-from flexbed.console import os_error_text
+from flexbed.errors import InputError, os_error_text
 
 __all__ = ["check_destination", "atomic_write", "write_text", "refuse_inputs", "make_folder"]
 

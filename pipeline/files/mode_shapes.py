@@ -23,23 +23,18 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from xml.sax.saxutils import escape, quoteattr
+from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
 from flexbed.files.destination import check_destination, write_text
 from flexbed.files.store import Dataset, write_file
+from flexbed.files.xdmf import data_item
 
 __all__ = ["write_mode_shapes", "MODE_SHAPES_SCHEMA"]
 
 MODE_SHAPES_SCHEMA = "flexbed.mode_shapes"
 VERSION = "1.0"
-
-
-def _item(h5name: str, dataset: str, shape: tuple, kind: str) -> str:
-    dims = " ".join(str(int(d)) for d in shape)
-    return (f'<DataItem DataType="{kind}" Dimensions="{dims}" Format="HDF" Precision="8">'
-            f"{escape(h5name)}:/{dataset}</DataItem>")
 
 
 def write_mode_shapes(path: str | os.PathLike, meshes: list, frequency: np.ndarray,
@@ -86,16 +81,16 @@ def write_mode_shapes(path: str | os.PathLike, meshes: list, frequency: np.ndarr
         lines += [f'      <Grid Name={quoteattr(mesh.name)} GridType="Uniform">',
                   f'        <Topology TopologyType="{mesh.topology}" '
                   f'NumberOfElements="{mesh.cells.shape[0]}">',
-                  f"          {_item(name, f'{g}/cells', mesh.cells.shape, 'Int')}",
+                  f"          {data_item(name, f'{g}/cells', mesh.cells.shape, 'Int')}",
                   "        </Topology>",
                   '        <Geometry GeometryType="XYZ">',
-                  f"          {_item(name, f'{g}/nodes', mesh.nodes.shape, 'Float')}",
+                  f"          {data_item(name, f'{g}/nodes', mesh.nodes.shape, 'Float')}",
                   "        </Geometry>"]
         for k in range(m):
             label = f"mode_{k + 1:0{width}d} ({float(frequency[k]):.4g} Hz)"
             lines += [f'        <Attribute Name={quoteattr(label)} AttributeType="Vector" '
                       'Center="Node">',
-                      f"          {_item(name, f'{g}/mode_{k + 1:0{width}d}', (n, 3), 'Float')}",
+                      f"          {data_item(name, f'{g}/mode_{k + 1:0{width}d}', (n, 3), 'Float')}",
                       "        </Attribute>"]
         lines.append("      </Grid>")
     lines += ["    </Grid>", "  </Domain>", "</Xdmf>"]

@@ -29,6 +29,10 @@ dataset                            shape           units                  from
 ``invariants/modal_stiffness``     (n, n)          s^-2                   FE
 =================================  ==============  =====================  =========
 
+Group ``mesh`` attribute ``origin_in_drawing_frame`` (2,) [m]: where the
+bed frame's origin (the centre of mass) is in the frame the scene gives the
+bed's geometry and points in (its z is minus the nodes' z).
+
 Root attributes: ``schema``, ``schema_version``, ``creator``, ``created``,
 ``input_hash`` (SHA-256 of the plate inputs), ``n_modes``,
 ``next_frequency`` (Hz of the first elastic mode not stored: the file holds
@@ -48,7 +52,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
@@ -67,6 +71,14 @@ SCHEMA = "flexbed.modes"
 VERSION = "1.1"          # 1.1: plate/theory (absent: "kirchhoff"), Mindlin shells
 MAJOR = 1
 _LATER_KEYS = ("theory", "geometry", "masses", "stiffeners")
+
+
+def _origin(xy, nodes: np.ndarray) -> np.ndarray:
+    """The bed frame's origin in the drawing frame (3,): x, y as recorded,
+    z from the mid-surface's height (−z of the nodes)."""
+    xy = np.asarray(xy, dtype=float).reshape(-1)[:2]
+    z = -float(nodes[0, 2]) if len(nodes) else 0.0
+    return np.array([xy[0], xy[1], z]) if xy.size == 2 else np.array([0.0, 0.0, z])
 
 
 def _plate_attrs(spec: PlateSpec) -> dict:
@@ -120,6 +132,10 @@ class ModesData:
     next_frequency : float
         The file holds every elastic mode below this frequency [Hz].
     created, creator : str
+    origin : ndarray (3,)
+        The bed frame's origin (the bed's centre of mass) in the drawing
+        frame the scene's bed points are given in [m] (zero for the plain
+        rectangle).
     """
 
     path: Path | None
@@ -139,6 +155,7 @@ class ModesData:
     next_frequency: float
     created: str
     creator: str
+    origin: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     @property
     def n_modes(self) -> int:
@@ -166,8 +183,7 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
     mindlin = bed.spec.theory == "mindlin"
     d: dict[str, Dataset] = {
         "mesh/nodes": Dataset(bed.nodes, "m", "node coordinates in the bed frame (origin at "
-                              "the centre of mass)",
-                              attrs={"origin_in_drawing_frame": np.asarray(bed.origin, float)}),
+                              "the centre of mass)"),
         "mesh/cells": Dataset(bed.cells.astype(np.int64), "1", "node indices of each quad"),
         "modes/frequency": Dataset(m.frequency, "Hz", "elastic free-free frequencies"),
         "modes/omega": Dataset(m.omega, "rad/s", "circular frequencies"),
@@ -197,6 +213,8 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
                                 if math.isfinite(m.omega_next) else math.inf),
              "description": "free-free modes and modal invariants of the common bed"},
         "plate": _plate_attrs(bed.spec),
+        "mesh": {"origin_in_drawing_frame": np.asarray(bed.origin, dtype=float),
+                 "origin_units": "m"},
         "invariants": ({"model": "every invariant, mass properties included, from the FE "
                                  "consistent mass of the Mindlin shell"}
                        if inv.model_mass else
@@ -220,7 +238,7 @@ def modes_data(bed: BedModes, path: Path | None = None) -> ModesData:
         rigid_omega=np.asarray(m.rigid_omega, dtype=float), invariants=bed.invariants,
         next_frequency=(m.omega_next / (2 * math.pi) if math.isfinite(m.omega_next)
                         else math.inf),
-        created="", creator="")
+        created="", creator="", origin=_origin(bed.origin, bed.nodes))
 
 
 def read_modes_file(path: str | Path) -> ModesData:
@@ -286,4 +304,6 @@ def read_modes_file(path: str | Path) -> ModesData:
         twist=np.asarray(c.get("modes/twist"), dtype=float),
         rigid_omega=np.asarray(c.datasets.get("modes/rigid_omega", np.zeros(3)), dtype=float),
         invariants=inv, next_frequency=float(root.get("next_frequency", math.inf)),
-        created=str(root.get("created", "")), creator=str(root.get("creator", "")))
+        created=str(root.get("created", "")), creator=str(root.get("creator", "")),
+        origin=_origin(c.attrs.get("mesh", {}).get("origin_in_drawing_frame", (0.0, 0.0)),
+                       nodes))

@@ -36,7 +36,9 @@ BED_MOTION_SCHEMA = "flexbed.bed_motion"
 VERSION = "1.0"
 
 
-def _item(h5name: str, dataset: str, shape: tuple, kind: str) -> str:
+def data_item(h5name: str, dataset: str, shape: tuple, kind: str) -> str:
+    """An XDMF ``DataItem`` pointing at ``h5name:/dataset`` of ``shape``
+    (``kind``: "Int" or "Float", 8 bytes)."""
     dims = " ".join(str(int(d)) for d in shape)
     return (f'<DataItem DataType="{kind}" Dimensions="{dims}" Format="HDF" Precision="8">'
             f"{escape(h5name)}:/{dataset}</DataItem>")
@@ -100,10 +102,10 @@ def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarr
              "  <Domain>",
              '    <Grid Name="mesh" GridType="Uniform">',
              f'      <Topology TopologyType="Quadrilateral" NumberOfElements="{cells.shape[0]}">',
-             f"        {_item(name, 'mesh/cells', cells.shape, 'Int')}",
+             f"        {data_item(name, 'mesh/cells', cells.shape, 'Int')}",
              "      </Topology>",
              '      <Geometry GeometryType="XYZ">',
-             f"        {_item(name, 'mesh/nodes', nodes.shape, 'Float')}",
+             f"        {data_item(name, 'mesh/nodes', nodes.shape, 'Float')}",
              "      </Geometry>",
              "    </Grid>",
              f'    <Grid Name={quoteattr(path.stem)} GridType="Collection" '
@@ -114,10 +116,10 @@ def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarr
                   f'        <xi:include xpointer="{mesh}"/>',
                   f'        <Time Value="{float(t)!r}"/>',
                   '        <Attribute Name="displacement" AttributeType="Vector" Center="Node">',
-                  f"          {_item(name, f'{g}/displacement', (n, 3), 'Float')}",
+                  f"          {data_item(name, f'{g}/displacement', (n, 3), 'Float')}",
                   "        </Attribute>",
                   '        <Attribute Name="deflection" AttributeType="Scalar" Center="Node">',
-                  f"          {_item(name, f'{g}/deflection', (n,), 'Float')}",
+                  f"          {data_item(name, f'{g}/deflection', (n,), 'Float')}",
                   "        </Attribute>",
                   "      </Grid>"]
     lines += ["    </Grid>", "  </Domain>", "</Xdmf>"]
