@@ -32,6 +32,7 @@ from flexbed.files.destination import write_text
 from flexbed.bench.cases import CASES, CaseSpec, kernel_cost, rhs_cost
 from flexbed.bench.fastpath import section_linear, section_modes_auto
 from flexbed.bench.frequency import section_frequency
+from flexbed.bench.beds import section_beds
 from flexbed.bench.context import FULL, QUICK, BenchContext
 from flexbed.bench.dynamics import (LADDERS, QUICK_LADDERS, fastest_reaching, ladder_table,
                              observed_orders, run_ladders)
@@ -306,6 +307,7 @@ SECTIONS: list[Section] = [
     Section("linear", section_linear),
     Section("modes_auto", section_modes_auto),
     Section("frequency", section_frequency),
+    Section("beds", section_beds),
 ]
 
 
