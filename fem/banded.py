@@ -65,5 +65,8 @@ class BandedCholesky:
     def solve(self, b: np.ndarray) -> np.ndarray:
         """Solve A x = b for ``b`` of shape (n,) or (n, m)."""
         s = self._scale if b.ndim == 1 else self._scale[:, None]
-        x = la.cho_solve_banded((self._factor, False), (s * b)[self._perm])
+        # check_finite=False: SciPy would otherwise scan the whole band factor
+        # on every solve (a third of the solve time on large meshes)
+        x = la.cho_solve_banded((self._factor, False), (s * b)[self._perm],
+                                check_finite=False)
         return s * x[self._inv]

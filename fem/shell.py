@@ -159,13 +159,21 @@ class ShellModel:
         """Index maps of the nodes mirrored in x and in y (a node without a
         mirror image maps to itself)."""
         scale = max(np.ptp(self.nodes[:, 0]), np.ptp(self.nodes[:, 1]))
-        key = {(round(x / scale, 9), round(y / scale, 9)): i
-               for i, (x, y) in enumerate(self.nodes)}
-        mx = np.array([key.get((round(-x / scale, 9), round(y / scale, 9)), i)
-                       for i, (x, y) in enumerate(self.nodes)])
-        my = np.array([key.get((round(x / scale, 9), round(-y / scale, 9)), i)
-                       for i, (x, y) in enumerate(self.nodes)])
-        return mx, my
+        # coordinates to 1e-9 of the bed's size as one integer key each
+        # (|x| <= scale: the keys fit in int64), matched by sorting
+        q = np.round(self.nodes / scale * 1e9).astype(np.int64) + 1_000_000_000
+        key = q[:, 0] * 2_000_000_001 + q[:, 1]
+        order = np.argsort(key)
+        ordered = key[order]
+        own = np.arange(self.nodes.shape[0])
+
+        def find(k: np.ndarray) -> np.ndarray:
+            pos = np.minimum(np.searchsorted(ordered, k), k.size - 1)
+            return np.where(ordered[pos] == k, order[pos], own)
+
+        mirrored_x = (2_000_000_000 - q[:, 0]) * 2_000_000_001 + q[:, 1]
+        mirrored_y = q[:, 0] * 2_000_000_001 + (2_000_000_000 - q[:, 1])
+        return find(mirrored_x), find(mirrored_y)
 
     def symmetry_fields(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Translations (3N, n), and the same mirrored in x and in y: a field

@@ -197,3 +197,23 @@ def test_frequency_section_times_modal_and_frf_on_both_beds(report):
     # 5 scene points (3, and 2 relative to the bed) × 3 axes, 12 mounts × 3 axes, the base
     assert rigid["outputs"] == flexible["outputs"] == 15 + 36 + 3
     assert flexible["adaptive_frequencies"] > 400
+
+
+def test_beds_section_puts_both_theories_against_the_3d_solid(report):
+    from flexbed.bench.beds import SOLID, SOLID_IN_PLANE
+    res = report.ctx.results["beds"]
+    assert "## Beds as built" in report.path.read_text()
+    kirchhoff, mindlin = (res["matched"][r.label] for r in res["accuracy"])
+    assert kirchhoff[SOLID_IN_PLANE] is None                    # no in-plane mode
+    err_k = [f / s - 1 for f, s in zip(kirchhoff, SOLID) if f is not None]
+    err_m = [f / s - 1 for f, s in zip(mindlin, SOLID)]
+    # the shell theory removes the torsion error (issue 14: +4.2 %, +4.3 %)
+    assert err_k[2] > 0.04 and err_k[4] > 0.04 and err_m[2] < 0.012 and err_m[4] < 0.012
+    assert abs(err_m[SOLID_IN_PLANE]) < 0.002 and all(0 < e < 0.012 for e in err_m)
+    grid, quads, tris = res["size"]
+    # the same grid read from a file as quads: the same model
+    assert quads.elements == grid.elements and np.allclose(
+        quads.bed.modes.frequency, grid.bed.modes.frequency, rtol=1e-9)
+    # two triangles per quad, each split in three: a finer mesh of the same bed
+    assert tris.elements == 3 * 2 * 10 * 20
+    assert np.allclose(tris.bed.modes.frequency[:6], grid.bed.modes.frequency[:6], rtol=0.003)

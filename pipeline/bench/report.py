@@ -33,6 +33,7 @@ from flexbed.bench.cases import CASES, CaseSpec, kernel_cost, rhs_cost
 from flexbed.bench.fastpath import section_linear, section_modes_auto
 from flexbed.bench.frequency import section_frequency
 from flexbed.bench.inputs import section_inputs
+from flexbed.bench.beds import section_beds
 from flexbed.bench.context import FULL, QUICK, BenchContext
 from flexbed.bench.dynamics import (LADDERS, QUICK_LADDERS, fastest_reaching, ladder_table,
                              observed_orders, run_ladders)
@@ -308,6 +309,7 @@ SECTIONS: list[Section] = [
     Section("modes_auto", section_modes_auto),
     Section("frequency", section_frequency),
     Section("inputs", section_inputs),
+    Section("beds", section_beds),
 ]
 
 

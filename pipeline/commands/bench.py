@@ -17,7 +17,9 @@ repeats. A target writes a part only, as
   damped flexible bed (6 modes), and the aims;
 - ``modelling``: modes kept, mesh density, invariants;
 - ``linear``: the integrators on every case and the linear fast path
-  against them at equal accuracy.
+  against them at equal accuracy;
+- ``beds``: the reference bed, Kirchhoff and Mindlin, against a 3D solid,
+  and the modes of large Mindlin beds (grid, imported quads and triangles).
 
 The report is also printed on stdout; progress goes to stderr.
 """
@@ -44,6 +46,7 @@ TARGETS = {
     "frequency": (["frequency"], None),
     "linear": (["integrators", "linear"], None),
     "inputs": (["inputs"], None),
+    "beds": (["beds"], None),
 }
 
 
