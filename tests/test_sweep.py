@@ -348,6 +348,14 @@ values = [0.1, 0.12]
     ('sampling = "grid"\n', '[[metric]]\nkind = "peak_displacement"\npoint = "C top"\n',
      "point = 'C top' is not a [[point]] of the scene"),
     ('sampling = "lhs"\nsamples = 0\n', METRICS, "samples = 0 must be an integer >= 1"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "natural_frequency"\nmode = 19\n',
+     "metric 1 (natural_frequency): mode = 19: the mounted system has 18 coordinates"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "transmissibility"\npoint = "C top"\n'
+     'frequency = 8.0\n', "metric 1 (transmissibility): point = 'C top' is not a [[point]]"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "transmissibility"\npoint = "A top"\n'
+     'frequency = -8.0\n', "metric 1 (transmissibility): frequency = -8.0 must be a number > 0"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "effective_mass_fraction"\naxis = "w"\n',
+     "metric 1 (effective_mass_fraction): axis = 'w' must be x, y or z"),
 ])
 def test_a_study_is_refused_with_the_entry_named(tmp_path, capsys, body, metrics, message):
     study = study_file(tmp_path, body, metrics=metrics)
@@ -423,3 +431,69 @@ def test_a_flexible_bed_s_modes_are_one_task_shared_by_its_points(tmp_path, clie
     rows = flexbed.compare(scene).rows
     assert table["compare.damped.equipment A.peak"][1] == next(
         r["peak"] for r in rows if r["equipment"] == "equipment A" and r["case"] == "damped")
+
+
+def test_frequency_metrics_equal_single_modal_and_frf_runs(tmp_path, client):
+    """natural_frequency, effective_mass_fraction, transmissibility and
+    peak_transmissibility of two points equal, exactly, a single in-process
+    flexbed.modal / flexbed.frf of each point's scene (the modes about the
+    statics' equilibrium when a static metric runs too)."""
+    body = ('sampling = "list"\n\n[[point]]\n"mount.M5.k" = [1.0e5, 1.0e5, 1.0e5]\n\n'
+            '[[point]]\n"mount.M5.k" = [3.0e5, 3.0e5, 2.0e5]\n')
+    metrics = """
+[[metric]]
+kind = "natural_frequency"
+
+[[metric]]
+kind = "natural_frequency"
+mode = 11
+quantity = "damping_ratio"
+
+[[metric]]
+kind = "effective_mass_fraction"
+axis = "z"
+mode = 3
+
+[[metric]]
+kind = "transmissibility"
+point = "A top"
+frequency = 8.0
+
+[[metric]]
+kind = "transmissibility"
+body = "equipment B"
+position = [0.1, 0.0, 0.15]
+relative_to = "bed"
+input = "base y"
+frequency = 12.5
+
+[[metric]]
+kind = "peak_transmissibility"
+point = "B top"
+band = [3.0, 5.0]
+
+[[metric]]
+kind = "max_static_deflection"
+"""
+    table = flexbed.sweep(study_file(tmp_path, body, metrics=metrics), client, plots=False)
+    assert list(table["status"]) == ["ok", "ok"], list(table["message"])
+    assert table.units["transmissibility.A top.z.8Hz"] == "1"
+    for i, k in enumerate(([1e5, 1e5, 1e5], [3e5, 3e5, 2e5])):
+        scene = flexbed.vary(flexbed.load_scene(), {"solver.t_end": T_END, "mount.M5.k": k})
+        m = flexbed.modal(scene)
+        assert table["natural_frequency.mode1"][i] == m.frequency[0]
+        assert table["natural_frequency.mode11.damping_ratio"][i] == m.damping_ratio[10]
+        assert table["effective_mass_fraction.z.mode3"][i] == m.effective_mass[2, 2] / m.moving_mass
+        t = flexbed.frf(scene, input="base z", points=[("A top", "equipment A", [0, 0, 0.15])],
+                        frequencies=[8.0])
+        assert table["transmissibility.A top.z.8Hz"][i] == t.magnitude[0, t.column("A top az")]
+        label = "equipment B (0.1 0 0.15)"
+        t = flexbed.frf(scene, input="base y", frequencies=[12.5],
+                        points=[(label, "equipment B", [0.1, 0, 0.15], "bed")])
+        assert table[f"transmissibility.{label}@bed.y.12.5Hz"][i] == \
+            t.magnitude[0, t.column(f"{label}@bed ay")]
+        t = flexbed.frf(scene, band=(3.0, 5.0), points=[("B top", "equipment B", [0, 0, 0.15])])
+        peak = table["peak_transmissibility.B top.z.3-5Hz"][i]
+        assert peak == t.magnitude[:, t.column("B top az")].max() and peak > 100
+    # the modes of the stiffer M5 are higher
+    assert table["natural_frequency.mode1"][1] > table["natural_frequency.mode1"][0]

@@ -25,6 +25,10 @@ column's name):
   ``equipment`` body and ``case`` (rigid, flexible, damped):
   ``quantity = "peak" | "rms"`` [m], ``"static_z"`` [m], ``"frequency"`` [Hz].
 
+The frequency-domain kinds (``natural_frequency``,
+``effective_mass_fraction``, ``transmissibility``,
+``peak_transmissibility``) are in :mod:`flexbed.study.frequency_metrics`.
+
 New kinds join :data:`KINDS` (a class with ``analysis``, ``columns``,
 ``units``, ``values(outcomes)`` and a ``build(table, scene, where)``
 constructor).
@@ -68,6 +72,39 @@ def _body(scene: SceneFile, name, where: str, key: str) -> str:
     return name
 
 
+def resolve_point(scene: SceneFile, opts: dict, where: str,
+                  point_relative: bool = True) -> tuple:
+    """A metric's point: a scene ``[[point]]`` by ``point = NAME`` or
+    ``body`` + ``position`` [m, body frame], with an optional
+    ``relative_to`` body (a scene point's own ``relative_to`` is the default
+    when ``point_relative``). Returns (body, position, relative_to, label)."""
+    if "point" in opts:
+        for key in ("body", "position"):
+            if key in opts:
+                raise InputError(f"{where}: give point, or body and position, not both")
+        pts = {p.name: p for p in scene.points}
+        if opts["point"] not in pts:
+            raise InputError(f"{where}: point = {opts['point']!r} is not a [[point]] of the "
+                             f"scene (points: {', '.join(pts) or 'none'})")
+        p = pts[opts["point"]]
+        body, pos, label = p.body, tuple(p.position), p.name
+        rel = opts.get("relative_to", p.relative_to if point_relative else None)
+    else:
+        if "body" not in opts or "position" not in opts:
+            raise InputError(f"{where}: give point = NAME, or body and position")
+        body = _body(scene, opts["body"], where, "body")
+        pos = opts["position"]
+        if (not isinstance(pos, list) or len(pos) != 3
+                or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                           and np.isfinite(x) for x in pos)):
+            raise InputError(f"{where}: position = {pos!r} must be 3 finite numbers [m]")
+        pos, rel = tuple(float(x) for x in pos), opts.get("relative_to")
+        label = f"{body} ({' '.join(f'{x:g}' for x in pos)})"
+    if rel is not None:
+        _body(scene, rel, where, "relative_to")
+    return body, pos, rel, label
+
+
 def _mounts(scene: SceneFile, opts: dict, where: str) -> tuple:
     names = [m.name for m in scene.scene.mounts]
     chosen = opts.get("mounts", names)
@@ -104,30 +141,7 @@ class PeakMotion:
     @classmethod
     def build(cls, table: MetricTable, scene: SceneFile, where: str) -> "PeakMotion":
         opts = _options(table, ("point", "body", "position", "relative_to", "direction"), where)
-        if "point" in opts:
-            for key in ("body", "position"):
-                if key in opts:
-                    raise InputError(f"{where}: give point, or body and position, not both")
-            pts = {p.name: p for p in scene.points}
-            if opts["point"] not in pts:
-                raise InputError(f"{where}: point = {opts['point']!r} is not a [[point]] of the "
-                                 f"scene (points: {', '.join(pts) or 'none'})")
-            p = pts[opts["point"]]
-            body, pos, rel = p.body, tuple(p.position), opts.get("relative_to", p.relative_to)
-            label = p.name
-        else:
-            if "body" not in opts or "position" not in opts:
-                raise InputError(f"{where}: give point = NAME, or body and position")
-            body = _body(scene, opts["body"], where, "body")
-            pos = opts["position"]
-            if (not isinstance(pos, list) or len(pos) != 3
-                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                               and np.isfinite(x) for x in pos)):
-                raise InputError(f"{where}: position = {pos!r} must be 3 finite numbers [m]")
-            pos, rel = tuple(float(x) for x in pos), opts.get("relative_to")
-            label = f"{body} ({' '.join(f'{x:g}' for x in pos)})"
-        if rel is not None:
-            _body(scene, rel, where, "relative_to")
+        body, pos, rel, label = resolve_point(scene, opts, where)
         direction = opts.get("direction")
         if direction is not None and direction not in _DIRECTIONS:
             raise InputError(f"{where}: direction = {direction!r} must be x, y or z")
@@ -296,6 +310,12 @@ KINDS = {"peak_displacement": PeakMotion, "peak_acceleration": PeakMotion,
          "peak_mount_force": PeakMount, "peak_mount_deflection": PeakMount,
          "static_deflection": StaticDeflection, "max_static_deflection": MaxStaticDeflection,
          "compare": CompareFigure}
+
+# the frequency-domain kinds (natural_frequency, effective_mass_fraction,
+# transmissibility, peak_transmissibility); that module uses the helpers above
+from flexbed.study.frequency_metrics import FREQUENCY_KINDS  # noqa: E402
+
+KINDS.update(FREQUENCY_KINDS)
 
 
 def build_metric(table: MetricTable, scene: SceneFile, study_name: str):
