@@ -184,7 +184,9 @@ def test_a_study_on_a_scheduler_and_two_workers_equals_single_runs(tmp_path, sch
 
 def test_an_interrupted_study_keeps_its_finished_rows(tmp_path, scheduler):
     """SIGINT (Ctrl-C) to a running ``flexbed sweep``: exit 130, every row
-    finished so far written, the table marked incomplete."""
+    finished so far written, the table marked incomplete. (Points of 2 s
+    of motion: in batches the rows come 4 at a time, and 60 points of
+    0.5 s were all done before the signal arrived.)"""
     body = """sampling = "grid"
 
 [[parameter]]
@@ -193,7 +195,7 @@ from = 0.08
 to = 0.14
 num = 60
 """
-    study = study_file(tmp_path, body, t_end=0.5, metrics='[[metric]]\nkind = "peak_mount_force"'
+    study = study_file(tmp_path, body, t_end=2.0, metrics='[[metric]]\nkind = "peak_mount_force"'
                        '\nmounts = ["M5"]\n')
     out = tmp_path / "out"
     p = subprocess.Popen([sys.executable, "-m", "flexbed.cli", "sweep", str(study),
@@ -497,3 +499,38 @@ kind = "max_static_deflection"
         assert peak == t.magnitude[:, t.column("B top az")].max() and peak > 100
     # the modes of the stiffer M5 are higher
     assert table["natural_frequency.mode1"][1] > table["natural_frequency.mode1"][0]
+
+
+def test_a_batched_study_equals_an_unbatched_one_row_for_row(tmp_path, client):
+    """Three points a task (one of them failing, one a duplicate) give the
+    same rows as one point a task; a re-run in batches of two skips the
+    points done and runs the new ones."""
+    from flexbed.study.runner import auto_batch, batches
+
+    body = ('sampling = "list"\n' + "".join(
+        f'\n[[point]]\n"bed.thickness" = {t}\n"solver.static_tol" = {tol}\n'
+        for t, tol in ((0.1, 1e-6), (0.11, 1e-30), (0.12, 1e-6), (0.1, 1e-6), (0.13, 1e-6))))
+    metrics = '[[metric]]\nkind = "static_deflection"\nmounts = ["M5"]\n' \
+              '[[metric]]\nkind = "max_static_deflection"\n'
+    study = study_file(tmp_path, body, metrics=metrics)
+    one = flexbed.sweep(study, client, plots=False, batch=1)
+    three = flexbed.sweep(study, client, plots=False, batch=3)
+    assert list(one["status"]) == ["ok", "failed", "ok", "ok", "ok"]
+    for name in one.columns:
+        if name not in ("solve_time", "cpu_time"):
+            np.testing.assert_array_equal(three[name], one[name], err_msg=name)
+    # resumption per point: two points done, then all five in batches of two
+    head = study_file(tmp_path, body.split("\n[[point]]", 3)[0] + "\n[[point]]" +
+                      body.split("\n[[point]]", 3)[1], metrics=metrics, name="head.toml")
+    first = flexbed.sweep(head, client, output=tmp_path / "out", plots=False)
+    assert len(first) == 1
+    study.write_text(study.read_text().replace('"test"', '"test"\nbatch = 2'))
+    again = flexbed.sweep(study, client, output=tmp_path / "out", plots=False)
+    assert again["solve_time"][0] == first["solve_time"][0]         # read back, not re-run
+    for name in ("status", "message", "static_deflection.M5", "scene_hash"):
+        np.testing.assert_array_equal(again[name], one[name], err_msg=name)
+    # batches: study order, one bed's modes each, at most `size` points
+    assert batches({"a": 0, "b": 0, "c": 0, "d": 0}, {"a": None, "b": "m", "c": None,
+                                                     "d": None}, 2) == [["a", "c"], ["d"], ["b"]]
+    assert [auto_batch(n, w) for n, w in ((5, 1), (200, 2), (10000, 64), (10 ** 6, 2))] == \
+        [1, 13, 16, 16]

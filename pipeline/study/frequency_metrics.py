@@ -112,8 +112,8 @@ class NaturalFrequency:
         m = outcomes["modal"]
         if self.mode > m.frequency.size:
             raise NumericalError(f"modal: mode {self.mode}: the mounted system has "
-                                 f"{m.frequency.size} modes ({m.overdamped_rates.size} "
-                                 f"overdamped motions)")
+                                 f"{m.frequency.size} modes (and {m.overdamped_rates.size} "
+                                 f"real roots: overdamped motions)")
         return (float(getattr(m, self.quantity)[self.mode - 1]),)
 
 
