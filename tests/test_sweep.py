@@ -435,11 +435,13 @@ def test_a_flexible_bed_s_modes_are_one_task_shared_by_its_points(tmp_path, clie
         r["peak"] for r in rows if r["equipment"] == "equipment A" and r["case"] == "damped")
 
 
-def test_frequency_metrics_equal_single_modal_and_frf_runs(tmp_path, client):
+def test_frequency_metrics_equal_single_modal_and_frf_runs(tmp_path, scheduler):
     """natural_frequency, effective_mass_fraction, transmissibility and
-    peak_transmissibility of two points equal, exactly, a single in-process
-    flexbed.modal / flexbed.frf of each point's scene (the modes about the
-    statics' equilibrium when a static metric runs too)."""
+    peak_transmissibility of two points, run by the `dask worker`
+    processes (which import the metric kinds afresh when they unpickle
+    them), equal, exactly, a single in-process flexbed.modal / flexbed.frf
+    of each point's scene (the modes about the statics' equilibrium when a
+    static metric runs too)."""
     body = ('sampling = "list"\n\n[[point]]\n"mount.M5.k" = [1.0e5, 1.0e5, 1.0e5]\n\n'
             '[[point]]\n"mount.M5.k" = [3.0e5, 3.0e5, 2.0e5]\n')
     metrics = """
@@ -477,7 +479,7 @@ band = [3.0, 5.0]
 [[metric]]
 kind = "max_static_deflection"
 """
-    table = flexbed.sweep(study_file(tmp_path, body, metrics=metrics), client, plots=False)
+    table = flexbed.sweep(study_file(tmp_path, body, metrics=metrics), scheduler, plots=False)
     assert list(table["status"]) == ["ok", "ok"], list(table["message"])
     assert table.units["transmissibility.A top.z.8Hz"] == "1"
     for i, k in enumerate(([1e5, 1e5, 1e5], [3e5, 3e5, 2e5])):

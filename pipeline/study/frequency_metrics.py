@@ -39,7 +39,7 @@ import numpy as np
 
 from flexbed.errors import InputError, NumericalError
 from flexbed.files.scene import SceneFile
-from flexbed.study.metrics import _options, resolve_point
+from flexbed.study.metric_keys import _options, resolve_point
 from flexbed.study.spec import MetricTable
 
 __all__ = ["NaturalFrequency", "EffectiveMassFraction", "Transmissibility",
