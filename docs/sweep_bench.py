@@ -7,13 +7,14 @@ prints it).
 
 Usage: ``OPENBLAS_NUM_THREADS=1 python docs/sweep_bench.py [POINTS]``
 (default 200; the in-process reference runs 40 of them, spread over the
-study). Takes about 2 minutes on 2 cores.
+study). Takes about 3 minutes on 2 cores.
 
 - in-process: ``run_point`` (the very function a worker runs: statics,
   simulate, the metrics) on 40 of the study's points, warm, median wall
   and CPU time (of the thread) per point;
 - cluster: ``run_plan`` on a fresh 2-worker ``LocalCluster`` (started,
-  warmed, stopped: timed apart), wall time of the points from the first
+  warmed, stopped: timed apart), in batches (``batch = "auto"``) and then
+  one point a task (``batch = 1``); wall time of the points from the first
   submission to the last row; per point on the cluster = wall × workers /
   points; the CPU of every process of the cluster (client, scheduler,
   nannies, workers) over those points, per point; the workers' own
@@ -24,8 +25,9 @@ study). Takes about 2 minutes on 2 cores.
   same cluster: CPU of every process and wall time per task;
 - serial parts: on a ``dask scheduler`` + 2 ``dask worker`` processes
   started apart, the scheduler process's CPU per no-op task and per point
-  of the same study, and the client's (this process) per point: the
-  model of W workers is built on these.
+  of the same study, and the client's (this process) per point, at 1 and
+  16 points a task (so per task and per point apart): the model of W
+  workers and B points a task is built on these.
 """
 
 from __future__ import annotations
@@ -65,13 +67,15 @@ def cpu_now() -> float:
     return total
 
 
-def serial_costs(plan, k: int) -> dict:
+def serial_costs(plan, k: int, sizes=(1, 16)) -> dict:
     """The serial parts of a study, each one process that every task goes
     through: a ``dask scheduler`` and two ``dask worker`` processes started
     here (with the local cluster's settings), the scheduler's CPU per task
     (``k`` no-op tasks; the study's points) and the client's (this
     process: submitting, gathering, the rows, the table's writes) per
-    point, from the processes' own CPU times."""
+    point, from the processes' own CPU times; the study once per batch
+    size in ``sizes`` (points per task), so that the costs per task and
+    per point can be told apart."""
     import socket
     import subprocess
     import tempfile
@@ -113,15 +117,19 @@ def serial_costs(plan, k: int) -> dict:
             c0 = cpu(sched)
             client.gather(client.map(_noop, range(k), pure=False))
             noop = (cpu(sched) - c0) / k
-        c0, m0, w0 = cpu(sched), time.process_time(), time.perf_counter()
-        with tempfile.TemporaryDirectory() as out:
-            table = runner.run_plan(plan, scheduler=address, folder=Path(out), plots=False)
-        wall = time.perf_counter() - w0
+        out = {"noop": noop, "idle": idle}
         n = len(plan.points)
-        assert table.complete
-        raw = (cpu(sched) - c0) / n
-        return {"noop": noop, "idle": idle, "wall": wall, "raw": raw,
-                "scheduler": raw - idle * wall / n, "client": (time.process_time() - m0) / n}
+        for size in sizes:
+            c0, m0, w0 = cpu(sched), time.process_time(), time.perf_counter()
+            with tempfile.TemporaryDirectory() as folder:
+                table = runner.run_plan(plan, scheduler=address, folder=Path(folder),
+                                        plots=False, batch=size)
+            wall = time.perf_counter() - w0
+            assert table.complete
+            raw = (cpu(sched) - c0) / n
+            out[size] = {"wall": wall, "raw": raw, "scheduler": raw - idle * wall / n,
+                         "client": (time.process_time() - m0) / n}
+        return out
     finally:
         for p in reversed(procs):
             p.terminate()
@@ -173,13 +181,22 @@ def main() -> None:
     from flexbed.study.point import WarmUp
     client.register_plugin(WarmUp(plan.base))
     t_start = time.perf_counter() - t0
-    with tempfile.TemporaryDirectory() as tmp:
-        t0, c0 = time.perf_counter(), cpu_now()
-        table = runner.run_plan(plan, scheduler=client, folder=Path(tmp), plots=False)
-        t_study, c_study = time.perf_counter() - t0, cpu_now() - c0
-    assert table.complete and table.ok.all()
-    solve = statistics.median(table["solve_time"])
-    solve_cpu = statistics.median(table["cpu_time"])
+    # the study one point a task, then in batches (runner.auto_batch)
+    from flexbed.study.runner import auto_batch
+    auto = auto_batch(n, workers)
+    runs = {}
+    for size in (1, auto):
+        with tempfile.TemporaryDirectory() as tmp:
+            t0, c0 = time.perf_counter(), cpu_now()
+            table = runner.run_plan(plan, scheduler=client, folder=Path(tmp), plots=False,
+                                    batch=size)
+            t_study, c_study = time.perf_counter() - t0, cpu_now() - c0
+        assert table.complete and table.ok.all()
+        runs[size] = {"wall": t_study, "cpu": c_study,
+                      "solve": statistics.median(table["solve_time"]),
+                      "solve_cpu": statistics.median(table["cpu_time"])}
+    t_study, c_study = runs[auto]["wall"], runs[auto]["cpu"]
+    solve, solve_cpu = runs[auto]["solve"], runs[auto]["solve_cpu"]
 
     # the cluster's CPU when idle (heartbeats, event loops)
     t0, c0 = time.perf_counter(), cpu_now()
@@ -205,8 +222,20 @@ def main() -> None:
     # housekeeping (which grows with the wall time) adds little
     fast = dataclasses.replace(study, samples=400,
                                fixed=study.fixed + (("solver.t_end", 0.01),))
-    serial = serial_costs(make_plan(fast), k)
-    s_model = max(serial["scheduler"], serial["client"])
+    big = 16
+    serial = serial_costs(make_plan(fast), k, sizes=(1, big))
+
+    def split(part):
+        """(per task, per point) [s of CPU] from the costs per point at
+        one point a task and at ``big``."""
+        one, many = serial[1][part], serial[big][part]
+        per_task = max(0.0, (one - many) / (1.0 - 1.0 / big))
+        return per_task, max(0.0, one - per_task)
+
+    (sched_t, sched_p), (client_t, client_p) = split("scheduler"), split("client")
+
+    def serial_per_point(b):
+        return max(sched_t / b + sched_p, client_t / b + client_p)
 
     per_point = t_study * workers / n
     cpu_point = c_study / n
@@ -221,7 +250,9 @@ def main() -> None:
         "",
         f"Study: `docs/sweep-study.toml`, {n} points (Latin hypercube), the reference scene "
         f"(rigid bed, 0-3 s), analyses {', '.join(plan.analyses)}, "
-        f"{len(plan.metric_columns)} metric columns.",
+        f"{len(plan.metric_columns)} metric columns; run on the cluster in batches of "
+        f"{auto} points a task (`batch = \"auto\"` for {n} points on {workers} workers), "
+        f"then again one point a task.",
         "",
         "| quantity | value |",
         "|---|---:|",
@@ -233,6 +264,10 @@ def main() -> None:
         f"nannies, workers) per point | {1e3 * cpu_point:.1f} ms |",
         f"| **overhead per point against in process (CPU)** | "
         f"**{100 * (cpu_point / c1 - 1):+.1f} %** |",
+        f"| the same study one point a task (`batch = 1`): CPU of every process per point / "
+        f"overhead | {1e3 * runs[1]['cpu'] / n:.1f} ms / "
+        f"{100 * (runs[1]['cpu'] / n / c1 - 1):+.1f} % |",
+        f"| one point a task: points per second (wall) | {n / runs[1]['wall']:.2f} |",
         f"| a point's own CPU time on its worker (`cpu_time`), median | "
         f"{1e3 * solve_cpu:.1f} ms |",
         f"| the same, wall (`solve_time`) | {1e3 * solve:.1f} ms |",
@@ -258,29 +293,43 @@ def main() -> None:
         "",
         f"Serial parts (a `dask scheduler` and 2 `dask worker` processes started apart, "
         f"the same settings; CPU of each process): the scheduler {1e3 * serial['noop']:.2f} ms "
-        f"per no-op task; on the same study with 0.01 s of motion per point (400 points, "
-        f"{serial['wall']:.1f} s of wall time) {1e3 * serial['raw']:.2f} ms per point, of "
-        f"which its idle housekeeping ({1e3 * serial['idle']:.1f} ms/s, measured idle) "
-        f"takes {1e3 * (serial['raw'] - serial['scheduler']):.2f} ms: "
-        f"{1e3 * serial['scheduler']:.2f} ms per point; the client (this process: "
-        f"submitting, gathering, the rows, the table's writes every 5 s) "
-        f"{1e3 * serial['client']:.2f} ms per point.",
+        f"per no-op task (its idle housekeeping {1e3 * serial['idle']:.1f} ms/s, measured "
+        f"idle, taken off below). The same study with 0.01 s of motion per point, 400 "
+        f"points, run one point a task and {big} points a task:",
+        "",
+        "| points a task | wall [s] | scheduler CPU per point [ms] | client CPU per point [ms] |",
+        "|---:|---:|---:|---:|",
+        *(f"| {b} | {serial[b]['wall']:.1f} | {1e3 * serial[b]['scheduler']:.2f} | "
+          f"{1e3 * serial[b]['client']:.2f} |" for b in (1, big)),
+        "",
+        f"So per task / per point: the scheduler {1e3 * sched_t:.2f} / {1e3 * sched_p:.2f} ms, "
+        f"the client (this process: submitting, gathering, the rows, the table's writes "
+        f"every 5 s) {1e3 * client_t:.2f} / {1e3 * client_p:.2f} ms.",
         "",
         "Model of W workers (one core each): a point costs t_p = "
-        f"{1e3 * c1:.0f} ms of CPU (in process) on its worker; every point also passes, one "
-        f"at a time, through the scheduler and the client, s = max of their CPU per point = "
-        f"{1e3 * s_model:.2f} ms (measured on 2 shared cores: an upper bound). The study's "
-        "rate is min(W / t_p, 1 / s) points per second, its wall time T(W) = "
-        "N · max(t_p / W, s) plus the cluster's start.",
+        f"{1e3 * c1:.0f} ms of CPU (in process) on its worker; every task also passes, one "
+        "at a time, through the scheduler and the client: with B points a task, "
+        "s(B) = max(scheduler per task / B + per point, client per task / B + per point) "
+        f"= {1e3 * serial_per_point(1):.2f} ms at B = 1, {1e3 * serial_per_point(big):.2f} ms "
+        f"at B = {big} (measured on 2 shared cores: an upper bound). The study's rate is "
+        "min(W / t_p, 1 / s(B)) points per second; `batch = \"auto\"` takes "
+        "B = min(16, ceil(N / 8W)) (at least 8 tasks a worker, so that the last ones leave "
+        "no worker idle for long).",
         "",
-        "| workers W | W / t_p [points/s] | 1 / s [points/s] | predicted rate [points/s] | "
-        "T for 200 points [s] | efficiency |",
-        "|---:|---:|---:|---:|---:|---:|",
+        "| workers W | W / t_p [points/s] | 1 / s(1) | rate, B = 1 [points/s] | efficiency | "
+        f"1 / s({big}) | rate, B = {big} | efficiency | B auto for 10,000 points | "
+        "rate [points/s] |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for w in (1, 2, 8, 16, 32, 64, 128):
-        r = min(w / c1, 1 / s_model)
-        lines.append(f"| {w} | {w / c1:.1f} | {1 / s_model:.0f} | {r:.1f} | "
-                     f"{200 / r:.2f} | {100 * r / (w / c1):.0f} % |")
+        ideal = w / c1
+        r1 = min(ideal, 1 / serial_per_point(1))
+        rb = min(ideal, 1 / serial_per_point(big))
+        ba = auto_batch(10000, w)
+        ra = min(ideal, 1 / serial_per_point(ba))
+        lines.append(f"| {w} | {ideal:.1f} | {1 / serial_per_point(1):.0f} | {r1:.1f} | "
+                     f"{100 * r1 / ideal:.0f} % | {1 / serial_per_point(big):.0f} | {rb:.1f} | "
+                     f"{100 * rb / ideal:.0f} % | {ba} | {ra:.1f} |")
     lines.append("")
     text = "\n".join(lines)
     print(text)

@@ -469,7 +469,7 @@ frf = _pinned(_frf)
 # ---------------------------------------------------------------------- sweep
 def sweep(study, scheduler=None, *, output: str | Path | None = None, workers: int | None = None,
           keep_results: bool = False, retry_failed: bool = False, progress: bool = False,
-          plots: bool = True):
+          plots: bool = True, batch: int | None = None):
     """Run a design study on Dask (as ``flexbed sweep``).
 
     Parameters
@@ -490,6 +490,9 @@ def sweep(study, scheduler=None, *, output: str | Path | None = None, workers: i
     keep_results, retry_failed, progress, plots : bool
         As the command's ``--keep-results``, ``--retry-failed``, progress
         bar (stderr) and ``--no-plots``.
+    batch : int, optional
+        Points per Dask task (``--batch``; default the study's ``batch``,
+        else chosen from the numbers of points and workers, at most 16).
 
     Returns
     -------
@@ -508,8 +511,10 @@ def sweep(study, scheduler=None, *, output: str | Path | None = None, workers: i
     from flexbed.study.spec import Study, read_study
     from flexbed.study.table import check_folder
 
+    if batch is not None and (isinstance(batch, bool) or not isinstance(batch, int) or batch < 1):
+        raise InputError(f"batch = {batch!r} must be an integer >= 1")
     plan = make_plan(study if isinstance(study, Study) else read_study(study))
     folder = check_folder(output) if output is not None else None
     return run_plan(plan, scheduler=scheduler, workers=workers, folder=folder,
                     keep_results=keep_results, retry_failed=retry_failed, progress=progress,
-                    plots=plots)
+                    plots=plots, batch=batch)

@@ -105,6 +105,10 @@ class Transmissibility:
 
 
 def _mounted(api, scene: SceneFile, modes: ModesData | None, equilibrium) -> amodal.Mounted:
+    if isinstance(equilibrium, Modal):           # its linearisation and modes, as they are
+        if equilibrium.scene.digest != scene.digest:
+            raise InputError("equilibrium: the Modal given is of another scene")
+        return equilibrium.mounted
     if scene.bed.flexible and modes is None:
         modes = api.modes(scene)
     if equilibrium is not None and not isinstance(equilibrium, (str, Path)):
@@ -151,7 +155,9 @@ def frf(scene: SceneFile, *, input: str = "base z",
         Log-spaced frequencies of the base grid (each resonance adds its own).
     frequencies : sequence [Hz], optional
         Exactly these frequencies, no refinement.
-    modes, equilibrium : as in :func:`modal`.
+    modes, equilibrium : as in :func:`modal`; ``equilibrium`` may also be
+        this scene's :class:`Modal` (its linearisation and modes reused:
+        the same numbers as solving them again, without the cost).
     """
     from flexbed import api
     pts = None

@@ -184,7 +184,9 @@ def test_a_study_on_a_scheduler_and_two_workers_equals_single_runs(tmp_path, sch
 
 def test_an_interrupted_study_keeps_its_finished_rows(tmp_path, scheduler):
     """SIGINT (Ctrl-C) to a running ``flexbed sweep``: exit 130, every row
-    finished so far written, the table marked incomplete."""
+    finished so far written, the table marked incomplete. (Points of 2 s
+    of motion: in batches the rows come 4 at a time, and 60 points of
+    0.5 s were all done before the signal arrived.)"""
     body = """sampling = "grid"
 
 [[parameter]]
@@ -193,7 +195,7 @@ from = 0.08
 to = 0.14
 num = 60
 """
-    study = study_file(tmp_path, body, t_end=0.5, metrics='[[metric]]\nkind = "peak_mount_force"'
+    study = study_file(tmp_path, body, t_end=2.0, metrics='[[metric]]\nkind = "peak_mount_force"'
                        '\nmounts = ["M5"]\n')
     out = tmp_path / "out"
     p = subprocess.Popen([sys.executable, "-m", "flexbed.cli", "sweep", str(study),
@@ -348,6 +350,14 @@ values = [0.1, 0.12]
     ('sampling = "grid"\n', '[[metric]]\nkind = "peak_displacement"\npoint = "C top"\n',
      "point = 'C top' is not a [[point]] of the scene"),
     ('sampling = "lhs"\nsamples = 0\n', METRICS, "samples = 0 must be an integer >= 1"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "natural_frequency"\nmode = 19\n',
+     "metric 1 (natural_frequency): mode = 19: the mounted system has 18 coordinates"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "transmissibility"\npoint = "C top"\n'
+     'frequency = 8.0\n', "metric 1 (transmissibility): point = 'C top' is not a [[point]]"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "transmissibility"\npoint = "A top"\n'
+     'frequency = -8.0\n', "metric 1 (transmissibility): frequency = -8.0 must be a number > 0"),
+    ('sampling = "grid"\n', '[[metric]]\nkind = "effective_mass_fraction"\naxis = "w"\n',
+     "metric 1 (effective_mass_fraction): axis = 'w' must be x, y or z"),
 ])
 def test_a_study_is_refused_with_the_entry_named(tmp_path, capsys, body, metrics, message):
     study = study_file(tmp_path, body, metrics=metrics)
@@ -423,3 +433,106 @@ def test_a_flexible_bed_s_modes_are_one_task_shared_by_its_points(tmp_path, clie
     rows = flexbed.compare(scene).rows
     assert table["compare.damped.equipment A.peak"][1] == next(
         r["peak"] for r in rows if r["equipment"] == "equipment A" and r["case"] == "damped")
+
+
+def test_frequency_metrics_equal_single_modal_and_frf_runs(tmp_path, scheduler):
+    """natural_frequency, effective_mass_fraction, transmissibility and
+    peak_transmissibility of two points, run by the `dask worker`
+    processes (which import the metric kinds afresh when they unpickle
+    them), equal, exactly, a single in-process flexbed.modal / flexbed.frf
+    of each point's scene (the modes about the statics' equilibrium when a
+    static metric runs too)."""
+    body = ('sampling = "list"\n\n[[point]]\n"mount.M5.k" = [1.0e5, 1.0e5, 1.0e5]\n\n'
+            '[[point]]\n"mount.M5.k" = [3.0e5, 3.0e5, 2.0e5]\n')
+    metrics = """
+[[metric]]
+kind = "natural_frequency"
+
+[[metric]]
+kind = "natural_frequency"
+mode = 11
+quantity = "damping_ratio"
+
+[[metric]]
+kind = "effective_mass_fraction"
+axis = "z"
+mode = 3
+
+[[metric]]
+kind = "transmissibility"
+point = "A top"
+frequency = 8.0
+
+[[metric]]
+kind = "transmissibility"
+body = "equipment B"
+position = [0.1, 0.0, 0.15]
+relative_to = "bed"
+input = "base y"
+frequency = 12.5
+
+[[metric]]
+kind = "peak_transmissibility"
+point = "B top"
+band = [3.0, 5.0]
+
+[[metric]]
+kind = "max_static_deflection"
+"""
+    table = flexbed.sweep(study_file(tmp_path, body, metrics=metrics), scheduler, plots=False)
+    assert list(table["status"]) == ["ok", "ok"], list(table["message"])
+    assert table.units["transmissibility.A top.z.8Hz"] == "1"
+    for i, k in enumerate(([1e5, 1e5, 1e5], [3e5, 3e5, 2e5])):
+        scene = flexbed.vary(flexbed.load_scene(), {"solver.t_end": T_END, "mount.M5.k": k})
+        m = flexbed.modal(scene)
+        assert table["natural_frequency.mode1"][i] == m.frequency[0]
+        assert table["natural_frequency.mode11.damping_ratio"][i] == m.damping_ratio[10]
+        assert table["effective_mass_fraction.z.mode3"][i] == m.effective_mass[2, 2] / m.moving_mass
+        t = flexbed.frf(scene, input="base z", points=[("A top", "equipment A", [0, 0, 0.15])],
+                        frequencies=[8.0])
+        assert table["transmissibility.A top.z.8Hz"][i] == t.magnitude[0, t.column("A top az")]
+        label = "equipment B (0.1 0 0.15)"
+        t = flexbed.frf(scene, input="base y", frequencies=[12.5],
+                        points=[(label, "equipment B", [0.1, 0, 0.15], "bed")])
+        assert table[f"transmissibility.{label}@bed.y.12.5Hz"][i] == \
+            t.magnitude[0, t.column(f"{label}@bed ay")]
+        t = flexbed.frf(scene, band=(3.0, 5.0), points=[("B top", "equipment B", [0, 0, 0.15])])
+        peak = table["peak_transmissibility.B top.z.3-5Hz"][i]
+        assert peak == t.magnitude[:, t.column("B top az")].max() and peak > 100
+    # the modes of the stiffer M5 are higher
+    assert table["natural_frequency.mode1"][1] > table["natural_frequency.mode1"][0]
+
+
+def test_a_batched_study_equals_an_unbatched_one_row_for_row(tmp_path, client):
+    """Three points a task (one of them failing, one a duplicate) give the
+    same rows as one point a task; a re-run in batches of two skips the
+    points done and runs the new ones."""
+    from flexbed.study.runner import auto_batch, batches
+
+    body = ('sampling = "list"\n' + "".join(
+        f'\n[[point]]\n"bed.thickness" = {t}\n"solver.static_tol" = {tol}\n'
+        for t, tol in ((0.1, 1e-6), (0.11, 1e-30), (0.12, 1e-6), (0.1, 1e-6), (0.13, 1e-6))))
+    metrics = '[[metric]]\nkind = "static_deflection"\nmounts = ["M5"]\n' \
+              '[[metric]]\nkind = "max_static_deflection"\n'
+    study = study_file(tmp_path, body, metrics=metrics)
+    one = flexbed.sweep(study, client, plots=False, batch=1)
+    three = flexbed.sweep(study, client, plots=False, batch=3)
+    assert list(one["status"]) == ["ok", "failed", "ok", "ok", "ok"]
+    for name in one.columns:
+        if name not in ("solve_time", "cpu_time"):
+            np.testing.assert_array_equal(three[name], one[name], err_msg=name)
+    # resumption per point: two points done, then all five in batches of two
+    head = study_file(tmp_path, body.split("\n[[point]]", 3)[0] + "\n[[point]]" +
+                      body.split("\n[[point]]", 3)[1], metrics=metrics, name="head.toml")
+    first = flexbed.sweep(head, client, output=tmp_path / "out", plots=False)
+    assert len(first) == 1
+    study.write_text(study.read_text().replace('"test"', '"test"\nbatch = 2'))
+    again = flexbed.sweep(study, client, output=tmp_path / "out", plots=False)
+    assert again["solve_time"][0] == first["solve_time"][0]         # read back, not re-run
+    for name in ("status", "message", "static_deflection.M5", "scene_hash"):
+        np.testing.assert_array_equal(again[name], one[name], err_msg=name)
+    # batches: study order, one bed's modes each, at most `size` points
+    assert batches({"a": 0, "b": 0, "c": 0, "d": 0}, {"a": None, "b": "m", "c": None,
+                                                     "d": None}, 2) == [["a", "c"], ["d"], ["b"]]
+    assert [auto_batch(n, w) for n, w in ((5, 1), (200, 2), (10000, 64), (10 ** 6, 2))] == \
+        [1, 13, 16, 16]

@@ -28,6 +28,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                              "processes, started and stopped here)")
     parser.add_argument("--workers", type=int, default=None, metavar="N",
                         help="workers of the local cluster (default: one per core)")
+    parser.add_argument("--batch", type=int, default=None, metavar="N",
+                        help="points per Dask task (default: the study's [study] batch, else "
+                             "chosen from the numbers of points and workers, at most 16)")
     parser.add_argument("--keep-results", action="store_true",
                         help="also write each point's results file into DIR/results")
     parser.add_argument("--retry-failed", action="store_true",
@@ -44,6 +47,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers = {args.workers} must be >= 1")
+    if args.batch is not None and args.batch < 1:
+        raise InputError(f"--batch = {args.batch} must be >= 1")
     if args.workers is not None and args.scheduler is not None:
         raise InputError("--workers sizes the local cluster; with --scheduler the cluster's "
                          "own workers run the study")
@@ -56,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     table = run_plan(plan, scheduler=args.scheduler, workers=args.workers, folder=folder,
                      keep_results=args.keep_results, retry_failed=args.retry_failed,
                      progress=not args.no_progress, plots=not args.no_plots,
-                     log=lambda msg: print(msg, file=sys.stderr))
+                     batch=args.batch, log=lambda msg: print(msg, file=sys.stderr))
     failed = int((~table.ok).sum())
     print(f"wrote {folder / 'table.csv'} and {folder / 'table.h5'} ({len(table)} rows"
           f"{f', {failed} failed' if failed else ''})")

@@ -7,11 +7,17 @@ of the analyses run before it at this point (``simulate`` starts from
 ``static``'s equilibrium when both run) and the bed's modes (computed once
 per plate by the runner and shared).
 
-Frequency-domain analyses join with :func:`register`: an :class:`Analysis`
-with its name, a function ``run(scene, outcomes, modes) -> outcome`` and,
-for files kept with ``--keep-results``, ``files(outcome) -> {suffix:
-(datasets, attrs)}``; their metrics join :mod:`flexbed.study.metrics` the
-same way. Nothing here depends on them.
+The frequency-domain analyses: ``modal`` is :func:`flexbed.modal` of the
+point's scene (about ``static``'s equilibrium when that runs too);
+``frf`` hands the metrics :class:`Responses`, which call :func:`flexbed.frf`
+with the input, points and frequencies each metric asks for, on the
+``modal`` outcome's linearisation (computed here when ``modal`` does not
+run).
+
+Other analyses join with :func:`register`: an :class:`Analysis` with its
+name, a function ``run(scene, outcomes, modes) -> outcome`` and, for files
+kept with ``--keep-results``, ``files(outcome) -> {suffix: (datasets,
+attrs)}``; their metrics join :mod:`flexbed.study.metrics` the same way.
 """
 
 from __future__ import annotations
@@ -81,3 +87,44 @@ register(Analysis("simulate", _simulate, files=lambda run: {"results": run._data
 register(Analysis("compare", _compare, needs_bed_modes=True,
                   files=lambda cmp: {f"compare-{case}": run._datasets
                                      for case, run in cmp.runs.items()}))
+
+
+def _modal(scene, outcomes, modes):
+    from flexbed.api import modal
+    return modal(scene, modes=modes if scene.bed.flexible else None,
+                 equilibrium=outcomes.get("static"))
+
+
+class Responses:
+    """The ``frf`` outcome of a point: :func:`flexbed.frf` of its scene on
+    its ``modal`` linearisation, one call per distinct request (cached).
+
+    scene : SceneFile; modal : flexbed.Modal; modes : ModesData or None.
+    """
+
+    def __init__(self, scene, modal, modes):
+        self.scene, self.modal, self.modes = scene, modal, modes
+        self._cache = {}
+
+    def response(self, input: str, point: tuple, *, frequencies=None, band=None):
+        """``flexbed.frf(scene, input=input, points=[point], frequencies=…,
+        band=…, equilibrium=modal)``; ``point`` is (name, body, position[,
+        relative_to]). Returns a flexbed.Transmissibility."""
+        from flexbed.api import frf
+        key = (input, tuple(map(str, point)), None if frequencies is None else tuple(frequencies),
+               band)
+        if key not in self._cache:
+            self._cache[key] = frf(self.scene, input=input, points=[point],
+                                   frequencies=frequencies, band=band,
+                                   modes=self.modes, equilibrium=self.modal)
+        return self._cache[key]
+
+
+def _frf(scene, outcomes, modes):
+    modes = modes if scene.bed.flexible else None
+    modal = outcomes.get("modal") or _modal(scene, outcomes, modes)
+    return Responses(scene, modal, modes)
+
+
+register(Analysis("modal", _modal))
+register(Analysis("frf", _frf))

@@ -25,6 +25,10 @@ column's name):
   ``equipment`` body and ``case`` (rigid, flexible, damped):
   ``quantity = "peak" | "rms"`` [m], ``"static_z"`` [m], ``"frequency"`` [Hz].
 
+The frequency-domain kinds (``natural_frequency``,
+``effective_mass_fraction``, ``transmissibility``,
+``peak_transmissibility``) are in :mod:`flexbed.study.frequency_metrics`.
+
 New kinds join :data:`KINDS` (a class with ``analysis``, ``columns``,
 ``units``, ``values(outcomes)`` and a ``build(table, scene, where)``
 constructor).
@@ -38,6 +42,8 @@ import numpy as np
 
 from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile
+from flexbed.study.frequency_metrics import FREQUENCY_KINDS
+from flexbed.study.metric_keys import _options, resolve_point
 from flexbed.study.spec import MetricTable
 
 __all__ = ["KINDS", "build_metric", "PeakMotion", "PeakMount", "StaticDeflection",
@@ -46,26 +52,6 @@ __all__ = ["KINDS", "build_metric", "PeakMotion", "PeakMount", "StaticDeflection
 _DIRECTIONS = {"x": 0, "y": 1, "z": 2}
 _CASES = ("rigid", "flexible", "damped")
 _QUANTITIES = {"peak": "m", "rms": "m", "static_z": "m", "frequency": "Hz"}
-
-
-def _options(table: MetricTable, keys: tuple, where: str) -> dict:
-    opts = dict(table.options)
-    for key in opts:
-        if key not in keys + ("name",):
-            raise InputError(f"{where}: unknown key {key!r} for kind {table.kind!r} "
-                             f"(known: {', '.join(keys + ('name',))})")
-    name = opts.get("name")
-    if name is not None and (not isinstance(name, str) or not name):
-        raise InputError(f"{where}: name = {name!r} must be a non-empty string")
-    return opts
-
-
-def _body(scene: SceneFile, name, where: str, key: str) -> str:
-    names = [b.name for b in scene.scene.bodies]
-    if name not in names:
-        raise InputError(f"{where}: {key} = {name!r} is not a body of the scene "
-                         f"(bodies: {', '.join(names)})")
-    return name
 
 
 def _mounts(scene: SceneFile, opts: dict, where: str) -> tuple:
@@ -104,30 +90,7 @@ class PeakMotion:
     @classmethod
     def build(cls, table: MetricTable, scene: SceneFile, where: str) -> "PeakMotion":
         opts = _options(table, ("point", "body", "position", "relative_to", "direction"), where)
-        if "point" in opts:
-            for key in ("body", "position"):
-                if key in opts:
-                    raise InputError(f"{where}: give point, or body and position, not both")
-            pts = {p.name: p for p in scene.points}
-            if opts["point"] not in pts:
-                raise InputError(f"{where}: point = {opts['point']!r} is not a [[point]] of the "
-                                 f"scene (points: {', '.join(pts) or 'none'})")
-            p = pts[opts["point"]]
-            body, pos, rel = p.body, tuple(p.position), opts.get("relative_to", p.relative_to)
-            label = p.name
-        else:
-            if "body" not in opts or "position" not in opts:
-                raise InputError(f"{where}: give point = NAME, or body and position")
-            body = _body(scene, opts["body"], where, "body")
-            pos = opts["position"]
-            if (not isinstance(pos, list) or len(pos) != 3
-                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                               and np.isfinite(x) for x in pos)):
-                raise InputError(f"{where}: position = {pos!r} must be 3 finite numbers [m]")
-            pos, rel = tuple(float(x) for x in pos), opts.get("relative_to")
-            label = f"{body} ({' '.join(f'{x:g}' for x in pos)})"
-        if rel is not None:
-            _body(scene, rel, where, "relative_to")
+        body, pos, rel, label = resolve_point(scene, opts, where)
         direction = opts.get("direction")
         if direction is not None and direction not in _DIRECTIONS:
             raise InputError(f"{where}: direction = {direction!r} must be x, y or z")
@@ -296,6 +259,8 @@ KINDS = {"peak_displacement": PeakMotion, "peak_acceleration": PeakMotion,
          "peak_mount_force": PeakMount, "peak_mount_deflection": PeakMount,
          "static_deflection": StaticDeflection, "max_static_deflection": MaxStaticDeflection,
          "compare": CompareFigure}
+
+KINDS.update(FREQUENCY_KINDS)       # natural_frequency, effective_mass_fraction, …
 
 
 def build_metric(table: MetricTable, scene: SceneFile, study_name: str):

@@ -1,5 +1,6 @@
-"""What a Dask worker runs: one point's analyses and metrics, a bed's modes,
-and the warm-up of a worker's compiled code.
+"""What a Dask worker runs: a batch of points (each point's analyses and
+metrics, one after another), a bed's modes, and the warm-up of a worker's
+compiled code.
 
 A point never raises: a failure (no equilibrium, a run that stops early,
 anything else) comes back as its one-line message, so the study goes on.
@@ -17,7 +18,7 @@ from flexbed.errors import FlexbedError
 from flexbed.files.scene import SceneFile
 from flexbed.study.analyses import ANALYSES
 
-__all__ = ["PointResult", "run_point", "run_packed", "pack", "bed_modes", "WarmUp", "warm"]
+__all__ = ["PointResult", "run_point", "run_batch", "pack", "bed_modes", "WarmUp", "warm"]
 
 
 @dataclass(frozen=True)
@@ -86,11 +87,13 @@ def pack(obj) -> bytes:
     return pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
 
 
-def run_packed(scene: bytes, setup: bytes, modes=None) -> PointResult:
-    """:func:`run_point` of ``pack(scene)`` and ``pack((analyses, metrics,
-    keep))``: the task a worker runs."""
+def run_batch(scenes: list, setup: bytes, modes=None) -> list:
+    """:func:`run_point` of each ``pack(scene)`` in ``scenes`` with
+    ``pack((analyses, metrics, keep))``, one after another: the task a
+    worker runs. Returns a list of PointResult, one per scene (each point
+    keeps its own times and its own failure)."""
     analyses, metrics, keep = pickle.loads(setup)
-    return run_point(pickle.loads(scene), analyses, metrics, modes, keep)
+    return [run_point(pickle.loads(scene), analyses, metrics, modes, keep) for scene in scenes]
 
 
 def bed_modes(scene: SceneFile):

@@ -9,23 +9,58 @@ end or on Ctrl-C (then marked incomplete). A point that fails keeps its
 one-line message; a point whose worker died is re-run by the scheduler on
 another worker (Dask's ``allowed-failures``), and if every try is lost its
 row says so.
+
+Several points per task: the scheduler and the client spend ~5 ms of CPU
+on every task (docs/sweep-benchmark.md), so points of 0.1 s on tens of
+workers would wait on them; a task runs a batch of points (the same bed's
+modes) and returns a row for each. Batches change nothing in the rows
+(each point is run, timed, failed, resumed on its own); a worker lost
+runs its batch again elsewhere.
 """
 
 from __future__ import annotations
 
+import hashlib
+import math
 import sys
 import time
 from pathlib import Path
 
 from flexbed.study.plan import Plan, modes_scene
-from flexbed.study.point import PointResult, bed_modes, pack, run_packed
+from flexbed.study.point import PointResult, bed_modes, pack, run_batch
 from flexbed.study.table import Row, StudyTable, build_table, read_done, write_table
 
-__all__ = ["run_plan", "StudyProgress"]
+__all__ = ["run_plan", "StudyProgress", "auto_batch", "batches"]
 
 #: seconds between two writes of the table while the study runs (each
 #: write is the whole table, CSV and HDF5: tens of ms of the client's CPU)
 WRITE_EVERY = 5.0
+
+#: ``batch = "auto"``: at least this many tasks per worker (so that the
+#: last batches do not leave workers idle for long) ...
+TASKS_PER_WORKER = 8
+#: ... and at most this many points per task
+MAX_BATCH = 16
+
+
+def auto_batch(points: int, workers: int) -> int:
+    """Points per task when the study does not say: enough tasks to keep
+    every worker busy to the end (``TASKS_PER_WORKER`` each), at most
+    ``MAX_BATCH`` points a task. Measured (docs/sweep-benchmark.md): the
+    scheduler's CPU per point 5.7 → 0.5 ms and the client's 5.1 → 1.5 ms
+    from 1 to 16 points a task, so the ceiling of a study goes from ~175
+    to ~680 points/s (the client's own work per row is then the limit)."""
+    return max(1, min(MAX_BATCH, math.ceil(points / (TASKS_PER_WORKER * max(1, workers)))))
+
+
+def batches(todo: dict, modes_keys: dict, size: int) -> list[list[str]]:
+    """The distinct scenes to run (``todo``'s keys, in study order) cut into
+    batches of at most ``size``, each batch on one bed's modes
+    (``modes_keys``: scene key → modes key or None)."""
+    groups: dict = {}
+    for key in todo:
+        groups.setdefault(modes_keys[key], []).append(key)
+    return [keys[i:i + size] for keys in groups.values() for i in range(0, len(keys), size)]
 
 
 class StudyProgress:
@@ -86,7 +121,7 @@ def _row(plan: Plan, point, res: PointResult) -> Row:
 def run_plan(plan: Plan, *, scheduler=None, workers: int | None = None,
              folder: Path | None = None, keep_results: bool = False,
              retry_failed: bool = False, progress: bool = False, plots: bool = True,
-             log=None) -> StudyTable:
+             batch: int | None = None, log=None) -> StudyTable:
     """Run the points of ``plan`` not already done; return the whole table.
 
     Parameters
@@ -107,6 +142,9 @@ def run_plan(plan: Plan, *, scheduler=None, workers: int | None = None,
         Progress bar on stderr.
     plots : bool
         Write the plots at the end.
+    batch : int, optional
+        Points per task (default: the study's ``batch``, else
+        :func:`auto_batch` of the points to run and the cluster's workers).
     log : callable(str), optional
         One-line notes (points skipped, tables ignored).
     """
@@ -139,7 +177,7 @@ def run_plan(plan: Plan, *, scheduler=None, workers: int | None = None,
     try:
         if todo:
             _run(plan, todo, rows, scheduler, workers, folder if keep_results else None,
-                 bar, lambda: save(False, force=False))
+                 bar, lambda: save(False, force=False), batch or plan.study.batch)
     except KeyboardInterrupt:
         bar.close()
         save(False)
@@ -152,7 +190,7 @@ def run_plan(plan: Plan, *, scheduler=None, workers: int | None = None,
     return table
 
 
-def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint) -> None:
+def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint, size) -> None:
     from distributed import as_completed
 
     from flexbed.study.engine import cluster_client
@@ -164,32 +202,40 @@ def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint) -> 
             if p.modes_key is not None and p.modes_key not in modes:
                 modes[p.modes_key] = client.submit(bed_modes, modes_scene(p.scene),
                                                    key=f"flexbed-modes-{p.modes_key}")
-        # one graph for all the points (a submission each would cost the
+        if size is None:
+            size = auto_batch(len(todo), len(client.scheduler_info().get("workers", {})))
+        # one graph for all the batches (a submission each would cost the
         # scheduler several times the CPU per task)
         setup = pack((plan.analyses, plan.metrics, keep_folder is not None))
-        firsts = [pts[0] for pts in todo.values()]
-        names = [f"flexbed-point-{key[:24]}-{plan.signature}" for key in todo]
-        futures = client.map(run_packed, [pack(p.scene) for p in firsts],
-                             [setup] * len(firsts), [modes.get(p.modes_key) for p in firsts],
+        groups = batches(todo, {k: pts[0].modes_key for k, pts in todo.items()}, size)
+        names = [f"flexbed-batch-{hashlib.sha256(''.join(keys).encode()).hexdigest()[:24]}"
+                 f"-{plan.signature}" for keys in groups]
+        futures = client.map(run_batch, [[pack(todo[k][0].scene) for k in keys]
+                                         for keys in groups],
+                             [setup] * len(groups), [modes.get(todo[keys[0]][0].modes_key)
+                                                     for keys in groups],
                              key=names, retries=1)
-        owner = dict(zip(names, todo))
+        owner = dict(zip(names, groups))
         failed = sum(r.status != "ok" for r in rows.values())
         bar.update(len(rows), failed, force=True)
         try:
             for fut in as_completed(futures):
+                keys = owner[fut.key]
                 try:
-                    res = fut.result()
+                    results = fut.result()
                 except Exception as exc:                # every try lost, or cancelled
                     text = str(exc).splitlines()[0] if str(exc) else ""
-                    res = PointResult("failed", f"{type(exc).__name__}: {text}".rstrip(": "),
-                                      (float("nan"),) * len(plan.metric_columns),
-                                      float("nan"), float("nan"))
+                    lost = PointResult("failed", f"{type(exc).__name__}: {text}".rstrip(": "),
+                                       (float("nan"),) * len(plan.metric_columns),
+                                       float("nan"), float("nan"))
+                    results = [lost] * len(keys)
                 fut.release()
-                for p in todo[owner[fut.key]]:
-                    rows[p.index] = _row(plan, p, res)
-                    if keep_folder is not None and res.files:
-                        _keep(keep_folder, p.index, res.files)
-                    failed += res.status != "ok"
+                for key, res in zip(keys, results):
+                    for p in todo[key]:
+                        rows[p.index] = _row(plan, p, res)
+                        if keep_folder is not None and res.files:
+                            _keep(keep_folder, p.index, res.files)
+                        failed += res.status != "ok"
                 bar.update(len(rows), failed)
                 checkpoint()
         except KeyboardInterrupt:

@@ -25,7 +25,7 @@ SAMPLINGS = ("grid", "zip", "list", "lhs")
 SCALES = ("linear", "log")
 
 _TOP = ("study", "parameter", "point", "metric")
-_STUDY_KEYS = ("name", "scene", "sampling", "samples", "seed", "analyses", "set")
+_STUDY_KEYS = ("name", "scene", "sampling", "samples", "seed", "analyses", "set", "batch")
 _PARAMETER_KEYS = ("path", "values", "from", "to", "num", "low", "high", "scale")
 
 
@@ -69,7 +69,9 @@ class Study:
     tables (sampling "list"); samples : int or None (lhs); seed : int (lhs);
     fixed : ((path, value), ...) — ``[study.set]``, applied to every point;
     analyses : tuple of str or None (None: what the metrics need);
-    metrics : tuple of MetricTable.
+    metrics : tuple of MetricTable; batch : int or None — points per Dask
+    task (None: chosen from the study's and the cluster's sizes,
+    :func:`flexbed.study.runner.auto_batch`).
     """
 
     source: Path
@@ -83,6 +85,7 @@ class Study:
     fixed: tuple
     analyses: tuple | None
     metrics: tuple
+    batch: int | None = None
 
 
 def read_study(path: str | Path) -> Study:
@@ -139,6 +142,10 @@ def parse_study(text: str, source: Path) -> Study:
                 or not all(isinstance(a, str) for a in analyses)):
             raise InputError(f"{where}: [study] analyses = {analyses!r} must be a list of names")
         analyses = tuple(dict.fromkeys(analyses))
+    batch = head.get("batch", "auto")
+    if batch != "auto" and not _count(batch):
+        raise InputError(f"{where}: [study] batch = {batch!r} must be an integer >= 1 (points "
+                         f"per task) or \"auto\"")
     fixed = head.get("set", {})
     if not isinstance(fixed, dict):
         raise InputError(f"{where}: [study.set] must be a table of path = value")
@@ -152,7 +159,8 @@ def parse_study(text: str, source: Path) -> Study:
     return Study(source=source, name=name, scene=scene, sampling=sampling,
                  parameters=parameters, points=points,
                  samples=samples if sampling == "lhs" else None, seed=seed,
-                 fixed=tuple(fixed.items()), analyses=analyses, metrics=metrics)
+                 fixed=tuple(fixed.items()), analyses=analyses, metrics=metrics,
+                 batch=None if batch == "auto" else batch)
 
 
 def _known(table: dict, keys: tuple, where: str, entry: str) -> None:

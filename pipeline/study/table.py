@@ -169,7 +169,8 @@ def write_table(table: StudyTable, plan, folder: Path) -> tuple[Path, Path]:
     for name, values in table.columns.items():
         data = values if values.dtype != object else values.astype(str)
         datasets[_dataset_name(name)] = Dataset(data, table.units[name] or "",
-                                                missing=name in table.metrics)
+                                                missing=name in table.metrics
+                                                or name in ("solve_time", "cpu_time"))
     attrs = {"": {"study": table.name, "study_file": str(plan.study.source),
                   "complete": bool(table.complete), "points_planned": int(table.planned),
                   "points_done": int(len(table)), "signature": plan.signature,
