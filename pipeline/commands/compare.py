@@ -11,6 +11,7 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+from flexbed.commands.arguments import add_scene_arg
 from flexbed.analyses.compare import (CASES, LABELS, comparison_rows, csv_table, markdown_table,
                                       relative_vertical, run_case)
 from flexbed.files.destination import make_folder, write_text
@@ -49,8 +50,7 @@ def with_solver_options(sf: SceneFile, integrator: str | None, t_end: float | No
 def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Run the scene with a rigid, a flexible and a damped flexible bed "
                           "and compare the equipment's motion.")
-    parser.add_argument("scene", nargs="?", default=None,
-                        help="scene file (TOML); default: the built-in reference scene")
+    add_scene_arg(parser)
     parser.add_argument("-o", "--output", default="flexbed-compare", metavar="DIR",
                         help="output folder (default: ./flexbed-compare)")
     add_solver_args(parser)

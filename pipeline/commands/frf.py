@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbed.commands.arguments import add_scene_arg
 from flexbed.commands.modal import load_mounted
 from flexbed.commands.static import add_modes_file_arg
 from flexbed.errors import InputError
@@ -30,8 +31,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Transmissibility (magnitude, phase) of the mounted system from a "
                           "base acceleration or a force to points, mount forces and the force "
                           "on the base, with every resonance in the band resolved.")
-    parser.add_argument("scene", nargs="?", default=None,
-                        help="scene file (TOML); default: the built-in reference scene")
+    add_scene_arg(parser)
     parser.add_argument("-o", "--output", default=None, metavar="PREFIX",
                         help="prefix of the files written (default: <scene stem>-frf)")
     parser.add_argument("--input", default="base z", metavar="WHAT",

@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from flexbed.commands.arguments import add_scene_arg
 from flexbed.analyses.modal import effective_mass_text, energy_text, modes_text
 from flexbed.commands.static import add_modes_file_arg
 from flexbed.files.destination import check_destination
@@ -27,8 +28,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Modes of the mounted system about its static equilibrium (base "
                           "held): frequencies, damping ratios, kinetic energy decoupling "
                           "table, strain energy per mount, effective masses.")
-    parser.add_argument("scene", nargs="?", default=None,
-                        help="scene file (TOML); default: the built-in reference scene")
+    add_scene_arg(parser)
     parser.add_argument("-o", "--output", default=None, metavar="PREFIX",
                         help="prefix of the files written (default: <scene stem>-modal)")
     parser.add_argument("--equilibrium", default=None, metavar="FILE",

@@ -12,6 +12,7 @@ import sys
 import time
 from pathlib import Path
 
+from flexbed.commands.arguments import add_scene_arg
 from flexbed.files.destination import check_destination, refuse_inputs
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file
@@ -23,8 +24,7 @@ from flexbed.words import count
 def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Free-free modes and modal invariants of the common bed "
                           "(scikit-fem Kirchhoff plate), written to the modes file.")
-    parser.add_argument("scene", nargs="?", default=None,
-                        help="scene file (TOML); default: the built-in reference scene")
+    add_scene_arg(parser)
     parser.add_argument("-o", "--output", default=None, metavar="FILE",
                         help="modes file to write (default: the scene's modes_file, "
                              "else <scene file stem>-modes.h5 in the current folder)")

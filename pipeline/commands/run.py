@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbed.commands.arguments import add_scene_arg
 from flexbed.analyses.compare import LABELS
 from flexbed.analyses.points import Run, bed_motion, motion_csv, motion_table, mount_peaks_csv
 from flexbed.commands.compare import add_solver_args, compare_scene, with_solver_options
@@ -43,8 +44,7 @@ FRAME_DT = 0.01        # s between frames of the bed's motion for ParaView
 
 def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = "Run the pipeline on a scene and write everything into one folder."
-    parser.add_argument("scene", nargs="?", default=None,
-                        help="scene file (TOML); default: the built-in reference scene")
+    add_scene_arg(parser)
     parser.add_argument("-o", "--output", default="flexbed-out", metavar="DIR",
                         help="output folder (default: ./flexbed-out)")
     add_solver_args(parser)

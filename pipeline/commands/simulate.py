@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbed.commands.arguments import add_scene_arg
 from flexbed.dynamics.integrate import METHODS
 from flexbed.dynamics.statics import Equilibrium
 
@@ -30,8 +31,7 @@ __all__ = ["add_args", "run"]
 def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Simulate the mount system from its static equilibrium (default) or "
                           "its initial positions, and write the results file (HDF5).")
-    parser.add_argument("scene", nargs="?", default=None,
-                        help="scene file (TOML); default: the built-in reference scene")
+    add_scene_arg(parser)
     parser.add_argument("-o", "--output", default=None, metavar="FILE",
                         help="results file (default: <scene file stem>-results.h5)")
     parser.add_argument("--integrator", choices=METHODS, default=None,

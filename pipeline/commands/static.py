@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbed.commands.arguments import add_scene_arg
 from flexbed.dynamics.rotation import angles_from_p
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
@@ -32,8 +33,7 @@ __all__ = ["add_args", "run", "equilibrium_table"]
 def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Static equilibrium of the mount system by Newton–Raphson "
                           "(base held), printed as the paper's Table 2 and written to a file.")
-    parser.add_argument("scene", nargs="?", default=None,
-                        help="scene file (TOML); default: the built-in reference scene")
+    add_scene_arg(parser)
     parser.add_argument("-o", "--output", default=None, metavar="FILE",
                         help="equilibrium file to write (default: <scene file stem>-equilibrium.h5)")
     parser.add_argument("--tol", type=float, default=None, metavar="TOL",
