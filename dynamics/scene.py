@@ -124,6 +124,15 @@ class Body:
                            _vector(where, "angular_velocity", self.angular_velocity, (3,)))
 
 
+def _check_input(direction, shape, what: str) -> None:
+    """SceneError unless ``direction`` is an axis (0, 1, 2) and ``shape`` a
+    time shape; ``what``: "drive" or "load", for the message."""
+    if direction not in (0, 1, 2):
+        raise SceneError(f"direction = {direction!r} must be 0, 1 or 2 (x, y, z)")
+    if not isinstance(shape, _SHAPES):
+        raise SceneError(f"shape = {shape!r} is not a {what} shape")
+
+
 @dataclass(frozen=True, slots=True)
 class Drive:
     """Prescribed translational acceleration of the base along one inertial axis.
@@ -136,10 +145,7 @@ class Drive:
     shape: object
 
     def __post_init__(self):
-        if self.direction not in (0, 1, 2):
-            raise SceneError(f"direction = {self.direction!r} must be 0, 1 or 2 (x, y, z)")
-        if not isinstance(self.shape, _SHAPES):
-            raise SceneError(f"shape = {self.shape!r} is not a drive shape")
+        _check_input(self.direction, self.shape, "drive")
 
 
 @dataclass(frozen=True, slots=True)
@@ -150,10 +156,7 @@ class Load:
     shape: object
 
     def __post_init__(self):
-        if self.direction not in (0, 1, 2):
-            raise SceneError(f"direction = {self.direction!r} must be 0, 1 or 2 (x, y, z)")
-        if not isinstance(self.shape, _SHAPES):
-            raise SceneError(f"shape = {self.shape!r} is not a load shape")
+        _check_input(self.direction, self.shape, "load")
 
 
 @dataclass(frozen=True, slots=True)
