@@ -77,3 +77,27 @@ def test_stiffener_over_a_zone_edge_is_refused(zone):
                                          r"0.02, 0.03 m \(it crosses or runs along a zone's "
                                          r"edge\)"):
         read_stiffeners(_table(), "s.toml: bed", geometry)
+
+
+def test_scene_file_stiffener_under_a_zone(tmp_path):
+    """Through the scene reader: the keel under a 0.14 m zone of the 0.1 m
+    bed sits 0.07 m + its centroid below the mid-surface; moved across the
+    zone's edge it is refused, naming the file and the stiffener."""
+    import flexbed
+    from flexbed.files.builtin import builtin_scene_path
+    text = builtin_scene_path().read_text().replace(
+        'model = "rigid"', 'model = "flexible"\ntheory = "mindlin"', 1)
+    text = text.replace("nx = 10\nny = 10\n", "nx = 4\nny = 24\n")
+    extra = ('[[bed.zone]]\nshape = "rectangle"\ncentre = [0.0, 0.0]\nsize = [0.4, 4.8]\n'
+             'thickness = 0.14\n'
+             '[[bed.stiffener]]\nname = "keel"\nstart = [0.0, -2.4]\nend = [0.0, 2.4]\n'
+             'section = "flat"\nheight = 0.1\nwidth = 0.02\n')
+    good = text.replace("rayleigh = [0.0, 0.01]\n", "rayleigh = [0.0, 0.01]\n" + extra, 1)
+    (tmp_path / "good.toml").write_text(good)
+    st = flexbed.load_scene(tmp_path / "good.toml").bed.plate.stiffeners[0]
+    assert st.offset == pytest.approx(-(0.07 + 0.05), rel=1e-15)
+    (tmp_path / "bad.toml").write_text(good.replace("size = [0.4, 4.8]", "size = [0.4, 2.0]"))
+    with pytest.raises(InputError, match=r"^\S*bad.toml: bed: stiffener 'keel': from "
+                                         r"\[0.0, -2.4\] to \[0.0, 2.4\] m it lies on plate of "
+                                         r"thickness 0.1, 0.14 m"):
+        flexbed.load_scene(tmp_path / "bad.toml")
