@@ -69,6 +69,17 @@ class SolidBed:
     webs: tuple[Web, ...] = ()
     h0: float = 0.2
 
+    def __post_init__(self) -> None:
+        if self.hole is not None:
+            x0, x1, y0, y1 = self.hole
+            if not (-self.length_x / 2 <= x0 < x1 <= self.length_x / 2
+                    and -self.length_y / 2 <= y0 < y1 <= self.length_y / 2):
+                raise ValueError(f"hole = {self.hole!r} must lie on the plate")
+            for web in self.webs:
+                if web.x + web.width / 2 > x0 and web.x - web.width / 2 < x1:
+                    raise ValueError(f"hole = {self.hole!r} must not cross the web at "
+                                     f"x = {web.x!r} m")
+
 
 def _lines(breaks: list[float], counts: list[int]) -> np.ndarray:
     """Grid lines splitting each interval between sorted breaks in counts[i] parts."""

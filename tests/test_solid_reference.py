@@ -124,3 +124,11 @@ def test_mindlin_bed_against_the_3d_solid(case):
     # the stiffeners matter: the first bending mode rises by a fifth
     if case == "stiffened":
         assert ref[0] > 1.2 * 23.144
+
+
+def test_solid_bed_refuses_a_hole_off_the_plate_or_across_a_web():
+    from flexbed.fem.solid import SolidBed, Web
+    with pytest.raises(ValueError, match="must not cross the web at x = 0.2 m"):
+        SolidBed(hole=(0.1, 0.3, 0.0, 1.0), webs=(Web(0.2, 0.02, 0.1),))
+    with pytest.raises(ValueError, match="must lie on the plate"):
+        SolidBed(hole=(0.3, 0.5, 0.0, 1.0))
