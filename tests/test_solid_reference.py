@@ -102,10 +102,11 @@ def test_mindlin_bed_against_the_3d_solid(case):
     torsion modes, the shell's own error at 5 cm elements near the hole's
     re-entrant corners (+0.74 %; +0.25 % at 2.5 cm). Stiffened: torsion and
     in-plane ≤ 0.3 % (+0.07, +0.08, +0.10 %); the vertical bending modes come
-    out *high*, by 0.14, 0.49, 1.02 % for the first three — the
-    Euler–Bernoulli stiffener has no shear deformation in its 100 mm web, an
-    error growing with the mode's curvature (the 4th bending mode, +1.7 %, is
-    not compared) — so ≤ 0.3, 0.7, 1.2 % and > 0.
+    out *high*, by 0.14, 0.49, 1.02 % for the first three, the same on a
+    finer shell: the stiffener model's own error (its web tied rigidly to
+    the plate's normal, no shear deformation; it grows with the mode's
+    wavenumber, the 4th bending mode +1.7 % is not compared) — so ≤ 0.3,
+    0.7, 1.2 % and > 0.
     """
     ref = np.array(REFERENCE[case])
     pts = sample_points(case)
