@@ -10,7 +10,9 @@ elements around it). Along the beam (axis s, in-plane normal n):
 
 * axial EA and torsion GJ, linear;
 * bending in the vertical plane EIy, cubic Hermite in w with slope −θ·n;
-* bending in the plane EIz, cubic Hermite in U·n with slope θz;
+* bending in the plane EIz, cubic Hermite in the mid-surface line's u·n
+  with slope θz (the centroid's offset part, e (θ × z)·n, is linear along
+  each element and bends nothing);
 * mass ρA on the centroid's translation and the section's rotary inertia
   ρ(Iy + Iz), ρIy, ρIz about s, n, z, both interpolated linearly and
   integrated with two Gauss points — which makes them exactly the mass of
@@ -232,7 +234,13 @@ def stiffener_matrices(st: Stiffener, nodes: np.ndarray, drilling, centre: np.nd
         us = np.array([s3 @ Ta, s3 @ Tb])
         ts = np.array([s3 @ Ra, s3 @ Rb])
         vert = np.array([Ta[2], -(n3 @ Ra), Tb[2], -(n3 @ Rb)])
-        plane = np.array([n3 @ Ta, Ra[2], n3 @ Tb, Rb[2]])
+        # in-plane bending of the line it is joined along: its centroid's
+        # u_c·n = u·n + e (θ × z)·n adds a part linear along the element (θ
+        # is), which bends nothing, yet the drilling slope θz does not carry
+        # its slope: a plate's twist would bend the beam sideways, more the
+        # finer the mesh. So the Hermite beam takes the mid-surface line.
+        tilt = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+        plane = np.array([n3 @ (Ta - e * tilt @ Ra), Ra[2], n3 @ (Tb - e * tilt @ Rb), Rb[2]])
         bar = np.array([[1.0, -1.0], [-1.0, 1.0]]) / Le
         Ke = (young * sec.area * us.T @ bar @ us + G * sec.J * ts.T @ bar @ ts
               + vert.T @ _hermite(young * sec.Iy, Le) @ vert

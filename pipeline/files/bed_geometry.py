@@ -8,10 +8,13 @@ Every message is one line naming the file, the entry and the value.
 
 from __future__ import annotations
 
+from dataclasses import fields, replace
 from pathlib import Path
 
 from flexbed.fem.fixed_masses import FixedMass
 from flexbed.fem.geometry import BedGeometry, GeometryError, Region, Zone
+from flexbed.fem.spec import PlateSpec
+from flexbed.fem.stiffener_face import face_thickness
 from flexbed.fem.stiffeners import Stiffener, section_of
 
 from flexbed.errors import InputError
@@ -73,17 +76,29 @@ def read_fixed_masses(table: dict, where: str) -> tuple[FixedMass, ...]:
     return tuple(out)
 
 
-def read_stiffeners(table: dict, where: str) -> tuple[Stiffener, ...]:
+def read_stiffeners(table: dict, where: str, geometry: BedGeometry | None = None
+                    ) -> tuple[Stiffener, ...]:
     """``[[bed.stiffener]]`` tables: name, start and end [x, y] (drawing frame)
     [m], section = "flat" (height, width), "T" (height, web, flange_width,
     flange), "I" (height, web, flange_width, flange) or "general" (area,
     Iy, Iz, J, offset); side = "below" (default) or "above" places flat, T
-    and I sections on the plate's face (offset = ∓(thickness/2 + centroid
-    height)); offset [m] is the centroid's height above the mid-surface."""
+    and I sections on the plate's face (offset = ∓(t/2 + centroid height),
+    t the local thickness: a zone's under the stiffener, the plate's
+    elsewhere); offset [m] is the centroid's height above the mid-surface."""
     value = table.get("stiffener", [])
     if not isinstance(value, list):
         raise InputError(f"{where}: stiffener must be an array of tables [[bed.stiffener]]")
-    thickness = table.get("thickness", 0.1)
+    default = {f.name: f.default for f in fields(PlateSpec)}
+    thickness = table.get("thickness", default["thickness"])
+    zones = geometry.zones if geometry is not None else ()
+    size = None
+    if zones:
+        try:
+            size = geometry.element_size or abs(min(
+                table.get("length_x", default["length_x"]) / table.get("nx", default["nx"]),
+                table.get("length_y", default["length_y"]) / table.get("ny", default["ny"])))
+        except (TypeError, ZeroDivisionError):
+            zones = ()                  # the plate's own checks name the bad value
     out = []
     for i, t in enumerate(value):
         w = f"{where}: stiffener {i + 1}"
@@ -116,7 +131,12 @@ def read_stiffeners(table: dict, where: str) -> tuple[Stiffener, ...]:
                     raise GeometryError("offset", f"offset = {t['offset']!r} applies to "
                                                   f"section = 'general' only (use side)")
                 offset = (thickness / 2 + sec.centroid) * (-1 if side == "below" else 1)
-            out.append(Stiffener(t["name"], tuple(t["start"]), tuple(t["end"]), sec, offset))
+            st = Stiffener(t["name"], tuple(t["start"]), tuple(t["end"]), sec, offset)
+            if zones and kind != "general":
+                t_face = face_thickness(st.start, st.end, zones, thickness, size)
+                st = replace(st, offset=(t_face / 2 + sec.centroid) * (-1 if side == "below"
+                                                                      else 1))
+            out.append(st)
         except (GeometryError, TypeError, ValueError) as exc:
             raise InputError(f"{w}: {exc}") from None
     return tuple(out)

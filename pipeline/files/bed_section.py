@@ -224,7 +224,7 @@ def read_bed(table: dict, where: str, folder: Path | None = None) -> BedSection:
     masses = read_fixed_masses(table, where)
     if masses:
         plate_args["masses"] = masses
-    stiffeners = read_stiffeners(table, where)
+    stiffeners = read_stiffeners(table, where, geometry)
     if stiffeners:
         plate_args["stiffeners"] = stiffeners
     try:
