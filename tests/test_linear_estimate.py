@@ -169,7 +169,7 @@ def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(reference_s
     assert np.array_equal(lr.run.y[:, :work.start], ref.run.y[:, :work.start])
 
 
-def test_compiled_states_of_many_deviations_equal_the_numpy_map(reference_scene):
+def test_compiled_states_and_rates_of_many_rows_equal_the_numpy_maps(reference_scene):
     from flexbed.dynamics.linear_model import Coordinates
 
     system, y_eq = reference_scene
@@ -179,3 +179,8 @@ def test_compiled_states_of_many_deviations_equal_the_numpy_map(reference_scene)
     ref = np.concatenate([c.to_y(Z[i:i + 4]) for i in range(0, 40, 4)])   # NumPy
     assert np.max(np.abs(Y - ref)) < 1e-15 * np.max(np.abs(ref))
     assert np.max(np.abs(c.to_z(Y) - Z)) < 1e-13
+    # and the rates of many state derivatives (compiled) as the NumPy map's
+    dY = np.random.default_rng(12).standard_normal((40, Y.shape[1]))
+    Zd = c.rate(dY)
+    ref = np.concatenate([c.rate(dY[i:i + 4]) for i in range(0, 40, 4)])
+    assert np.max(np.abs(Zd - ref)) < 1e-15 * np.max(np.abs(ref))
