@@ -203,13 +203,14 @@ def _cubic_miss(tn: np.ndarray, V: np.ndarray, scale: np.ndarray) -> float:
 
 def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
                   Z: np.ndarray) -> tuple:
-    """The nodes, and the nonlinear rates less b0 + B Δu (n, nz) and the
-    powers (n, 4) [W] there: every 8th sample first, the stride then
-    halved (the right-hand side evaluated midway between the nodes, one
-    compiled batch each time) until the local cubics through every other
-    node miss the defect d = R − A z and each power at the nodes between
-    by at most 16 × :data:`_CUBIC_SHARE` of its largest value (d's scale
-    at least :data:`_NOISE` times the largest rate), or every sample."""
+    """The nodes, and the defect d = R − A z (n, nz) (R: the nonlinear
+    rates less b0 + B Δu) and the powers (n, 4) [W] there: every 8th
+    sample first, the stride then halved (the right-hand side evaluated
+    midway between the nodes, one compiled batch each time) until the
+    local cubics through every other node miss d and each power at the
+    nodes between by at most 16 × :data:`_CUBIC_SHARE` of its largest
+    value (d's scale at least :data:`_NOISE` times the largest R), or
+    every sample."""
     k = t.size
     coords = lin.coords
     work = system.layout.work
@@ -223,9 +224,9 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     system.set_segment(None)
     nodes = _sample_nodes(k, _STRIDES[0])
     R, W = evaluate(nodes)
+    D = R - Z[nodes] @ AT
     while nodes.size < k:
         tn = t[nodes]
-        D = R - Z[nodes] @ AT
         d_scale = max(float(np.max(np.abs(D))), _NOISE * float(np.max(np.abs(R))), 1e-300)
         w_scale = np.maximum(np.max(np.abs(W), axis=0), 1e-300)
         if (_cubic_miss(tn, D, np.array([d_scale])) <= 16.0 * _CUBIC_SHARE
@@ -238,7 +239,8 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
         nodes = np.concatenate([nodes, new])[order]
         R = np.concatenate([R, R2])[order]
         W = np.concatenate([W, W2])[order]
-    return nodes, R, W
+        D = R - Z[nodes] @ AT
+    return nodes, D, W
 
 
 #: the Taylor series of the propagators are summed over h = L / 2^s, ‖hA‖₁ (balanced) at most this ...
@@ -378,9 +380,8 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
         none = np.zeros((k, system.layout.work.stop - system.layout.work.start))
         return ErrorEstimate(0.0, 0.0, motion, True, 0, none, np.arange(k),
                              np.zeros((k, coords.nz)), none, _e=np.zeros((k, coords.nz)))
-    nodes, R, W = _defect_nodes(system, lin, t, Z)
+    nodes, D, W = _defect_nodes(system, lin, t, Z)
     tn = t[nodes]
-    D = R - Z[nodes] @ A.T
     C = _cubics(tn, D)
     CW = _cubics(tn, W)
     powers, works = np.empty((k, W.shape[1])), np.empty((k, W.shape[1]))

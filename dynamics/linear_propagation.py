@@ -84,6 +84,8 @@ def _lengths(h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if not h.size:
         return np.zeros(0), np.zeros(0, dtype=np.int64)
     keys = np.round(h * (1e12 / float(np.max(h))))
+    if keys.min() == keys.max():                           # one length (a uniform grid)
+        return h[:1], np.zeros(h.size, dtype=np.int64)
     _, first, which = np.unique(keys, return_index=True, return_inverse=True)
     return h[first], which.astype(np.int64).reshape(-1)
 
