@@ -11,8 +11,9 @@ import pytest
 from scipy.linalg import expm
 
 import flexbed.dynamics.linear as linear
-from flexbed.dynamics.linear import (_cubics, _error_on_every_sample, _propagate_defect,
-                                     defect_propagators)
+import flexbed.dynamics.linear_estimate as linear_estimate
+from flexbed.dynamics.linear_estimate import (_cubics, _error_on_every_sample,
+                                              _propagate_defect, defect_propagators)
 from flexbed.dynamics.steppers.defect import (hermite_peak, largest_point, pieces_at,
                                               pieces_integral_at)
 
@@ -156,16 +157,16 @@ def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(reference_s
     est = lr.estimate
     assert np.array_equal(est.nodes, np.arange(0, 1001, 8))
     assert est.evaluations == est.nodes.size
-    monkeypatch.setattr(linear, "_STRIDES", (1,))
+    monkeypatch.setattr(linear_estimate, "_STRIDES", (1,))
     ref = linear.run_linear(system, y, y, st)
     assert ref.estimate.nodes.size == 1001
-    assert abs(est.position / ref.estimate.position - 1.0) < 5e-3            # seen −2e-4
-    assert np.max(np.abs(est.e - ref.estimate.e)) < 1e-2 * np.max(np.abs(ref.estimate.e))
+    assert abs(est.position / ref.estimate.position - 1.0) < 5e-3            # seen −1.2e-3
+    assert np.max(np.abs(est.e - ref.estimate.e)) < 1e-2 * np.max(np.abs(ref.estimate.e))  # 2.3e-3
     assert np.max(np.abs(est.e[est.nodes] - est.e_nodes)) < 1e-10 * np.max(np.abs(est.e))
     work = system.layout.work
     w, w_ref = lr.run.y[:, work], ref.run.y[:, work]
     scale = np.maximum(np.max(np.abs(w_ref - y[work]), axis=0), 1e-300)
-    assert np.max(np.abs(w - w_ref) / scale) < 3e-4
+    assert np.max(np.abs(w - w_ref) / scale) < 3e-4                     # seen 9e-5
     assert np.array_equal(lr.run.y[:, :work.start], ref.run.y[:, :work.start])
 
 

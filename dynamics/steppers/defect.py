@@ -174,7 +174,8 @@ def hermite_peak(t, nodes, V, Vd):
                 s2p = 0.0
                 for q in range(3):
                     col = 3 * p + q
-                    v = h00 * V[j, col] + h10 * Vd[j, col] + h01 * V[j + 1, col] + h11 * Vd[j + 1, col]
+                    v = (h00 * V[j, col] + h10 * Vd[j, col]
+                         + h01 * V[j + 1, col] + h11 * Vd[j + 1, col])
                     s2p += v * v
                 s2p = math.sqrt(s2p)
                 if s2p > best:
