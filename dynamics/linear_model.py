@@ -115,6 +115,15 @@ class Coordinates:
                                               self.w_index.ravel(), self.ad_index]),
                               np.concatenate([self.y_base_v, self.y_rd.ravel(), self.y_w.ravel(),
                                               self.y_ad])], axis=1).astype(np.int64)
+        # (z index, y index) of the rates taken as they are, for the compiled rate
+        self._take = np.stack([np.concatenate([self.base_index, self.base_v_index,
+                                               self.r_index.ravel(), self.v_index.ravel(),
+                                               self.w_index.ravel(), self.a_index, self.ad_index]),
+                               np.concatenate([self.y_base, self.y_base_v, self.y_r.ravel(),
+                                               self.y_rd.ravel(), self.y_w.ravel(), self.y_a,
+                                               self.y_ad])], axis=1).astype(np.int64)
+        self._th = self.th_index.astype(np.int64)
+        self._yp = self.y_p.astype(np.int64)
 
     def to_y(self, z: np.ndarray) -> np.ndarray:
         """States for deviations z (..., nz) → (..., ny); work entries from y_eq."""
@@ -123,8 +132,7 @@ class Coordinates:
             from .steppers.propagate import deviations_to_states
             y = np.empty((z.shape[0], self.y_eq.size))
             deviations_to_states(np.ascontiguousarray(z), self.y_eq, self._add, self._put,
-                                 self.th_index.astype(np.int64), self.y_p.astype(np.int64),
-                                 self.p_eq, y)
+                                 self._th, self._yp, self.p_eq, y)
             return y
         y = np.broadcast_to(self.y_eq, z.shape[:-1] + self.y_eq.shape).copy()
         y[..., self.y_base] += z[..., self.base_index]
@@ -162,6 +170,12 @@ class Coordinates:
     def rate(self, dydt: np.ndarray) -> np.ndarray:
         """ż (..., nz) for state derivatives dydt (..., ny) (ṗ → θ̇ = 2 vec(p_eq* ⊗ ṗ))."""
         dydt = np.asarray(dydt, dtype=float)
+        if dydt.ndim == 2 and dydt.shape[0] > 8:   # many rows: one compiled pass
+            from .steppers.propagate import rates_of_states
+            zd = np.empty((dydt.shape[0], self.nz))
+            rates_of_states(np.ascontiguousarray(dydt), self._take, self._th, self._yp,
+                            self.p_eq_conj, zd)
+            return zd
         zd = np.empty(dydt.shape[:-1] + (self.nz,))
         zd[..., self.base_index] = dydt[..., self.y_base]
         zd[..., self.base_v_index] = dydt[..., self.y_base_v]
@@ -186,6 +200,9 @@ class _Channel:
     #: each adding c_s sin ωt + c_c cos ωt on [start, end) (the rest of the
     #: channel is then a polynomial of degree ≤ 1 on every piece between knots)
     sines: tuple = ()
+    #: when every shape in it is piecewise polynomial: those polynomials
+    #: (the channel is their sum; their breaks are among the knots)
+    polys: tuple = ()
 
 
 def _sine_part(shape, kind: str) -> tuple:
@@ -219,6 +236,10 @@ def _channels(system: System) -> tuple[list[_Channel], list[tuple[str, int]]]:
         fs = [system.compiled_input(s) for s in shapes]
         attr = {"load": "values", "displacement": "seconds", "velocity": "firsts"}[kind]
         funcs = [getattr(f, attr) for f in fs]
+        polys = tuple(getattr(f, {"values": "value", "firsts": "first", "seconds": "second"}[attr])
+                      for f in fs)
+        if not all(isinstance(f, PiecewisePolynomial) for f in polys):
+            polys = ()
         knots, max_piece, sines = [], math.inf, []
         for s, f in zip(shapes, fs):
             if isinstance(f.value, PiecewisePolynomial):
@@ -233,7 +254,7 @@ def _channels(system: System) -> tuple[list[_Channel], list[tuple[str, int]]]:
             return sum(fn(t) for fn in funcs)
 
         chans.append(_Channel(f"{kind} {'xyz'[k]}", values, np.unique(knots), max_piece,
-                              tuple(sines)))
+                              tuple(sines), polys))
         kinds.append((kind, k))
     return chans, kinds
 

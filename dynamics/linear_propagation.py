@@ -36,6 +36,7 @@ from scipy.linalg import expm
 
 from .integrate import output_grid
 from .linear_model import Linearisation
+from .piecewise import PiecewisePolynomial
 from .steppers.propagate import linear_sweep
 
 __all__ = ["propagate"]
@@ -58,8 +59,15 @@ def _pieces(lin: Linearisation, grid: np.ndarray) -> np.ndarray:
         cuts.append(kn)
         if math.isfinite(c.max_piece) and not c.sines:
             cuts.append(np.arange(0.0, t_end, c.max_piece))
-    t = np.unique(np.concatenate(cuts))
     tol = 1e-9 * (float(np.min(np.diff(grid))) if grid.size > 1 else t_end)
+    extra = np.concatenate(cuts[1:]) if len(cuts) > 1 else np.zeros(0)
+    if grid.size > 1 and extra.size:
+        # every cut on a grid point already (a load sampled on the output
+        # grid): the grid itself
+        i = np.clip(np.searchsorted(grid, extra), 1, grid.size - 1)
+        if np.all(np.minimum(grid[i] - extra, extra - grid[i - 1]) <= tol):
+            return grid.copy()
+    t = np.unique(np.concatenate(cuts))
     keep = np.concatenate([[True], np.diff(t) > tol])
     t = t[keep]
     # snap back onto the output grid where a knot replaced a grid point
@@ -76,6 +84,8 @@ def _lengths(h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if not h.size:
         return np.zeros(0), np.zeros(0, dtype=np.int64)
     keys = np.round(h * (1e12 / float(np.max(h))))
+    if keys.min() == keys.max():                           # one length (a uniform grid)
+        return h[:1], np.zeros(h.size, dtype=np.int64)
     _, first, which = np.unique(keys, return_index=True, return_inverse=True)
     return h[first], which.astype(np.int64).reshape(-1)
 
@@ -118,19 +128,50 @@ def _propagators(lin: Linearisation, lengths: np.ndarray, terms: list) -> tuple:
     return Phis, Psis
 
 
+def _poly_derivatives(f: PiecewisePolynomial, t0: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """σ-derivatives at σ = 0 (k, 6) of f on the pieces [t0, t0 + h] (each
+    inside one of f's pieces, degree ≤ 5): h^m f^(m)(t0), by Horner from
+    f's own coefficients."""
+    idx = np.searchsorted(f.breaks, t0 + 0.5 * h, side="right")
+    u = t0 - f.origins[idx]
+    c = f.coeffs[idx]                                                   # (k, d + 1)
+    d = c.shape[1] - 1
+    out = np.zeros((t0.size, _DEG + 1))
+    hm = np.ones_like(h)
+    for m in range(d + 1):
+        acc = np.zeros_like(u)
+        for p in range(d, m - 1, -1):
+            acc = acc * u + c[:, p] * (math.factorial(p) / math.factorial(p - m))
+        out[:, m] = acc * hm
+        hm = hm * h
+    return out
+
+
 def _inputs_on_pieces(lin: Linearisation, t: np.ndarray, terms: list) -> np.ndarray:
     """The inputs' state w at the start of every piece (k, nw): each
     channel's remainder (less its sinusoids), a polynomial of degree ≤ 5
-    in σ = (t − t_k)/h, by its σ-derivatives at 0 from six samples at
-    Chebyshev points inside the piece; 1 for b0; each sinusoid's
-    x_s = c_s sin ωt_k + c_c cos ωt_k, x_c = c_s cos ωt_k − c_c sin ωt_k
-    while the piece lies in its window (else 0)."""
+    in σ = (t − t_k)/h, by its σ-derivatives at 0 — from the channel's own
+    piecewise polynomials where it has them (sampled loads and drives,
+    pulses), else from six samples at Chebyshev points inside the piece;
+    1 for b0; each sinusoid's x_s = c_s sin ωt_k + c_c cos ωt_k,
+    x_c = c_s cos ωt_k − c_c sin ωt_k while the piece lies in its window
+    (else 0)."""
     h = np.diff(t)
     k = h.size
     nu = len(lin.channels)
-    ts = t[:-1, None] + h[:, None] * _NODES[None, :]                    # (k, 6)
     mid = t[:-1] + 0.5 * h
     parts = []
+    exact = [j for j, c in enumerate(lin.channels)
+             if c.polys and not c.sines and max(f.degree for f in c.polys) <= _DEG]
+    if nu and len(exact) == nu:
+        Wd = np.empty((k, nu, _DEG + 1))
+        for j, c in enumerate(lin.channels):
+            Wd[:, j] = sum(_poly_derivatives(f, t[:-1], h) for f in c.polys)
+            Wd[:, j, 0] -= lin.u0[j]
+        parts.append(Wd.reshape(k, -1))
+        parts.append(np.ones((k, 1)))
+        return np.concatenate(parts, axis=1)
+    ts = t[:-1, None] + h[:, None] * _NODES[None, :]                    # (k, 6)
     if nu:
         U = lin.inputs(ts.reshape(-1)).reshape(k, _DEG + 1, nu)
         S = np.empty((k, 2 * len(terms)))

@@ -1,119 +1,187 @@
-"""The linear fast path's error estimate in compiled code: the scan of the
-point displacements, the exact propagators of a linearly varying defect and
-the sweep over the defect's nodes, each against the NumPy formulation it
-replaced (to round-off)."""
+"""The linear fast path's error estimate: the local cubics of the defect
+and of the powers, the exact propagators of a cubic defect, e over the
+nodes against e sample by sample and against the block exponential, the
+largest point error between the nodes, and the estimate on the reference
+scene against the one with the defect on every sample."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from scipy.linalg import expm
 
-from flexbed.dynamics.linear import (_STRIDES, _DEFECT_SHARE, _defect_nodes,
-                                     _error_on_every_sample, defect_propagators)
-from flexbed.dynamics.steppers.propagate import defect_sweep
+import flexbed.dynamics.linear as linear
+import flexbed.dynamics.linear_estimate as linear_estimate
+from flexbed.dynamics.linear_estimate import (_cubics, _error_on_every_sample,
+                                              _propagate_defect, defect_propagators)
+from flexbed.dynamics.steppers.defect import (hermite_peak, largest_point, pieces_at,
+                                              pieces_integral_at)
 
 
-def _previous_nodes(t, d):
-    """The NumPy stride choice the compiled scan replaced, and the largest |δP|."""
-    k = t.size
-    scale = float(np.max(np.abs(d - d[0])))
-    motion = float(np.sqrt(np.max(np.sum(d.reshape(k, -1, 3) ** 2, axis=2))))
-    for m in _STRIDES:
-        nodes = np.arange(0, k, m)
-        if nodes[-1] != k - 1:
-            nodes = np.append(nodes, k - 1)
-        if nodes.size < 3 or nodes.size == k:
-            continue
-        a, b = nodes[:-1], nodes[1:]
-        mid = (a + b) // 2
-        w = ((t[mid] - t[a]) / (t[b] - t[a]))[:, None]
-        miss = d[mid] - (d[a] * (1.0 - w) + d[b] * w)
-        if np.max(np.abs(miss)) <= _DEFECT_SHARE * scale:
-            return nodes, motion
-    return np.arange(k), motion
-
-
-def _oscillators(n, rng):
-    """A (2n, 2n): n coupled damped oscillators, ẍ = −K x − C ẋ (K, C
-    symmetric positive definite, frequencies 3–90 rad/s)."""
+def _system_matrix(rng):
+    """A (12, 12): three coupled damped oscillators from 3 to 90 rad/s, one
+    stiff (3e3 rad/s, heavily damped: ‖A‖₁ far above the spectral radius)
+    and a free mass's Jordan block (ẋ = v, v̇ = 0)."""
+    n = 4
     Q, _ = np.linalg.qr(rng.standard_normal((n, n)))
-    K = Q @ np.diag(np.linspace(3.0, 90.0, n) ** 2) @ Q.T
-    C = 0.02 * np.sqrt(np.diag(K)).mean() * np.eye(n) + 1e-3 * K
-    return np.block([[np.zeros((n, n)), np.eye(n)], [-K, -C]])
+    K = Q @ np.diag([9.0, 900.0, 8100.0, 9e6]) @ Q.T
+    C = 0.05 * np.sqrt(np.diag(K)).mean() * np.eye(n) + 1e-4 * K
+    A = np.zeros((12, 12))
+    A[:n, n:2 * n] = np.eye(n)
+    A[n:2 * n, :n], A[n:2 * n, n:2 * n] = -K, -C
+    A[8:10, 10:12] = np.eye(2)
+    A[10:12, :2] = 0.3 * K[:2, :2]          # the free mass pulled by two of the others
+    return A
 
 
-def test_stride_choice_and_motion_as_numpy():
-    rng = np.random.default_rng(3)
-    t = np.linspace(0.0, 1.0, 403)                     # 402 intervals: a short last stride
-    strides = set()
-    for f in (0.2, 0.5, 1.0, 2.0, 10.0):               # strides 16, 8, 4, 2, every sample
-        ph = rng.uniform(0, 2 * np.pi, 12)
-        amp = rng.uniform(0.5, 2.0, 12)
-        d = 1e-3 * amp * np.sin(2 * np.pi * f * t[:, None] * (1 + 0.02 * np.arange(12)) + ph)
-        nodes, motion = _defect_nodes(t, d)
-        ref_nodes, ref_motion = _previous_nodes(t, d)
-        assert np.array_equal(nodes, ref_nodes)
-        assert abs(motion - ref_motion) <= 1e-15 * ref_motion
-        strides.add(int(nodes[1] - nodes[0]))
-    assert strides == {16, 8, 4, 2, 1}
+def _van_loan(A, L, degree=3):
+    """Φ and P_0 … P_degree of ė = A e + d, d a polynomial in σ = t/L, by
+    SciPy's exponential of the block matrix."""
+    nz = A.shape[0]
+    q = degree + 1
+    M = np.zeros(((q + 1) * nz, (q + 1) * nz))
+    M[:nz, :nz] = L * A
+    M[:nz, nz:2 * nz] = L * np.eye(nz)
+    for p in range(1, q):
+        M[p * nz:(p + 1) * nz, (p + 1) * nz:(p + 2) * nz] = np.eye(nz)
+    X = expm(M)
+    return X[:nz, :nz], [X[:nz, (p + 1) * nz:(p + 2) * nz] for p in range(q)]
 
 
 def test_defect_propagators_are_the_block_exponential():
-    A = _oscillators(4, np.random.default_rng(5))
-    nz = A.shape[0]
-    lengths = np.array([1e-3, 4e-3, 0.0123, 0.2])
-    Phis, P0s, P1s = defect_propagators(A, lengths)
-    for L, Phi, P0, P1 in zip(lengths, Phis, P0s, P1s):
-        M = np.zeros((3 * nz, 3 * nz))
-        M[:nz, :nz] = L * A
-        M[:nz, nz:2 * nz] = L * np.eye(nz)
-        M[nz:2 * nz, 2 * nz:] = np.eye(nz)
-        X = expm(M)
-        for got, ref in ((Phi, X[:nz, :nz]), (P0, X[:nz, nz:2 * nz]), (P1, X[:nz, 2 * nz:])):
-            assert np.max(np.abs(got - ref)) < 1e-12 * np.max(np.abs(ref))
+    A = _system_matrix(np.random.default_rng(5))
+    lengths = np.array([1e-3, 4e-3, 8e-3, 0.0123, 0.2])      # 4e-3: 8e-3's half
+    Phis, Ps = defect_propagators(A, lengths)
+    for L, Phi, P in zip(lengths, Phis, Ps):
+        # the two squarings' round-off, growing with ‖Φ‖ (seen 3e-14 at 1 ms,
+        # 1.8e-12 at 0.2 s where the free mass has drifted: ‖Φ‖ ≈ 7e4)
+        ref_phi, ref_p = _van_loan(A, L)
+        assert np.max(np.abs(Phi - ref_phi)) < 1e-11 * np.max(np.abs(ref_phi))
+        for got, ref in zip(P, ref_p):
+            assert np.max(np.abs(got - ref)) < 1e-11 * np.max(np.abs(ref))
 
 
-def test_defect_sweep_on_the_nodes_equals_the_sweep_over_every_sample():
-    """e propagated over the defect's nodes (the stride's step, the short
-    last interval its own) equals e propagated sample by sample with the
-    defect interpolated linearly, at the nodes; the largest point and
-    rotation errors are those of the nodes."""
+def test_local_cubics_reproduce_cubics_and_integrate_them_exactly():
+    rng = np.random.default_rng(2)
+    tn = np.cumsum(rng.uniform(0.5, 1.5, 11))
+    coeff = rng.standard_normal((4, 3))
+    poly = lambda t: np.stack([np.polyval(coeff[::-1, j], t) for j in range(3)], axis=1)
+    prim = lambda t: np.stack([np.polyval(np.polyint(coeff[::-1, j]), t) for j in range(3)], axis=1)
+    tq = np.sort(rng.uniform(tn[0], tn[-1], 50))
+    tq[0], tq[-1] = tn[0], tn[-1]
+    C = _cubics(tn, poly(tn))
+    got, integral = np.empty((tq.size, 3)), np.empty((tq.size, 3))
+    pieces_at(tq, tn, C, got)
+    pieces_integral_at(tq, tn, C, integral)
+    scale = np.max(np.abs(poly(tq)))
+    assert np.max(np.abs(got - poly(tq))) < 1e-12 * scale
+    assert np.max(np.abs(integral - (prim(tq) - prim(tn[:1])))) < 1e-12 * scale * (tn[-1] - tn[0])
+    # two and three nodes: the line and the parabola through them
+    for n in (2, 3):
+        V = np.stack([np.polyval(coeff[:n][::-1, j], tn[:n]) for j in range(3)], axis=1)
+        out = np.empty((5, 3))
+        ts = np.linspace(tn[0], tn[n - 1], 5)
+        pieces_at(ts, tn[:n], _cubics(tn[:n], V), out)
+        ref = np.stack([np.polyval(coeff[:n][::-1, j], ts) for j in range(3)], axis=1)
+        assert np.max(np.abs(out - ref)) < 1e-12 * np.max(np.abs(ref))
+
+
+def test_e_over_the_nodes_is_exact_and_equals_e_sample_by_sample():
+    """A defect that is one cubic in t: the local cubics reproduce it, so e
+    over the nodes (stride 4, a short last interval) is the exact solution
+    of ė = A e + d (the block exponential of e and d's derivatives), and e
+    propagated sample by sample (ErrorEstimate.e) equals it at the nodes."""
     rng = np.random.default_rng(7)
-    A = _oscillators(4, rng)
+    A = _system_matrix(rng)
     nz = A.shape[0]
     t = np.linspace(0.0, 0.5, 203)
     nodes = np.append(np.arange(0, t.size, 4), t.size - 1)
-    Zn = 1e-3 * np.sin(2 * np.pi * 3.0 * t[nodes, None] + rng.uniform(0, 6, nz))
-    R = Zn @ A.T + 1e-6 * np.cos(2 * np.pi * 7.0 * t[nodes, None] + rng.uniform(0, 6, nz))
-    T = rng.standard_normal((9, nz))
-    rot_index = np.array([1, 2], dtype=np.int64)
     tn = t[nodes]
-    lengths = np.unique(np.round(np.diff(tn), 12))
-    which = np.searchsorted(lengths, np.round(np.diff(tn), 12)).astype(np.int64)
-    Phis, P0s, P1s = defect_propagators(A, lengths)
-    D, E = np.empty_like(Zn), np.empty_like(Zn)
-    pos, rot = defect_sweep(R, Zn, A, Phis, P0s, P1s, which, T, rot_index, D, E)
-    assert np.max(np.abs(D - (R - Zn @ A.T))) < 1e-14 * np.max(np.abs(R))
-    full = _error_on_every_sample(A, t, nodes, D)
-    scale = np.max(np.abs(full))
-    assert scale > 1e-9
-    assert np.max(np.abs(E - full[nodes])) < 1e-10 * scale        # seen 6e-12
-    dP = (E @ T.T).reshape(nodes.size, 3, 3)
-    assert abs(pos - np.sqrt(np.max(np.sum(dP ** 2, axis=2)))) < 1e-13 * pos
-    assert rot == np.max(np.abs(E[:, rot_index]))
+    a = 1e-3 * rng.standard_normal((4, nz)) * np.array([1.0, 10.0, 100.0, 1000.0])[:, None]
+    D = a[0] + tn[:, None] * a[1] + tn[:, None] ** 2 * a[2] + tn[:, None] ** 3 * a[3]
+    C = _cubics(tn, D)
+    E = _propagate_defect(A, tn, C)
+    # x = (e, d, ḋ, d̈, d⃛): ẋ = M x
+    M = np.zeros((5 * nz, 5 * nz))
+    M[:nz, :nz] = A
+    for p in range(4):
+        M[p * nz:(p + 1) * nz, (p + 1) * nz:(p + 2) * nz] = np.eye(nz)
+    x0 = np.concatenate([np.zeros(nz), a[0], a[1], 2.0 * a[2], 6.0 * a[3]])
+    ref = np.array([(expm(M * s) @ x0)[:nz] for s in tn[[10, 25, -2, -1]]])
+    scale = np.max(np.abs(ref))
+    assert scale > 1e-6
+    assert np.max(np.abs(E[[10, 25, -2, -1]] - ref)) < 1e-9 * scale
+    full = _error_on_every_sample(A, t, nodes, C)
+    assert np.max(np.abs(full[nodes] - E)) < 1e-10 * scale
 
 
-def test_compiled_states_of_many_deviations_equal_the_numpy_map():
-    from flexbed.dynamics.linear_model import Coordinates
+def test_hermite_peak_and_largest_point():
+    """Points moving on cubics in t: the Hermite interpolant through their
+    values and rates at the nodes is the motion itself, so its largest
+    length over the samples is the motion's; largest_point is NumPy's."""
+    rng = np.random.default_rng(4)
+    t = np.linspace(0.0, 1.0, 97)
+    nodes = np.append(np.arange(0, t.size, 8), t.size - 1)
+    a, b = rng.standard_normal(12), 0.1 * rng.standard_normal(12)
+    # largest near t = 0.53, between the nodes 0.5 and 0.583
+    V = lambda s: np.outer(1.0 - 4.0 * (s - 0.53) ** 2, a) + np.outer((s - 0.53) ** 3, b)
+    Vd = lambda s: np.outer(-8.0 * (s - 0.53), a) + np.outer(3.0 * (s - 0.53) ** 2, b)
+    every = V(t)
+    ref = np.sqrt(np.max(np.sum(every.reshape(t.size, 4, 3) ** 2, axis=2)))
+    got = hermite_peak(t, nodes, V(t[nodes]), Vd(t[nodes]))
+    assert abs(got - ref) < 1e-12 * ref
+    assert abs(largest_point(every) - ref) < 1e-14 * ref
+    assert got > 1.001 * np.sqrt(np.max(np.sum(V(t[nodes]).reshape(-1, 4, 3) ** 2, axis=2)))
+
+
+@pytest.fixture(scope="module")
+def reference_scene():
     from flexbed.dynamics.statics import solve_statics
     from flexbed.files.scene import load_scene
     from flexbed.stages.system import compile_scene
 
     system = compile_scene(load_scene(None))
-    y_eq = solve_statics(system, tol=1e-9).y
+    return system, solve_statics(system, tol=1e-11).y
+
+
+def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(reference_scene, monkeypatch):
+    """The reference scene (rigid bed, 0–1 s, 1 ms samples): the defect on
+    every 8th sample and its local cubics give the estimate, e and the
+    works of the estimate with the defect on every sample (the cubics then
+    reproduce it at every sample) to 0.5 %, 1 % and 3e-4 of their largest."""
+    from flexbed.dynamics.integrate import Settings
+
+    system, y = reference_scene
+    st = Settings("rk4", t_end=1.0, output_dt=1e-3)
+    lr = linear.run_linear(system, y, y, st)
+    est = lr.estimate
+    assert np.array_equal(est.nodes, np.arange(0, 1001, 8))
+    assert est.evaluations == est.nodes.size
+    monkeypatch.setattr(linear_estimate, "_STRIDES", (1,))
+    ref = linear.run_linear(system, y, y, st)
+    assert ref.estimate.nodes.size == 1001
+    assert abs(est.position / ref.estimate.position - 1.0) < 5e-3            # seen −1.2e-3
+    assert np.max(np.abs(est.e - ref.estimate.e)) < 1e-2 * np.max(np.abs(ref.estimate.e))  # 2.3e-3
+    assert np.max(np.abs(est.e[est.nodes] - est.e_nodes)) < 1e-10 * np.max(np.abs(est.e))
+    work = system.layout.work
+    w, w_ref = lr.run.y[:, work], ref.run.y[:, work]
+    scale = np.maximum(np.max(np.abs(w_ref - y[work]), axis=0), 1e-300)
+    assert np.max(np.abs(w - w_ref) / scale) < 3e-4                     # seen 9e-5
+    assert np.array_equal(lr.run.y[:, :work.start], ref.run.y[:, :work.start])
+
+
+def test_compiled_states_and_rates_of_many_rows_equal_the_numpy_maps(reference_scene):
+    from flexbed.dynamics.linear_model import Coordinates
+
+    system, y_eq = reference_scene
     c = Coordinates(system, y_eq)
     Z = 1e-2 * np.random.default_rng(11).standard_normal((40, c.nz))
     Y = c.to_y(Z)                                          # compiled: > 8 rows
     ref = np.concatenate([c.to_y(Z[i:i + 4]) for i in range(0, 40, 4)])   # NumPy
     assert np.max(np.abs(Y - ref)) < 1e-15 * np.max(np.abs(ref))
     assert np.max(np.abs(c.to_z(Y) - Z)) < 1e-13
+    # and the rates of many state derivatives (compiled) as the NumPy map's
+    dY = np.random.default_rng(12).standard_normal((40, Y.shape[1]))
+    Zd = c.rate(dY)
+    ref = np.concatenate([c.rate(dY[i:i + 4]) for i in range(0, 40, 4)])
+    assert np.max(np.abs(Zd - ref)) < 1e-15 * np.max(np.abs(ref))

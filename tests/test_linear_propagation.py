@@ -127,3 +127,30 @@ def test_sampled_input_as_before():
     assert np.array_equal(t, t_old)
     scale = np.max(np.abs(Z_old), axis=0)
     assert np.max(np.abs(Z - Z_old) / scale) < 1e-11
+
+
+def test_inputs_from_the_splines_own_coefficients_equal_the_chebyshev_fit():
+    """The reference scene's sampled load (a cubic spline, its knots on the
+    output grid): the pieces are the grid itself, and the inputs' σ-derivatives
+    taken from the spline's coefficients equal those fitted at six Chebyshev
+    points per piece (the channel without its polynomials) to the fit's
+    round-off."""
+    from dataclasses import replace
+
+    from flexbed.dynamics.linear_propagation import _inputs_on_pieces
+
+    system = compile_scene(load_scene(None))
+    lin = linearise(system, solve_statics(system, tol=1e-9).y)
+    assert lin.channels and all(c.polys for c in lin.channels)
+    grid = output_grid(1.5, 1e-3)
+    t = _pieces(lin, grid)
+    assert np.array_equal(t, grid)
+    exact = _inputs_on_pieces(lin, t, [])
+    fitted = _inputs_on_pieces(replace(lin, channels=tuple(replace(c, polys=())
+                                                          for c in lin.channels)), t, [])
+    # the fit's round-off, against the load's size (seen 8e-11): every column
+    # is a σ-derivative of a value of that size
+    scale = np.max(np.abs(fitted[:, 0]))
+    assert scale > 1e5
+    assert np.max(np.abs(exact - fitted)) < 1e-9 * scale
+    assert np.all(exact[:, 4:6] == 0.0)                 # a cubic has no 4th, 5th derivatives

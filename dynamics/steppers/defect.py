@@ -1,0 +1,199 @@
+"""The linear fast path's error estimate in compiled loops (see
+:mod:`flexbed.dynamics.linear`): local cubics through the defect's nodes
+(and the powers'), the largest point error between the nodes, and the
+largest point displacement over the samples.
+
+A node interval ``[t_j, t_{j+1}]`` carries the cubic through the four
+nodes ``j0 … j0 + 3``, ``j0 = min(max(j − 1, 0), n − 4)`` (the two
+nodes on each side; one-sided at the ends), in ascending powers of
+``σ = (t − t_j)/(t_{j+1} − t_j)``: a cubic is reproduced exactly.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .propagate import jit
+
+__all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak", "largest_point"]
+
+
+@jit
+def cubic_pieces(tn, V, C):
+    """The local cubics (module docstring) of the values V at the nodes.
+
+    Parameters
+    ----------
+    tn : (n,) float64, n ≥ 2
+        The nodes' times [s], ascending (below 4 nodes, the polynomial
+        through all of them).
+    V : (n, c) float64
+        The values there.
+    C : (n − 1, 4, c) float64
+        Written: the coefficients of σ⁰ … σ³ on each interval.
+    """
+    n, c = V.shape
+    m = min(n, 4)
+    for j in range(n - 1):
+        j0 = min(max(j - 1, 0), n - m)
+        h = tn[j + 1] - tn[j]
+        for p in range(4):
+            for q in range(c):
+                C[j, p, q] = 0.0
+        for a in range(m):
+            # Lagrange's basis polynomial of node j0 + a, expanded in σ
+            sa = (tn[j0 + a] - tn[j]) / h
+            b0, b1, b2, b3 = 1.0, 0.0, 0.0, 0.0
+            for b in range(m):
+                if b == a:
+                    continue
+                sb = (tn[j0 + b] - tn[j]) / h
+                inv = 1.0 / (sa - sb)
+                # (b0 + b1 σ + b2 σ² + b3 σ³)(σ − sb) / (sa − sb)
+                b3 = (b2 - sb * b3) * inv
+                b2 = (b1 - sb * b2) * inv
+                b1 = (b0 - sb * b1) * inv
+                b0 = -sb * b0 * inv
+            for q in range(c):
+                v = V[j0 + a, q]
+                C[j, 0, q] += b0 * v
+                C[j, 1, q] += b1 * v
+                C[j, 2, q] += b2 * v
+                C[j, 3, q] += b3 * v
+
+
+@jit
+def pieces_at(tq, tn, C, out):
+    """The local cubics C of :func:`cubic_pieces` at the times tq.
+
+    Parameters
+    ----------
+    tq : (q,) float64 [s]
+        Ascending, within ``[tn[0], tn[-1]]``.
+    tn : (n,) float64 [s]
+        The nodes.
+    C : (n − 1, 4, c) float64
+    out : (q, c) float64
+        Written.
+    """
+    n = tn.size
+    c = C.shape[2]
+    j = 0
+    for i in range(tq.size):
+        while j < n - 2 and tq[i] >= tn[j + 1]:
+            j += 1
+        s = (tq[i] - tn[j]) / (tn[j + 1] - tn[j])
+        for q in range(c):
+            out[i, q] = C[j, 0, q] + s * (C[j, 1, q] + s * (C[j, 2, q] + s * C[j, 3, q]))
+
+
+@jit
+def pieces_integral_at(tq, tn, C, out):
+    """The integrals from tn[0] of the local cubics C of :func:`cubic_pieces`
+    to the times tq (ascending, within ``[tn[0], tn[-1]]``), written in
+    out (q, c) [unit of C times s]: the whole intervals' exact integrals
+    summed, plus the part of the last."""
+    n = tn.size
+    c = C.shape[2]
+    j = 0
+    acc = np.zeros(c)
+    for i in range(tq.size):
+        while j < n - 2 and tq[i] >= tn[j + 1]:
+            h = tn[j + 1] - tn[j]
+            for q in range(c):
+                acc[q] += h * (C[j, 0, q] + C[j, 1, q] / 2.0 + C[j, 2, q] / 3.0 + C[j, 3, q] / 4.0)
+            j += 1
+        h = tn[j + 1] - tn[j]
+        s = (tq[i] - tn[j]) / h
+        for q in range(c):
+            out[i, q] = acc[q] + h * s * (C[j, 0, q] + s * (C[j, 1, q] / 2.0 + s * (
+                C[j, 2, q] / 3.0 + s * C[j, 3, q] / 4.0)))
+
+
+@jit
+def hermite_peak(t, nodes, V, Vd):
+    """The largest |point| over every sample of the cubic Hermite
+    interpolant of the points' values V and their rates Vd at the nodes.
+
+    An interval is skipped when no point can rise there above the largest
+    so far: on it |p| ≤ max(|V_a|, |V_b|) + 4/27 h (|Vd_a| + |Vd_b|) (the
+    Hermite basis: h00 + h01 = 1, both ≥ 0; |h10|, |h11| ≤ 4/27 h).
+
+    Parameters
+    ----------
+    t : (k,) float64 [s]
+        The samples.
+    nodes : (n,) int64
+        Ascending sample indices, first 0, last k − 1.
+    V, Vd : (n, 3P) float64
+        x, y, z of P points at the nodes [m] and their rates [m/s].
+
+    Returns
+    -------
+    float
+        The largest length [m].
+    """
+    n, c = V.shape
+    npts = c // 3
+    nv = np.empty((n, npts))
+    nd = np.empty((n, npts))
+    best = 0.0
+    for j in range(n):
+        for p in range(npts):
+            a2 = 0.0
+            b2 = 0.0
+            for q in range(3):
+                a2 += V[j, 3 * p + q] ** 2
+                b2 += Vd[j, 3 * p + q] ** 2
+            nv[j, p] = math.sqrt(a2)
+            nd[j, p] = math.sqrt(b2)
+            if a2 > best:
+                best = a2
+    best = math.sqrt(best)
+    for j in range(n - 1):
+        a, b = nodes[j], nodes[j + 1]
+        h = t[b] - t[a]
+        bound = 0.0
+        for p in range(npts):
+            v = max(nv[j, p], nv[j + 1, p]) + 4.0 / 27.0 * h * (nd[j, p] + nd[j + 1, p])
+            if v > bound:
+                bound = v
+        if bound <= best:
+            continue
+        for i in range(a + 1, b):
+            s = (t[i] - t[a]) / h
+            s2 = s * s
+            s3 = s2 * s
+            h00 = 2.0 * s3 - 3.0 * s2 + 1.0
+            h10 = (s3 - 2.0 * s2 + s) * h
+            h01 = -2.0 * s3 + 3.0 * s2
+            h11 = (s3 - s2) * h
+            for p in range(npts):
+                s2p = 0.0
+                for q in range(3):
+                    col = 3 * p + q
+                    v = (h00 * V[j, col] + h10 * Vd[j, col]
+                         + h01 * V[j + 1, col] + h11 * Vd[j + 1, col])
+                    s2p += v * v
+                s2p = math.sqrt(s2p)
+                if s2p > best:
+                    best = s2p
+    return best
+
+
+@jit
+def largest_point(dP):
+    """The largest |point| [m] over the rows of dP (k, 3P): x, y, z of P points."""
+    k, c = dP.shape
+    best = 0.0
+    for i in range(k):
+        for p in range(c // 3):
+            s = 0.0
+            for q in range(3):
+                v = dP[i, 3 * p + q]
+                s += v * v
+            if s > best:
+                best = s
+    return math.sqrt(best)
