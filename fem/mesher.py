@@ -242,7 +242,7 @@ def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness:
     Returns
     -------
     nodes : ndarray (N, 2) [m]
-    cells : ndarray (ne, 4), counter-clockwise
+    cells : ndarray (ne, 4), counter-clockwise (triangles as (a, b, c, c))
     cell_thickness : ndarray (ne,) [m]
     """
     if geometry.mesh_file is not None:

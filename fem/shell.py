@@ -86,7 +86,8 @@ class ShellModel:
     nodes : ndarray (N, 2)
         Node coordinates [m].
     cells : ndarray (ne, 4)
-        Quadrilaterals, counter-clockwise.
+        Quadrilaterals, counter-clockwise; triangles as (a, b, c, c)
+        (:mod:`flexbed.fem.cells`).
     K, M : sparse (ndof, ndof)
         Stiffness and consistent mass.
     M0 : sparse (N, N)
@@ -228,7 +229,7 @@ class ShellModel:
 def assemble_mesh(spec: PlateSpec, nodes: np.ndarray, cells: np.ndarray,
                   thickness: np.ndarray | None = None,
                   origin: np.ndarray | None = None) -> ShellModel:
-    """Assemble the shell on a given quadrilateral mesh.
+    """Assemble the shell on a given mesh of quadrilaterals and triangles.
 
     Parameters
     ----------
@@ -237,7 +238,7 @@ def assemble_mesh(spec: PlateSpec, nodes: np.ndarray, cells: np.ndarray,
     nodes : ndarray (N, 2)
         Node coordinates [m].
     cells : ndarray (ne, 4)
-        Counter-clockwise quadrilaterals.
+        Counter-clockwise quadrilaterals, and triangles as (a, b, c, c).
     thickness : ndarray (ne,), optional
         Thickness of each element [m].
     origin : ndarray (2,), optional
