@@ -28,7 +28,8 @@ class BedModes:
         Node coordinates in the bed frame [m]; z is the mid-surface's, 0
         unless fixed masses lift the centre of mass.
     cells : ndarray (ne, 4)
-        Node indices of each quadrilateral, counter-clockwise.
+        Node indices of each cell, counter-clockwise (a Mindlin mesh's
+        triangles as (a, b, c, c)).
     modes : ModeSet
         Frequencies, labels.
     translation : ndarray (n, N, 3)

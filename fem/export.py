@@ -12,6 +12,8 @@ from pathlib import Path
 import meshio
 import numpy as np
 
+from .cells import is_triangle
+
 
 def mode_field_name(index: int, frequency: float) -> str:
     """Field name of mode ``index`` (0-based), e.g. ``mode01_23.17Hz``."""
@@ -30,7 +32,8 @@ def write_modes_vtu(path: str | Path, nodes: np.ndarray, cells: np.ndarray,
     nodes : ndarray (N, 3)
         Node coordinates [m].
     cells : ndarray (ne, 4)
-        Quadrilaterals (node indices, counter-clockwise).
+        Quadrilaterals (node indices, counter-clockwise); triangles as
+        (a, b, c, c), written as VTK triangles.
     translation, rotation : ndarray (n, N, 3)
         Nodal translations and rotations per mode.
     frequency : ndarray (n,)
@@ -46,8 +49,11 @@ def write_modes_vtu(path: str | Path, nodes: np.ndarray, cells: np.ndarray,
     for k, f in enumerate(frequency):
         data[mode_field_name(k, float(f))] = np.ascontiguousarray(translation[k])
         data[f"rotation{k + 1:02d}"] = np.ascontiguousarray(rotation[k])
-    mesh = meshio.Mesh(points=np.asarray(nodes, dtype=float),
-                       cells=[("quad", np.asarray(cells, dtype=np.int64))], point_data=data)
+    cells = np.asarray(cells, dtype=np.int64)
+    tri = is_triangle(cells)
+    blocks = [(kind, c) for kind, c in (("quad", cells[~tri]), ("triangle", cells[tri, :3]))
+              if c.shape[0]]
+    mesh = meshio.Mesh(points=np.asarray(nodes, dtype=float), cells=blocks, point_data=data)
     tmp = path.with_name(f".{path.name}.tmp")
     meshio.write(tmp, mesh, file_format="vtu")
     tmp.replace(path)

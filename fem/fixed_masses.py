@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .cells import is_triangle, point_shape
 from .geometry import GeometryError
 
-_CORNERS = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
 _EPS = np.zeros((3, 3, 3))
 _EPS[0, 1, 2] = _EPS[1, 2, 0] = _EPS[2, 0, 1] = 1.0
 _EPS[0, 2, 1] = _EPS[2, 1, 0] = _EPS[1, 0, 2] = -1.0
@@ -74,10 +74,9 @@ def attachment(nodes: np.ndarray, cells: np.ndarray, cell: int, s: np.ndarray,
                height: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """DOFs (20,), translation operator T (3, 20) and rotation operator
     R (3, 20) of a point at natural coordinates s of ``cell``, ``height``
-    above the mid-surface (DOF order u, v, w, θx, θy per corner)."""
-    a, b = _CORNERS[:, 0], _CORNERS[:, 1]
-    N = 0.25 * (1 + a * s[0]) * (1 + b * s[1])
-    dN = np.column_stack([0.25 * a * (1 + b * s[1]), 0.25 * b * (1 + a * s[0])])
+    above the mid-surface (DOF order u, v, w, θx, θy per corner; a
+    triangle's repeated corner gets zero columns)."""
+    N, dN = point_shape(bool(is_triangle(cells[cell:cell + 1])[0]), s)
     xy = nodes[cells[cell], :2]
     J = dN.T @ xy                                    # J[i, j] = ∂x_j/∂ξ_i
     dNx = np.linalg.solve(J, dN.T).T                 # (4, 2) ∂N/∂x, ∂N/∂y

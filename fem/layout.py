@@ -28,6 +28,7 @@ class BedLayout:
     nodes : ndarray (N, 2)
         x, y of the nodes [m].
     cells : ndarray (ne, 4)
+        Quadrilaterals, and triangles as (a, b, c, c).
     thickness : ndarray (ne,) [m]
     centre : ndarray (3,)
         The composite centre of mass in the drawing frame [m].

@@ -1,8 +1,8 @@
-"""Quadrilateral meshes of a bed's outline, cut-outs and thickness zones,
-or of a mesh file.
+"""Meshes of a bed's outline, cut-outs and thickness zones, or of a mesh
+file.
 
-Three routes, all ending in counter-clockwise bilinear quadrilaterals with a
-thickness per cell:
+Three routes, all ending in counter-clockwise cells with a thickness per
+cell (quadrilaterals, and triangles from a mesh file):
 
 * **Rectilinear** (outline, cut-outs and zones all made of axis-parallel
   edges): a tensor grid whose lines pass through every vertex, spacing at
@@ -14,8 +14,9 @@ thickness per cell:
   split into three quadrilaterals at its centroid and edge mid-points
   (quads of side about h). The triangles' area is checked against the
   polygons' (the boundary must come out conforming).
-* **Mesh file** (meshio): its quads as they are, its triangles split as
-  above.
+* **Mesh file** (meshio): its quads and its triangles as they are (linear
+  triangles stored as (a, b, c, c), :mod:`flexbed.fem.cells`; the shell
+  has a triangle element, :mod:`flexbed.fem.triangle_shell`).
 
 Pure NumPy/SciPy (no scikit-fem): the scene reader meshes to know the
 bed's mass properties.
@@ -29,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .cells import areas, as_cells, centres, is_triangle
 from .geometry import BedGeometry, GeometryError, inside, signed_area
 
 
@@ -164,8 +166,9 @@ def _general(outline, holes, zone_polys, h):
 
 
 def read_mesh_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
-    """Nodes (N, 2) and counter-clockwise quads (ne, 4) of a meshio mesh
-    (its quads, and its triangles split in three).
+    """Nodes (N, 2) and counter-clockwise cells (ne, 4) of a meshio mesh:
+    its quads, and its triangles as they are, stored (a, b, c, c)
+    (:mod:`flexbed.fem.cells`).
 
     Raises
     ------
@@ -189,12 +192,11 @@ def read_mesh_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
         tri = np.vstack(tris).astype(np.int64)
         area = _cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
         tri[area < 0] = tri[area < 0][:, [0, 2, 1]]
-        pts, split = split_triangles(pts, tri)
-        cells = np.vstack([cells, split])
-    xy = pts[cells]
-    area = 0.5 * np.sum(xy[:, :, 0] * np.roll(xy[:, :, 1], -1, axis=1)
-                        - np.roll(xy[:, :, 0], -1, axis=1) * xy[:, :, 1], axis=1)
-    cells[area < 0] = cells[area < 0][:, ::-1]
+        cells = as_cells(cells, tri)
+    area = areas(pts, cells)
+    quad = ~is_triangle(cells)
+    flip = (area < 0) & quad
+    cells[flip] = cells[flip][:, ::-1]
     if np.any(np.abs(area) <= 0):
         raise GeometryError("mesh_file", f"mesh_file = {str(path)!r} has cells of zero area")
     return _compact(pts, cells)
@@ -202,15 +204,19 @@ def read_mesh_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
 
 def _check_cells(nodes: np.ndarray, cells: np.ndarray, geometry: BedGeometry) -> None:
     """Every quadrilateral convex and counter-clockwise (positive Jacobian at
-    its corners), else a GeometryError naming the first bad cell."""
-    xy = nodes[cells]
+    its corners), every triangle counter-clockwise, else a GeometryError
+    naming the first bad cell."""
+    tri = is_triangle(cells)
+    xy = nodes[np.where(tri[:, None], cells[:, [0, 1, 2, 0]], cells)]
     nxt, prv = np.roll(xy, -1, axis=1), np.roll(xy, 1, axis=1)
     turn = _cross(nxt - xy, prv - xy)                      # (ne, 4) corner Jacobians
-    bad = np.flatnonzero(np.any(turn <= 1e-12 * np.max(np.abs(turn)), axis=1))
+    flat = turn <= 1e-12 * np.max(np.abs(turn))
+    # a triangle (a, b, c, a): corners b and c count (a's equals them, 2 × area)
+    bad = np.flatnonzero(np.where(tri, flat[:, 1] | flat[:, 2], np.any(flat, axis=1)))
     if bad.size:
         entry = "mesh_file" if geometry.mesh_file is not None else "element_size"
         raise GeometryError(entry, f"cell {int(bad[0])} (corners {xy[bad[0]].round(6).tolist()}"
-                                   f" m) is not a convex counter-clockwise quadrilateral "
+                                   f" m) is not a convex counter-clockwise cell "
                                    f"({bad.size} such cells)")
 
 
@@ -236,7 +242,7 @@ def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness:
     Returns
     -------
     nodes : ndarray (N, 2) [m]
-    cells : ndarray (ne, 4), counter-clockwise
+    cells : ndarray (ne, 4), counter-clockwise (triangles as (a, b, c, c))
     cell_thickness : ndarray (ne,) [m]
     """
     if geometry.mesh_file is not None:
@@ -273,7 +279,7 @@ def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness:
             nodes, cells = _compact(nodes, cells)
     _check_cells(nodes, cells, geometry)
     t = np.full(cells.shape[0], float(thickness))
-    cent = nodes[cells].mean(axis=1)
+    cent = centres(nodes, cells)
     for poly, tz in zones:
         t[inside(poly, cent)] = tz
     return nodes, cells, t

@@ -1,10 +1,11 @@
-"""Mode shapes of the Mindlin shell anywhere on the bed: the bilinear
-element field of the cell that holds the point.
+"""Mode shapes of the Mindlin shell anywhere on the bed: the element field
+(bilinear in a quadrilateral, linear in a triangle) of the cell that holds
+the point.
 
 A point at height z above the mid-surface point (x, y) moves by
 U = (u + z θy, v − z θx, w), the shell's own kinematics
 (:mod:`flexbed.fem.mitc4`), with u, v, w, θx, θy and the in-plane rotation
-interpolated bilinearly from the cell's corners. Pure NumPy: usable from
+interpolated from the cell's corners (:mod:`flexbed.fem.cells`). Pure NumPy: usable from
 the modes file alone. :func:`mode_shapes` picks this or the Kirchhoff
 :class:`~flexbed.fem.shapes.GridShapes` by the file's theory.
 """
@@ -15,29 +16,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .cells import is_triangle, locate, point_shape
 from .shapes import GridShapes, OutsidePlateError
 
-_CORNERS = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
-
-
-def _bilinear(s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Shape functions (4,) and natural derivatives (4, 2) at s = (ξ, η)."""
-    a, b = _CORNERS[:, 0], _CORNERS[:, 1]
-    N = 0.25 * (1 + a * s[0]) * (1 + b * s[1])
-    dN = np.column_stack([0.25 * a * (1 + b * s[1]), 0.25 * b * (1 + a * s[0])])
-    return N, dN
 
 
 @dataclass(frozen=True)
 class QuadShapes:
-    """Mode shapes on a mesh of bilinear quadrilaterals, evaluable anywhere.
+    """Mode shapes on a mesh of bilinear quadrilaterals and linear triangles
+    (:mod:`flexbed.fem.cells`), evaluable anywhere.
 
     Attributes
     ----------
     nodes : ndarray (N, 2)
         Node coordinates [m].
     cells : ndarray (ne, 4)
-        Counter-clockwise quadrilaterals.
+        Counter-clockwise quadrilaterals; triangles as (a, b, c, c).
     translation, rotation : ndarray (n, N, 3)
         Nodal translations and rotations per mode.
     mid_z : float
@@ -53,27 +47,8 @@ class QuadShapes:
 
     def locate(self, x: float, y: float) -> tuple[int, np.ndarray] | None:
         """(cell, natural coordinates (2,)) of the point (x, y), or None when
-        no cell holds it."""
-        xy = self.nodes[self.cells]                                   # (ne, 4, 2)
-        lo, hi = xy.min(axis=1), xy.max(axis=1)
-        size = float(np.max(hi - lo))
-        tol = 1e-9 * size
-        near = np.flatnonzero((x >= lo[:, 0] - tol) & (x <= hi[:, 0] + tol)
-                              & (y >= lo[:, 1] - tol) & (y <= hi[:, 1] + tol))
-        p = np.array([x, y])
-        for c in near:
-            s = np.zeros(2)
-            for _ in range(20):                                       # Newton on the map
-                N, dN = _bilinear(s)
-                r = N @ xy[c] - p
-                J = dN.T @ xy[c]                                      # ∂x_j/∂ξ_i, transposed
-                step = np.linalg.solve(J.T, r)
-                s = s - step
-                if np.max(np.abs(step)) < 1e-13:
-                    break
-            if np.all(np.abs(s) <= 1.0 + 1e-8):
-                return int(c), np.clip(s, -1.0, 1.0)
-        return None
+        no cell holds it (:func:`flexbed.fem.cells.locate`)."""
+        return locate(self.nodes, self.cells, x, y)
 
     def at(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Translation and rotation of each mode at points of the bed.
@@ -105,7 +80,7 @@ class QuadShapes:
                     f"or in a cut-out; the bed spans [{lo[0]:g}, {hi[0]:g}] x "
                     f"[{lo[1]:g}, {hi[1]:g}] m)")
             c, s = where
-            N, _ = _bilinear(s)
+            N, _ = point_shape(bool(is_triangle(self.cells[c:c + 1])[0]), s)
             corner = self.cells[c]
             t = np.einsum("a,kaj->kj", N, self.translation[:, corner])
             r = np.einsum("a,kaj->kj", N, self.rotation[:, corner])

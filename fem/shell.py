@@ -1,5 +1,7 @@
-"""Reissner–Mindlin flat shell (MITC4 bending and shear, plane-stress
-membrane with incompatible modes) assembled on a quadrilateral mesh.
+"""Reissner–Mindlin flat shell assembled on a mesh of quadrilaterals
+(MITC4 bending and shear, plane-stress membrane with incompatible modes)
+and triangles (MITC3 shear with edge-smoothed membrane and bending,
+:mod:`flexbed.fem.triangle_shell`), mixed freely.
 
 Five degrees of freedom per node, u, v, w, θx, θy (see
 :mod:`flexbed.fem.mitc4`); the bed frame's z is the mid-surface normal.
@@ -20,6 +22,8 @@ from .geometry import GeometryError
 from .mitc4 import element_drilling, element_matrices
 from .spec import PlateSpec, PlateSpecError
 from .stiffeners import stiffener_matrices
+from .cells import is_triangle
+from .triangle_shell import triangle_blocks
 
 DOFS_PER_NODE = 5
 DOF_NAMES = ("u", "v", "w", "theta_x", "theta_y")
@@ -39,12 +43,37 @@ def grid_mesh(spec: PlateSpec) -> tuple[np.ndarray, np.ndarray]:
     return nodes, cells
 
 
-def _assemble(blocks: np.ndarray, dofs: np.ndarray, n: int) -> sp.csr_matrix:
-    """Sum element blocks (ne, k, k) into an (n, n) CSR matrix."""
-    k = dofs.shape[1]
-    rows = np.repeat(dofs, k, axis=1).ravel()
-    cols = np.tile(dofs, (1, k)).ravel()
-    return sp.coo_matrix((blocks.ravel(), (rows, cols)), shape=(n, n)).tocsr()
+def _assemble_parts(parts: list, n: int, per_node: int) -> sp.csr_matrix:
+    """Sum element blocks into an (n, n) CSR matrix.
+
+    parts: list of (blocks (ne, k, k), node stencils (ne, k / per_node)),
+    each node carrying ``per_node`` consecutive DOFs."""
+    data, rows, cols = [], [], []
+    for blk, where in parts:
+        dofs = (per_node * where[:, :, None] + np.arange(per_node)).reshape(where.shape[0], -1)
+        k = dofs.shape[1]
+        rows.append(np.repeat(dofs, k, axis=1).ravel())
+        cols.append(np.tile(dofs, (1, k)).ravel())
+        data.append(blk.ravel())
+    return sp.coo_matrix((np.concatenate(data), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(n, n)).tocsr()
+
+
+def _drilling(parts: list, N: int) -> sp.csr_matrix:
+    """Nodal in-plane rotation (N, 5N): each element's value (operators
+    (ne, 2c) on its c corners' (u, v)) averaged over the elements at a node."""
+    count = np.zeros(N)
+    for _, corners in parts:
+        count += np.bincount(corners.ravel(), minlength=N)
+    data, rows, cols = [], [], []
+    for op, corners in parts:
+        ne, c = corners.shape
+        uv = (DOFS_PER_NODE * corners[:, :, None] + np.arange(2)).reshape(ne, 2 * c)
+        rows.append(np.broadcast_to(corners[:, :, None], (ne, c, 2 * c)).ravel())
+        data.append((op[:, None, :] / count[corners][:, :, None]).ravel())
+        cols.append(np.broadcast_to(uv[:, None, :], (ne, c, 2 * c)).ravel())
+    return sp.coo_matrix((np.concatenate(data), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(N, DOFS_PER_NODE * N)).tocsr()
 
 
 @dataclass(frozen=True)
@@ -57,7 +86,8 @@ class ShellModel:
     nodes : ndarray (N, 2)
         Node coordinates [m].
     cells : ndarray (ne, 4)
-        Quadrilaterals, counter-clockwise.
+        Quadrilaterals, counter-clockwise; triangles as (a, b, c, c)
+        (:mod:`flexbed.fem.cells`).
     K, M : sparse (ndof, ndof)
         Stiffness and consistent mass.
     M0 : sparse (N, N)
@@ -199,7 +229,7 @@ class ShellModel:
 def assemble_mesh(spec: PlateSpec, nodes: np.ndarray, cells: np.ndarray,
                   thickness: np.ndarray | None = None,
                   origin: np.ndarray | None = None) -> ShellModel:
-    """Assemble the shell on a given quadrilateral mesh.
+    """Assemble the shell on a given mesh of quadrilaterals and triangles.
 
     Parameters
     ----------
@@ -208,7 +238,7 @@ def assemble_mesh(spec: PlateSpec, nodes: np.ndarray, cells: np.ndarray,
     nodes : ndarray (N, 2)
         Node coordinates [m].
     cells : ndarray (ne, 4)
-        Counter-clockwise quadrilaterals.
+        Counter-clockwise quadrilaterals, and triangles as (a, b, c, c).
     thickness : ndarray (ne,), optional
         Thickness of each element [m].
     origin : ndarray (2,), optional
@@ -222,31 +252,38 @@ def assemble_mesh(spec: PlateSpec, nodes: np.ndarray, cells: np.ndarray,
     cells = np.asarray(cells, dtype=np.int64)
     ne, N = cells.shape[0], nodes.shape[0]
     t = np.full(ne, spec.thickness) if thickness is None else np.asarray(thickness, float)
-    xy = nodes[cells]
-    e = element_matrices(xy, t, spec.young, spec.poisson, spec.density)
-    dofs = (DOFS_PER_NODE * cells[:, :, None] + np.arange(DOFS_PER_NODE)).reshape(ne, -1)
+    tri = is_triangle(cells)
+    quads, tris = cells[~tri], cells[tri, :3]
     ndof = DOFS_PER_NODE * N
-    parts = {k: _assemble(e[k], dofs, ndof)
-             for k in ("membrane", "shear", "bend_xx", "bend_yy", "bend_rest")}
+    names = ("membrane", "shear", "bend_xx", "bend_yy", "bend_rest")
+    blocks = {k: [] for k in names + ("mass0", "mass2")}
+    drill = []                                      # (operator (k, 2c), corners (k, c))
+    if quads.shape[0]:
+        xy = nodes[quads]
+        e = element_matrices(xy, t[~tri], spec.young, spec.poisson, spec.density)
+        for k in names:
+            blocks[k].append((e[k], quads))
+        blocks["mass0"].append((e["mass0"], quads))
+        blocks["mass2"].append((e["mass2"], quads))
+        drill.append((element_drilling(xy), quads))
+    if tris.shape[0]:
+        e = triangle_blocks(nodes, tris, t[tri], spec.young, spec.poisson, spec.density)
+        for k in names:
+            blocks[k].append(e[k])
+        blocks["mass0"].append((e["mass0"], tris))
+        blocks["mass2"].append((e["mass2"], tris))
+        drill.append((e["drilling"], tris))
+    parts = {k: _assemble_parts(blocks[k], ndof, DOFS_PER_NODE) for k in names}
     K = parts["membrane"] + parts["shear"] + parts["bend_xx"] + parts["bend_yy"] \
         + parts["bend_rest"]
-    M0 = _assemble(e["mass0"], cells, N)
-    M2 = _assemble(e["mass2"], cells, N)
-    blocks = [M0, M0, M0, M2, M2]
+    M0 = _assemble_parts(blocks["mass0"], N, 1)
+    M2 = _assemble_parts(blocks["mass2"], N, 1)
     M = sp.csr_matrix((ndof, ndof))
-    for k, blk in enumerate(blocks):
+    for k, blk in enumerate([M0, M0, M0, M2, M2]):
         sel = sp.csr_matrix((np.ones(N), (DOFS_PER_NODE * np.arange(N) + k, np.arange(N))),
                             shape=(ndof, N))
         M = M + sel @ blk @ sel.T
-    # drilling: element-centre rotation, averaged over the elements at a node
-    op = element_drilling(xy)                                            # (ne, 8)
-    uv = (DOFS_PER_NODE * cells[:, :, None] + np.arange(2)).reshape(ne, 8)
-    count = np.bincount(cells.ravel(), minlength=N).astype(float)
-    rows = np.broadcast_to(cells[:, :, None], (ne, 4, 8))
-    data = np.broadcast_to(op[:, None, :], (ne, 4, 8)) / count[cells][:, :, None]
-    colsd = np.broadcast_to(uv[:, None, :], (ne, 4, 8))
-    drilling = sp.coo_matrix((data.ravel(), (rows.ravel(), colsd.ravel())),
-                             shape=(N, ndof)).tocsr()
+    drilling = _drilling(drill, N)
     K = (0.5 * (K + K.T)).tocsr()
     return ShellModel(spec=spec, nodes=nodes, cells=cells, K=K, M=M.tocsr(), M0=M0, M2=M2,
                       K_xx=parts["bend_xx"], K_yy=parts["bend_yy"], K_twist=parts["bend_rest"],

@@ -88,7 +88,7 @@ def test_outline_polygon_with_slanted_edges():
 
 def test_imported_mesh_gives_the_generated_modes(tmp_path):
     """The reference grid written with meshio and read back as mesh_file:
-    the same frequencies; its triangles split in three give the same mass."""
+    the same frequencies; as triangles (the triangle element) the same mass."""
     spec = PlateSpec(theory="mindlin", nx=4, ny=24)
     nodes, cells = grid_mesh(spec)
     path = tmp_path / "bed.vtu"

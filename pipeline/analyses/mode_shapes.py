@@ -19,6 +19,7 @@ import numpy as np
 from flexbed.analyses.linear_points import PointJacobians
 from flexbed.analyses.modal import Mounted
 from flexbed.analyses.points import Point
+from flexbed.files.xdmf import xdmf_topology
 
 __all__ = ["ShapeMesh", "mode_shape_meshes"]
 
@@ -29,14 +30,27 @@ _BOX = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
 @dataclass(frozen=True)
 class ShapeMesh:
     """One body's mesh: ``name``; ``nodes`` (N, 3) at equilibrium, inertial
-    [m]; ``cells`` (ne, 4 or 8); ``topology`` "Quadrilateral" or
-    "Hexahedron"; ``displacement`` (m, N, 3) per mode [1]."""
+    [m]; ``cells`` in XDMF's layout of ``topology`` ("Quadrilateral"
+    (ne, 4), "Triangle" (ne, 3), "Mixed" (flat) or "Hexahedron" (ne, 8),
+    :func:`flexbed.files.xdmf.xdmf_topology`); ``displacement`` (m, N, 3)
+    per mode [1]."""
 
     name: str
     nodes: np.ndarray
     cells: np.ndarray
     topology: str
     displacement: np.ndarray
+
+    @property
+    def cell_count(self) -> int:
+        """Number of cells."""
+        if self.topology != "Mixed":
+            return int(self.cells.shape[0])
+        count, k = 0, 0
+        while k < self.cells.size:                  # type, then 3 or 4 corners
+            k += 4 if self.cells[k] == 4 else 5
+            count += 1
+        return count
 
 
 def _plate_grid(plate) -> tuple[np.ndarray, np.ndarray]:
@@ -71,10 +85,11 @@ def mode_shape_meshes(sf, mt: Mounted) -> list[ShapeMesh]:
         name = bodies[i].name
         if name == bed:
             if mt.bed_modes is not None:
-                local, cells = np.asarray(mt.bed_modes.nodes, float), mt.bed_modes.cells
+                local = np.asarray(mt.bed_modes.nodes, float)
+                topo, cells = xdmf_topology(mt.bed_modes.cells)
             else:
                 local, cells = _plate_grid(sf.bed.plate)
-            topo = "Quadrilateral"
+                topo = "Quadrilateral"
         else:
             local, cells = _box(float(system.mass[i]), system.J[i - 1]), np.arange(8)[None, :]
             topo = "Hexahedron"

@@ -159,12 +159,17 @@ def numeric(c: Contents, name: str, shape: tuple) -> np.ndarray:
     return a.astype(float)
 
 
-def _rigid_bed_centre(table: dict, path: Path) -> np.ndarray:
+def _rigid_bed_centre(table: dict, path: Path, source: str = "") -> np.ndarray:
     """Centre of mass (3,) [m] of a rigid bed from the scene's [bed] table
-    (zero for the plain rectangle; a mesh_file is looked for beside the run)."""
+    (zero for the plain rectangle; a relative mesh_file is looked for beside
+    the scene file the run came from, ``source``, then beside the run)."""
     from flexbed.files.bed_section import read_bed
+    folder = path.parent
+    mesh = table.get("mesh_file")
+    if source and isinstance(mesh, str) and (Path(source).parent / mesh).is_file():
+        folder = Path(source).parent
     try:
-        return read_bed(table, f"{path}: scene [bed]", path.parent).mass_properties.centre
+        return read_bed(table, f"{path}: scene [bed]", folder).mass_properties.centre
     except InputError as exc:
         raise InputError(f"{exc}; cannot place the points on the bed") from None
 
@@ -229,7 +234,8 @@ class Run:
         if self.bed_model == "flexible":
             self._open_modes(c, bed, modes_file)
         elif self.bed_body is not None:
-            self.bed_centre = _rigid_bed_centre(scene["bed"], self.path)
+            self.bed_centre = _rigid_bed_centre(
+                scene["bed"], self.path, str(c.attrs.get("scene", {}).get("source", "")))
 
     def _scene_points(self, data: dict):
         for i, p in enumerate(data.get("point", [])):

@@ -1,5 +1,6 @@
 """Beds as built: the plate theories against a 3D solid, and the cost of the
-modes of large Mindlin beds (grid, imported quads, imported triangles).
+modes of large Mindlin beds (grid, imported quads, imported triangles with
+the triangle element, and split in quads as before it).
 
 Accuracy: the reference bed (0.8 × 4.8 × 0.1 m steel, free–free) against
 the first seven elastic modes of a 171,963-DOF hexahedral 3D-solid model
@@ -23,6 +24,7 @@ from flexbed.bench.context import BenchContext
 from flexbed.bench.markdown import md_table
 from flexbed.fem.bed import BedModes, compute_bed_modes
 from flexbed.fem.geometry import BedGeometry
+from flexbed.fem.mesher import split_triangles
 from flexbed.fem.shell import grid_mesh
 from flexbed.fem.spec import PlateSpec
 
@@ -33,11 +35,14 @@ SOLID = (23.144, 63.807, 80.281, 124.997, 163.317, 169.63, 206.168)
 #: which of them is in-plane (index into SOLID)
 SOLID_IN_PLANE = 5
 
-#: (label, theory, nx, ny) of the accuracy table; quick: the first of each theory
+#: (label, theory, nx, ny) of the accuracy table; quick: the first of each theory;
+#: "triangle": the Mindlin shell on the nx × ny grid halved into triangles,
+#: read from a mesh file
 ACCURACY = (("Kirchhoff 10 x 10 (default)", "kirchhoff", 10, 10),
             ("Kirchhoff 40 x 40", "kirchhoff", 40, 40),
             ("Mindlin 8 x 48", "mindlin", 8, 48),
-            ("Mindlin 16 x 96", "mindlin", 16, 96))
+            ("Mindlin 16 x 96", "mindlin", 16, 96),
+            ("Mindlin triangles 2 x 16 x 96", "triangle", 16, 96))
 QUICK_ACCURACY = (ACCURACY[0], ACCURACY[2])
 #: modes solved in the size table
 SIZE_MODES = 20
@@ -77,41 +82,56 @@ def matched(bed: BedModes) -> list[float | None]:
             for k in range(len(SOLID))]
 
 
-def accuracy_runs(quick: bool, repeats: int, log=lambda m: None) -> list[BedRun]:
-    """The reference bed on each mesh of :data:`ACCURACY` (10 modes each)."""
+def accuracy_runs(quick: bool, repeats: int, log=lambda m: None,
+                  folder: Path | None = None) -> list[BedRun]:
+    """The reference bed on each mesh of :data:`ACCURACY` (10 modes each;
+    ``folder``: where the triangle mesh file is written)."""
     runs = []
     for label, theory, nx, ny in (QUICK_ACCURACY if quick else ACCURACY):
         log(f"bench beds: {label} ...")
-        runs.append(timed(label, PlateSpec(theory=theory, nx=nx, ny=ny), 10, repeats))
+        if theory == "triangle":
+            path = _mesh_file(Path(folder), nx, ny, "triangle")
+            spec = PlateSpec(theory="mindlin", geometry=BedGeometry(mesh_file=str(path)))
+        else:
+            spec = PlateSpec(theory=theory, nx=nx, ny=ny)
+        runs.append(timed(label, spec, 10, repeats))
     return runs
 
 
 def _mesh_file(folder: Path, nx: int, ny: int, kind: str) -> Path:
-    """The reference bed's nx × ny grid written with meshio as quads or as
-    two triangles per quad."""
+    """The reference bed's nx × ny grid written with meshio as quads, as
+    two triangles per quad (``"triangle"``), or as those triangles each
+    split in three quads (``"split"``: what flexbed did with triangles
+    before it had a triangle element)."""
     import meshio
     nodes, cells = grid_mesh(PlateSpec(nx=nx, ny=ny))
-    if kind == "triangle":
+    if kind in ("triangle", "split"):
         cells = np.vstack([cells[:, [0, 1, 2]], cells[:, [0, 2, 3]]])
+    if kind == "split":
+        nodes, cells = split_triangles(nodes, cells)
     path = folder / f"bed-{kind}-{nx}x{ny}.vtu"
     meshio.write(path, meshio.Mesh(np.column_stack([nodes, np.zeros(len(nodes))]),
-                                   [(kind, cells)]))
+                                   [("triangle" if kind == "triangle" else "quad", cells)]))
     return path
 
 
 def size_runs(folder: Path, quick: bool, repeats: int, log=lambda m: None) -> list[BedRun]:
-    """Large Mindlin beds (quick: small ones): a grid, imported quads and
-    imported triangles, :data:`SIZE_MODES` modes each."""
+    """Large Mindlin beds (quick: small ones): a grid, imported quads,
+    imported triangles (the triangle element) and the same triangles split
+    in three quads each (the route before the triangle element),
+    :data:`SIZE_MODES` modes each."""
     grid, quads, tris = ((10, 40), (10, 40), (10, 20)) if quick else \
         ((50, 200), (100, 200), (50, 200))
     cases = [(f"Mindlin grid {grid[0]} x {grid[1]}",
               PlateSpec(theory="mindlin", nx=grid[0], ny=grid[1]))]
-    for kind, (nx, ny) in (("quad", quads), ("triangle", tris)):
-        n = nx * ny * (2 if kind == "triangle" else 1)
+    for kind, (nx, ny) in (("quad", quads), ("triangle", tris), ("split", tris)):
+        n = nx * ny * (1 if kind == "quad" else 2)
         path = _mesh_file(folder, nx, ny, kind)
-        split = f" (split: {3 * n:,} quads)" if kind == "triangle" else ""
-        cases.append((f"imported mesh, {n:,} {kind}s{split}",
-                      PlateSpec(theory="mindlin", geometry=BedGeometry(mesh_file=str(path)))))
+        label = {"quad": f"imported mesh, {n:,} quads",
+                 "triangle": f"imported mesh, {n:,} triangles (ES-MITC3)",
+                 "split": f"the same {n:,} triangles split in {3 * n:,} quads (before)"}[kind]
+        cases.append((label, PlateSpec(theory="mindlin",
+                                       geometry=BedGeometry(mesh_file=str(path)))))
     out = []
     for label, spec in cases:
         log(f"bench beds: {label} ...")
@@ -126,7 +146,7 @@ def _cell(f: float | None, ref: float) -> str:
 def section_beds(ctx: BenchContext) -> str:
     """The reference bed against the 3D solid, and modes of large beds."""
     repeats = 1 if ctx.quick else 3
-    acc = accuracy_runs(ctx.quick, repeats, ctx.log)
+    acc = accuracy_runs(ctx.quick, repeats, ctx.log, ctx.workdir)
     size = size_runs(ctx.workdir, ctx.quick, repeats, ctx.log)
     ctx.results["beds"] = {"accuracy": acc, "size": size,
                            "matched": {r.label: matched(r.bed) for r in acc}}
@@ -145,13 +165,19 @@ def section_beds(ctx: BenchContext) -> str:
         "against the first seven elastic modes of a 171,963-DOF hexahedral 3D-solid model "
         "(issue 14). The Kirchhoff plate (`theory = \"kirchhoff\"`, BFS elements) has no "
         "in-plane mode; the Mindlin shell (`theory = \"mindlin\"`, MITC4 with an "
-        "incompatible-mode membrane) has. Modes solve: `compute_bed_modes` (mesh, assembly, "
+        "incompatible-mode membrane) has" + ("" if ctx.quick else
+        "; the last column is the shell on the 16 x 96 grid halved into triangles (one "
+        "diagonal direction), read from a mesh file: the three-node element (MITC3 shear "
+        "with stabilisation, edge-smoothed membrane and bending) on the same nodes") + "."
+        " Modes solve: `compute_bed_modes` (mesh, assembly, "
         "eigen-solution, invariants; 10 modes), CPU seconds (`time.process_time`), median "
         f"of {repeats}.", "",
         md_table(head, rows, align="lr" + "r" * len(acc)), "",
         f"Modes of larger Mindlin beds, {SIZE_MODES} modes each, CPU seconds, median of "
         f"{repeats}. Imported "
         "meshes: the reference bed's grid written with meshio (VTU), as quads and as two "
-        "triangles per quad; each triangle is split in three quadrilaterals."
+        "triangles per quad, which the three-node shell element (MITC3 shear, edge-smoothed "
+        "membrane and bending) takes as they are; the last row is the route before that "
+        "element, each triangle split in three quadrilaterals (written as such to the file)."
         + (" Quick report: small meshes only." if ctx.quick else ""), "",
         md_table(["bed", "elements", "DOFs", "modes, CPU [s]"], size_rows, align="lrrr"), ""])

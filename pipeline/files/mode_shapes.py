@@ -2,14 +2,16 @@
 XML) over one HDF5 file (``<stem>.h5``) written through
 :mod:`flexbed.files.store`.
 
-``flexbed.mode_shapes`` 1.0 (every dataset has ``units`` and a
+``flexbed.mode_shapes`` 1.1 (every dataset has ``units`` and a
 ``description``):
 
 - ``frequency`` (m,) [Hz], ``damping_ratio`` (m,) [1]: the modes;
 - ``bodies/<i>/nodes`` (N, 3) [m]: body i's mesh at the equilibrium,
   inertial frame (the bed's plate mesh; a box of each other body's inertia);
-  ``bodies/<i>/cells`` (ne, 4 or 8) [1]; group attributes ``name``,
-  ``topology`` ("Quadrilateral" or "Hexahedron");
+  ``bodies/<i>/cells`` [1] in XDMF's layout for the group attributes
+  ``topology`` ("Quadrilateral" (ne, 4), "Hexahedron" (ne, 8), and since
+  1.1 "Triangle" (ne, 3) or "Mixed", :func:`flexbed.files.xdmf.xdmf_topology`)
+  and ``cell_count`` (ne, since 1.1); ``name``;
 - ``bodies/<i>/mode_<k>`` (N, 3) [1]: the node displacements in mode k
   (1-based, zero-padded), scaled to a largest node displacement of 1 over
   all bodies.
@@ -34,7 +36,8 @@ from flexbed.files.xdmf import data_item
 __all__ = ["write_mode_shapes", "MODE_SHAPES_SCHEMA"]
 
 MODE_SHAPES_SCHEMA = "flexbed.mode_shapes"
-VERSION = "1.0"
+#: 1.1: a bed of triangles ("Triangle" or "Mixed" topology), ``cell_count``
+VERSION = "1.1"
 
 
 def write_mode_shapes(path: str | os.PathLike, meshes: list, frequency: np.ndarray,
@@ -66,7 +69,8 @@ def write_mode_shapes(path: str | os.PathLike, meshes: list, frequency: np.ndarr
             ds[f"{g}/mode_{k + 1:0{width}d}"] = Dataset(
                 np.ascontiguousarray(mesh.displacement[k]), "1",
                 "node displacement in this mode, largest over all bodies 1")
-        attrs[g] = {"name": mesh.name, "topology": mesh.topology}
+        attrs[g] = {"name": mesh.name, "topology": mesh.topology,
+                    "cell_count": int(mesh.cell_count)}
     write_file(h5, schema=MODE_SHAPES_SCHEMA, version=VERSION, datasets=ds, attrs=attrs)
 
     name = h5.name
@@ -80,7 +84,7 @@ def write_mode_shapes(path: str | os.PathLike, meshes: list, frequency: np.ndarr
         n = mesh.nodes.shape[0]
         lines += [f'      <Grid Name={quoteattr(mesh.name)} GridType="Uniform">',
                   f'        <Topology TopologyType="{mesh.topology}" '
-                  f'NumberOfElements="{mesh.cells.shape[0]}">',
+                  f'NumberOfElements="{mesh.cell_count}">',
                   f"          {data_item(name, f'{g}/cells', mesh.cells.shape, 'Int')}",
                   "        </Topology>",
                   '        <Geometry GeometryType="XYZ">',

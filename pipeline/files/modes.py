@@ -1,7 +1,7 @@
 """The modes file: what the bed-modes stage hands to the dynamics stage.
 
-Schema ``flexbed.modes``, version 1.1 (1.0 files, all Kirchhoff, still
-read). Layout (every dataset has ``units``):
+Schema ``flexbed.modes``, version 1.2 (1.0 and 1.1 files still read;
+1.2 adds triangles to ``mesh/cells``). Layout (every dataset has ``units``):
 
 =================================  ==============  =====================  =========
 dataset                            shape           units                  from
@@ -44,7 +44,9 @@ A Kirchhoff file's rotations are (∂w/∂y, −∂w/∂x, 0) and its twist comp
 the bicubic Hermite data; a Mindlin shell's translations have all three
 components, its rotations are (θx, θy, in-plane rotation ½(∂v/∂x − ∂u/∂y),
 the last averaged from the elements at the node), its twist is zero, its
-mesh cells are bilinear quadrilaterals, and its mass, first moment and
+mesh cells are bilinear quadrilaterals and (since 1.2, from a mesh file of
+triangles) linear triangles stored as (a, b, c, c) — the last two corners
+the same node, :mod:`flexbed.fem.cells` — and its mass, first moment and
 inertia come from the FE mass matrix ("from" = FE for every row).
 """
 
@@ -68,7 +70,9 @@ if TYPE_CHECKING:       # annotation only: reading a modes file needs no FE code
     from flexbed.fem.bed import BedModes
 
 SCHEMA = "flexbed.modes"
-VERSION = "1.1"          # 1.1: plate/theory (absent: "kirchhoff"), Mindlin shells
+#: 1.1: plate/theory (absent: "kirchhoff"), Mindlin shells; 1.2: triangles in
+#: mesh/cells as (a, b, c, c) (a file of quads is laid out as in 1.1)
+VERSION = "1.2"
 MAJOR = 1
 _LATER_KEYS = ("theory", "geometry", "masses", "stiffeners")
 
@@ -184,7 +188,8 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
     d: dict[str, Dataset] = {
         "mesh/nodes": Dataset(bed.nodes, "m", "node coordinates in the bed frame (origin at "
                               "the centre of mass)"),
-        "mesh/cells": Dataset(bed.cells.astype(np.int64), "1", "node indices of each quad"),
+        "mesh/cells": Dataset(bed.cells.astype(np.int64), "1",
+                              "node indices of each cell: quads, triangles as (a, b, c, c)"),
         "modes/frequency": Dataset(m.frequency, "Hz", "elastic free-free frequencies"),
         "modes/omega": Dataset(m.omega, "rad/s", "circular frequencies"),
         "modes/label": Dataset(np.array(m.labels, dtype=object), "",

@@ -3,11 +3,15 @@ light XML) over one HDF5 file (``<stem>.h5``, the heavy data), both written
 here, the HDF5 through :mod:`flexbed.files.store` so that it describes
 itself as every flexbed file does.
 
-``flexbed.bed_motion`` 1.0 (every dataset has ``units`` and a
+``flexbed.bed_motion`` 1.1 (every dataset has ``units`` and a
 ``description``):
 
 - ``mesh/nodes`` (N, 3) [m]: the nodes at t = 0, inertial frame;
-- ``mesh/cells`` (ne, 4) [1]: quadrilaterals (node indices);
+- ``mesh/cells`` [1]: the cells in XDMF's layout for the group attribute
+  ``mesh/topology``: ``"Quadrilateral"`` (ne, 4) node indices (every file
+  of 1.0, and every mesh of quads), ``"Triangle"`` (ne, 3), or ``"Mixed"``
+  (one flat array: per cell its XDMF type, 4 = triangle or
+  5 = quadrilateral, then its node indices);
 - ``time`` (k,) [s]: the frames' times;
 - ``frames/<i>/displacement`` (N, 3) [m]: node positions minus their
   t = 0 positions (rigid motion and deformation), frame i (zero-padded);
@@ -33,7 +37,28 @@ from flexbed.files.store import Dataset, write_file
 __all__ = ["write_bed_motion", "BED_MOTION_SCHEMA"]
 
 BED_MOTION_SCHEMA = "flexbed.bed_motion"
-VERSION = "1.0"
+#: 1.1: triangles ("Triangle" or "Mixed" topology, group attribute
+#: ``mesh/topology``); a mesh of quads is written as in 1.0
+VERSION = "1.1"
+
+#: XDMF's cell type numbers in a "Mixed" topology
+_XDMF_TRIANGLE, _XDMF_QUADRILATERAL = 4, 5
+
+
+def xdmf_topology(cells: np.ndarray) -> tuple[str, np.ndarray]:
+    """XDMF topology type and cell array of a shell mesh (ne, 4) whose
+    triangles are stored (a, b, c, c): ``("Quadrilateral", (ne, 4))``,
+    ``("Triangle", (ne, 3))`` or ``("Mixed", flat)``, flat = per cell
+    its type (4 triangle, 5 quadrilateral) then its corners."""
+    cells = np.asarray(cells, dtype=np.int64)
+    tri = cells[:, 3] == cells[:, 2]
+    if not tri.any():
+        return "Quadrilateral", cells
+    if tri.all():
+        return "Triangle", np.ascontiguousarray(cells[:, :3])
+    parts = [np.concatenate([[_XDMF_TRIANGLE], c[:3]]) if t
+             else np.concatenate([[_XDMF_QUADRILATERAL], c]) for c, t in zip(cells, tri)]
+    return "Mixed", np.concatenate(parts).astype(np.int64)
 
 
 def data_item(h5name: str, dataset: str, shape: tuple, kind: str) -> str:
@@ -56,7 +81,8 @@ def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarr
     nodes : ndarray (N, 3)
         Node positions at t = 0, inertial frame [m].
     cells : ndarray (ne, 4)
-        Quadrilaterals (node indices, counter-clockwise).
+        Quadrilaterals (node indices, counter-clockwise); triangles as
+        (a, b, c, c).
     times : ndarray (k,)
         Frame times [s].
     displacement : ndarray (k, N, 3)
@@ -72,17 +98,19 @@ def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarr
     path = check_destination(path)
     h5 = check_destination(path.with_suffix(".h5"))
     nodes = np.asarray(nodes, dtype=float)
-    cells = np.asarray(cells, dtype=np.int64)
+    n_cells = np.asarray(cells).shape[0]
+    topology, cells = xdmf_topology(cells)
     times = np.asarray(times, dtype=float)
     k, n = times.size, nodes.shape[0]
     width = max(4, len(str(max(k - 1, 0))))
     ds = {
         "mesh/nodes": Dataset(nodes, "m", "node positions at t = 0, inertial frame"),
-        "mesh/cells": Dataset(cells, "1", "node indices of each quadrilateral"),
+        "mesh/cells": Dataset(cells, "1", f"the cells, XDMF {topology} topology"),
         "time": Dataset(times, "s", "time of each frame"),
     }
     attrs = {"": {"description": "the bed's motion: displacement and elastic deflection of "
-                                 "every node per frame (open the .xdmf beside it)"}}
+                                 "every node per frame (open the .xdmf beside it)"},
+             "mesh": {"topology": topology}}
     for i in range(k):
         g = f"frames/{i:0{width}d}"
         ds[f"{g}/displacement"] = Dataset(
@@ -101,7 +129,7 @@ def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarr
              '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">',
              "  <Domain>",
              '    <Grid Name="mesh" GridType="Uniform">',
-             f'      <Topology TopologyType="Quadrilateral" NumberOfElements="{cells.shape[0]}">',
+             f'      <Topology TopologyType="{topology}" NumberOfElements="{n_cells}">',
              f"        {data_item(name, 'mesh/cells', cells.shape, 'Int')}",
              "      </Topology>",
              '      <Geometry GeometryType="XYZ">',
