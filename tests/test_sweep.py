@@ -507,7 +507,7 @@ def test_a_batched_study_equals_an_unbatched_one_row_for_row(tmp_path, client):
     """Three points a task (one of them failing, one a duplicate) give the
     same rows as one point a task; a re-run in batches of two skips the
     points done and runs the new ones."""
-    from flexbed.study.runner import auto_batch, batches
+    from flexbed.study.runner import auto_batch, auto_sizes, batches
 
     body = ('sampling = "list"\n' + "".join(
         f'\n[[point]]\n"bed.thickness" = {t}\n"solver.static_tol" = {tol}\n'
@@ -534,8 +534,15 @@ def test_a_batched_study_equals_an_unbatched_one_row_for_row(tmp_path, client):
     # batches: study order, one bed's modes each, at most `size` points
     assert batches({"a": 0, "b": 0, "c": 0, "d": 0}, {"a": None, "b": "m", "c": None,
                                                      "d": None}, 2) == [["a", "c"], ["d"], ["b"]]
-    assert [auto_batch(n, w) for n, w in ((5, 1), (200, 2), (10000, 64), (10 ** 6, 2))] == \
-        [1, 13, 16, 16]
+    # "auto": the points left over twice the workers, at most 16, shrinking to 1
+    assert auto_sizes(200, 2) == [16] * 9 + [14, 11, 8, 6, 5, 3, 3, 2, 1, 1, 1, 1]
+    for n, w in ((5, 1), (10000, 64), (10 ** 5, 2)):
+        sizes = auto_sizes(n, w)
+        assert sum(sizes) == n and sizes == sorted(sizes, reverse=True)
+        assert sizes[0] == auto_batch(n, w) == min(16, -(-n // (2 * w))) and sizes[-1] == 1
+    assert batches({"a": 0, "b": 0, "c": 0, "d": 0, "e": 0},
+                   {"a": None, "b": "m", "c": None, "d": None, "e": "m"}, None, 1) == \
+        [["a", "c", "d"], ["b"], ["e"]]
 
 
 def test_kept_results_are_the_commands_files_of_each_point(tmp_path, client, capsys):
