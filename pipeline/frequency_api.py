@@ -22,11 +22,12 @@ from flexbed.analyses import modal as amodal
 from flexbed.analyses.points import Point
 from flexbed.errors import InputError
 from flexbed.files.destination import check_destination, write_text
-from flexbed.files.frequency import write_frf, write_modal
+from flexbed.files.frequency import frf_contents, modal_contents, write_frf_contents, \
+    write_modal_contents
 from flexbed.files.modes import ModesData
 from flexbed.files.scene import SceneFile
 
-__all__ = ["modal", "frf", "Modal", "Transmissibility"]
+__all__ = ["modal", "frf", "Modal", "Transmissibility", "modal_files", "frf_files"]
 
 
 class Modal:
@@ -65,17 +66,8 @@ class Modal:
 
     def save(self, prefix: str | Path) -> list[Path]:
         """Write ``PREFIX.h5`` and the CSV tables (as ``flexbed modal -o PREFIX``,
-        without the plot); returns the paths."""
-        prefix = str(prefix)
-        mt, md = self.mounted, self.mounted.modes
-        paths = [check_destination(Path(prefix + s)) for s in
-                 (".h5", "-modes.csv", "-energy.csv", "-strain.csv", "-effective-mass.csv")]
-        write_modal(paths[0], self.scene, mt)
-        write_text(paths[1], amodal.modes_csv(md))
-        write_text(paths[2], amodal.energy_csv(mt.ms, md))
-        write_text(paths[3], amodal.strain_csv([m.name for m in mt.system.scene.mounts], md))
-        write_text(paths[4], amodal.effective_mass_csv(md))
-        return paths
+        without the plot and the mode shapes); returns the paths."""
+        return _save(prefix, modal_files(self.scene, self.mounted))
 
 
 class Transmissibility:
@@ -98,10 +90,44 @@ class Transmissibility:
     def save(self, prefix: str | Path) -> list[Path]:
         """Write ``PREFIX.h5`` and ``PREFIX.csv`` (as ``flexbed frf -o PREFIX``,
         without the plots); returns the paths."""
-        h5, csv = (check_destination(Path(str(prefix) + s)) for s in (".h5", ".csv"))
-        write_frf(h5, self.scene, self.result)
-        write_text(csv, afrf.frf_csv(self.result))
-        return [h5, csv]
+        return _save(prefix, frf_files(self.scene, self.result))
+
+
+def modal_files(scene: SceneFile, mt: amodal.Mounted, *, shapes: bool = False) -> dict:
+    """The files ``flexbed modal -o PREFIX --no-plots`` writes, in memory:
+    suffix (``".h5"``, ``"-modes.csv"``, ``"-energy.csv"``,
+    ``"-strain.csv"``, ``"-effective-mass.csv"``, with ``shapes``
+    ``"-shapes.xdmf"``, which writes ``-shapes.h5`` beside it) →
+    ``(writer, args)``; ``writer(path, *args)`` writes that file (plain
+    functions and data: they pickle, so a study's worker hands them to the
+    client, which writes them)."""
+    md = mt.modes
+    files = {".h5": (write_modal_contents, modal_contents(scene, mt)),
+             "-modes.csv": (write_text, (amodal.modes_csv(md),)),
+             "-energy.csv": (write_text, (amodal.energy_csv(mt.ms, md),)),
+             "-strain.csv": (write_text, (amodal.strain_csv([m.name for m in
+                                                             mt.system.scene.mounts], md),)),
+             "-effective-mass.csv": (write_text, (amodal.effective_mass_csv(md),))}
+    if shapes:
+        from flexbed.analyses.mode_shapes import mode_shape_meshes
+        from flexbed.files.mode_shapes import write_mode_shapes
+        files["-shapes.xdmf"] = (write_mode_shapes, (mode_shape_meshes(scene, mt), md.frequency,
+                                                     md.damping_ratio))
+    return files
+
+
+def frf_files(scene: SceneFile, r: afrf.FRF) -> dict:
+    """The files ``flexbed frf -o PREFIX --no-plots`` writes, in memory:
+    ``".h5"`` and ``".csv"`` → ``(writer, args)`` (as :func:`modal_files`)."""
+    return {".h5": (write_frf_contents, frf_contents(scene, r)),
+            ".csv": (write_text, (afrf.frf_csv(r),))}
+
+
+def _save(prefix, files: dict) -> list[Path]:
+    paths = [check_destination(Path(str(prefix) + suffix)) for suffix in files]
+    for path, (writer, args) in zip(paths, files.values()):
+        writer(path, *args)
+    return paths
 
 
 def _mounted(api, scene: SceneFile, modes: ModesData | None, equilibrium) -> amodal.Mounted:

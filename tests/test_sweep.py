@@ -507,7 +507,7 @@ def test_a_batched_study_equals_an_unbatched_one_row_for_row(tmp_path, client):
     """Three points a task (one of them failing, one a duplicate) give the
     same rows as one point a task; a re-run in batches of two skips the
     points done and runs the new ones."""
-    from flexbed.study.runner import auto_batch, batches
+    from flexbed.study.runner import auto_batch, auto_sizes, batches
 
     body = ('sampling = "list"\n' + "".join(
         f'\n[[point]]\n"bed.thickness" = {t}\n"solver.static_tol" = {tol}\n'
@@ -534,5 +534,74 @@ def test_a_batched_study_equals_an_unbatched_one_row_for_row(tmp_path, client):
     # batches: study order, one bed's modes each, at most `size` points
     assert batches({"a": 0, "b": 0, "c": 0, "d": 0}, {"a": None, "b": "m", "c": None,
                                                      "d": None}, 2) == [["a", "c"], ["d"], ["b"]]
-    assert [auto_batch(n, w) for n, w in ((5, 1), (200, 2), (10000, 64), (10 ** 6, 2))] == \
-        [1, 13, 16, 16]
+    # "auto": the points left over twice the workers, at most 16, shrinking to 1
+    assert auto_sizes(200, 2) == [16] * 9 + [14, 11, 8, 6, 5, 3, 3, 2, 1, 1, 1, 1]
+    for n, w in ((5, 1), (10000, 64), (10 ** 5, 2)):
+        sizes = auto_sizes(n, w)
+        assert sum(sizes) == n and sizes == sorted(sizes, reverse=True)
+        assert sizes[0] == auto_batch(n, w) == min(16, -(-n // (2 * w))) and sizes[-1] == 1
+    assert batches({"a": 0, "b": 0, "c": 0, "d": 0, "e": 0},
+                   {"a": None, "b": "m", "c": None, "d": None, "e": "m"}, None, 1) == \
+        [["a", "c", "d"], ["b"], ["e"]]
+
+
+def test_kept_results_are_the_commands_files_of_each_point(tmp_path, client, capsys):
+    """``--keep-results`` with simulate, modal and frf: each point's files in
+    ``results/`` are those ``flexbed simulate -o``, ``flexbed modal -o …
+    --no-plots`` and ``flexbed frf -o … --no-plots`` write for the point's
+    scene (run here as commands on the variant's scene file): the same
+    datasets, bit for bit, the same attributes but the solve times, the
+    same CSV text."""
+    import h5py
+
+    body = ('sampling = "list"\nanalyses = ["simulate", "modal", "frf"]\n\n[[point]]\n'
+            '"mount.M5.k" = [3.0e5, 3.0e5, 2.0e5]\n')
+    metrics = '[[metric]]\nkind = "natural_frequency"\n'
+    out = tmp_path / "out"
+    table = flexbed.sweep(study_file(tmp_path, body, metrics=metrics), client, output=out,
+                          keep_results=True, plots=False)
+    assert list(table["status"]) == ["ok"], list(table["message"])
+    suffixes = ("results.h5", "modal.h5", "modal-modes.csv", "modal-energy.csv",
+                "modal-strain.csv", "modal-effective-mass.csv", "modal-shapes.xdmf",
+                "modal-shapes.h5", "frf.h5", "frf.csv")
+    assert sorted(p.name for p in (out / "results").iterdir()) == \
+        sorted(f"point-0000-{s}" for s in suffixes)
+
+    def timing(key):
+        return key.endswith("time") or key in ("created", "written")
+
+    def tree(path):
+        items = {}
+        with h5py.File(path, "r") as f:
+            f.visititems(lambda name, obj: items.__setitem__(name, (
+                obj[()] if isinstance(obj, h5py.Dataset) else None,
+                {k: v for k, v in obj.attrs.items() if not timing(k)})))
+            items[""] = (None, {k: v for k, v in f.attrs.items() if not timing(k)})
+        return items
+
+    scene = flexbed.vary(flexbed.load_scene(), {"solver.t_end": T_END,
+                                                "mount.M5.k": [3e5, 3e5, 2e5]})
+    path = tmp_path / "point.toml"
+    path.write_text(scene.text, encoding="utf-8")
+    ref = tmp_path / "ref"
+    for command, prefix in (("simulate", "results.h5"), ("modal", "modal"), ("frf", "frf")):
+        args = [command, str(path), "-o", str(ref / prefix)]
+        assert main(args + ([] if command == "simulate" else ["--no-plots"])) == 0
+    capsys.readouterr()
+    for s in suffixes:
+        mine, theirs = out / "results" / f"point-0000-{s}", ref / s
+        if s.endswith(".h5"):
+            a, b = tree(mine), tree(theirs)
+            assert a.keys() == b.keys(), s
+            for name in a:
+                np.testing.assert_array_equal(a[name][0], b[name][0], err_msg=f"{s}: {name}")
+                assert a[name][1].keys() == b[name][1].keys(), (s, name)
+                for key in a[name][1]:
+                    if key not in ("source", "equilibrium_source"):       # paths
+                        np.testing.assert_array_equal(a[name][1][key], b[name][1][key],
+                                                      err_msg=f"{s}: {name} @{key}")
+        else:
+            text = theirs.read_text(encoding="utf-8")
+            if s.endswith(".xdmf"):                         # it names itself and its .h5
+                text = text.replace("modal-shapes", "point-0000-modal-shapes")
+            assert mine.read_text(encoding="utf-8") == text, s

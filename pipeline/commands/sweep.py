@@ -30,7 +30,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                         help="workers of the local cluster (default: one per core)")
     parser.add_argument("--batch", type=int, default=None, metavar="N",
                         help="points per Dask task (default: the study's [study] batch, else "
-                             "chosen from the numbers of points and workers, at most 16)")
+                             "chosen from the numbers of points and workers: large batches "
+                             "first, at most 16, single points last)")
     parser.add_argument("--keep-results", action="store_true",
                         help="also write each point's results file into DIR/results")
     parser.add_argument("--retry-failed", action="store_true",

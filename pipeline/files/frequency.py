@@ -41,7 +41,8 @@ import numpy as np
 
 from flexbed.files.store import Dataset, write_file
 
-__all__ = ["write_modal", "write_frf", "MODAL_SCHEMA", "FRF_SCHEMA"]
+__all__ = ["write_modal", "write_frf", "modal_contents", "frf_contents", "write_modal_contents",
+           "write_frf_contents", "MODAL_SCHEMA", "FRF_SCHEMA"]
 
 MODAL_SCHEMA = "flexbed.modal"
 FRF_SCHEMA = "flexbed.frf"
@@ -50,6 +51,18 @@ VERSION = "1.0"
 
 def write_modal(path, sf, mt) -> Path:
     """Write a :class:`flexbed.analyses.modal.Mounted` as ``flexbed.modal``."""
+    return write_modal_contents(path, *modal_contents(sf, mt))
+
+
+def write_modal_contents(path, datasets: dict, attrs: dict) -> Path:
+    """Write what :func:`modal_contents` gave as a ``flexbed.modal`` file, atomically."""
+    return write_file(path, schema=MODAL_SCHEMA, version=VERSION, datasets=datasets, attrs=attrs)
+
+
+def modal_contents(sf, mt) -> tuple[dict, dict]:
+    """The datasets and group attributes of :func:`write_modal`'s file, in
+    memory (``{path: Dataset}``, ``{group: attrs}``): what a study's worker
+    hands back for ``--keep-results``."""
     ms, md = mt.ms, mt.modes
     ds = {
         "coordinates/labels": Dataset(np.array(ms.labels), "", "the coordinates of q"),
@@ -81,11 +94,21 @@ def write_modal(path, sf, mt) -> Path:
     }
     attrs = {"": {"moving_mass": float(md.moving_mass), "solve_time": float(mt.solve_time),
                   "equilibrium_source": mt.source, "scene_digest": sf.digest}}
-    return write_file(path, schema=MODAL_SCHEMA, version=VERSION, datasets=ds, attrs=attrs)
+    return ds, attrs
 
 
 def write_frf(path, sf, r) -> Path:
     """Write a :class:`flexbed.analyses.frf.FRF` as ``flexbed.frf``."""
+    return write_frf_contents(path, *frf_contents(sf, r))
+
+
+def write_frf_contents(path, datasets: dict, attrs: dict) -> Path:
+    """Write what :func:`frf_contents` gave as a ``flexbed.frf`` file, atomically."""
+    return write_file(path, schema=FRF_SCHEMA, version=VERSION, datasets=datasets, attrs=attrs)
+
+
+def frf_contents(sf, r) -> tuple[dict, dict]:
+    """The datasets and group attributes of :func:`write_frf`'s file, in memory."""
     ds = {
         "frequency": Dataset(r.frequency, "Hz", "frequencies"),
         "outputs/names": Dataset(np.array(r.names), "", "output names"),
@@ -102,4 +125,4 @@ def write_frf(path, sf, r) -> Path:
     }
     attrs = {"": {"input": r.input, "solve_time": float(r.solve_time),
                   "evaluations": int(r.evaluations), "scene_digest": sf.digest}}
-    return write_file(path, schema=FRF_SCHEMA, version=VERSION, datasets=ds, attrs=attrs)
+    return ds, attrs

@@ -16,8 +16,19 @@ run).
 
 Other analyses join with :func:`register`: an :class:`Analysis` with its
 name, a function ``run(scene, outcomes, modes) -> outcome`` and, for files
-kept with ``--keep-results``, ``files(outcome) -> {suffix: (datasets,
-attrs)}``; their metrics join :mod:`flexbed.study.metrics` the same way.
+kept with ``--keep-results``, ``files(outcome) -> {suffix: (writer,
+args)}`` (``writer(path, *args)`` writes the file; run on the worker, the
+writing on the client); their metrics join :mod:`flexbed.study.metrics`
+the same way.
+
+Files kept (``DIR/results/point-NNNN-<suffix>``): ``results.h5``
+(simulate), ``compare-<case>.h5`` (compare), ``modal.h5``,
+``modal-modes.csv``, ``modal-energy.csv``, ``modal-strain.csv``,
+``modal-effective-mass.csv``, ``modal-shapes.xdmf`` + ``modal-shapes.h5``
+(modal: ``flexbed modal -o point-NNNN-modal --no-plots``) and
+``frf.h5``, ``frf.csv`` (frf: ``flexbed frf -o point-NNNN-frf
+--no-plots``, the command's defaults — base z, the scene's points, the
+band from the modes — whatever the metrics asked for).
 """
 
 from __future__ import annotations
@@ -38,7 +49,7 @@ class Analysis:
     name : str; run : callable(scene, outcomes, modes) -> outcome (raises
     FlexbedError on failure); needs_bed_modes : bool — it needs the modes
     of the bed made flexible even when the scene's bed is rigid (compare);
-    files : callable(outcome) -> dict suffix -> (datasets, attrs), or None.
+    files : callable(outcome) -> dict suffix -> (writer, args), or None.
     """
 
     name: str
@@ -82,10 +93,15 @@ def _compare(scene, outcomes, modes):
     return compare(scene, modes=modes)
 
 
+def _results_file(run) -> tuple:
+    from flexbed.files.results import write_results_contents
+    return write_results_contents, run._datasets
+
+
 register(Analysis("static", _static))
-register(Analysis("simulate", _simulate, files=lambda run: {"results": run._datasets}))
+register(Analysis("simulate", _simulate, files=lambda run: {"results.h5": _results_file(run)}))
 register(Analysis("compare", _compare, needs_bed_modes=True,
-                  files=lambda cmp: {f"compare-{case}": run._datasets
+                  files=lambda cmp: {f"compare-{case}.h5": _results_file(run)
                                      for case, run in cmp.runs.items()}))
 
 
@@ -119,6 +135,14 @@ class Responses:
                                    modes=self.modes, equilibrium=self.modal)
         return self._cache[key]
 
+    def default(self):
+        """``flexbed.frf(scene, equilibrium=modal)``: the command's defaults
+        (base z, the scene's points, the band from the modes)."""
+        from flexbed.api import frf
+        if "default" not in self._cache:
+            self._cache["default"] = frf(self.scene, modes=self.modes, equilibrium=self.modal)
+        return self._cache["default"]
+
 
 def _frf(scene, outcomes, modes):
     modes = modes if scene.bed.flexible else None
@@ -126,5 +150,17 @@ def _frf(scene, outcomes, modes):
     return Responses(scene, modal, modes)
 
 
-register(Analysis("modal", _modal))
-register(Analysis("frf", _frf))
+def _modal_files(m) -> dict:
+    from flexbed.frequency_api import modal_files
+    return {"modal" + suffix: f for suffix, f in
+            modal_files(m.scene, m.mounted, shapes=True).items()}
+
+
+def _frf_files(responses: Responses) -> dict:
+    from flexbed.frequency_api import frf_files
+    return {"frf" + suffix: f for suffix, f in
+            frf_files(responses.scene, responses.default().result).items()}
+
+
+register(Analysis("modal", _modal, files=_modal_files))
+register(Analysis("frf", _frf, files=_frf_files))

@@ -20,14 +20,24 @@ from flexbed.threads import thread_count
 __all__ = ["cluster_client", "worker_environment", "LOCAL_CONFIG"]
 
 
-#: Dask settings of the local cluster: its housekeeping costs CPU that the
-#: points would use (measured idle, 2 workers: 74 ms of CPU per second with
-#: Dask's defaults, 20 ms/s with these): no statistical profiler sampling
-#: the workers every 10 ms, the event-loop watchdog, system monitor, memory
-#: monitor and work stealing at 1-2 s instead of 20-500 ms.
+#: Dask settings of the local cluster (set with ``dask.config.set`` around
+#: the cluster: the scheduler and nannies run in this process, the workers
+#: get them from their nanny). Its housekeeping costs CPU that the points
+#: would use (measured idle, 2 workers: 74 ms of CPU per second with Dask's
+#: defaults, ~15 ms/s with these; the rest is the heartbeats, every 0.5 s,
+#: which the scheduler sets): no statistical profiler sampling every
+#: thread's stack every 10 ms, no GIL-contention poll (1 ms, when
+#: ``gilknocker`` is installed), no disk counters, no active memory manager
+#: (a study keeps no replicas); the event-loop watchdog, system monitor,
+#: memory monitor and work stealing at 1-2 s instead of 20-500 ms. A
+#: cluster started apart keeps its own settings, but the study's worker
+#: plugin (:class:`~flexbed.study.point.WarmUp`) stops the profiler there too.
 LOCAL_CONFIG = {"distributed.worker.profile.enabled": False,
                 "distributed.admin.tick.interval": "1s",
                 "distributed.admin.system-monitor.interval": "2s",
+                "distributed.admin.system-monitor.gil.enabled": False,
+                "distributed.admin.system-monitor.disk": False,
+                "distributed.scheduler.active-memory-manager.start": False,
                 "distributed.worker.memory.monitor-interval": "1s",
                 "distributed.scheduler.work-stealing-interval": "1s"}
 
@@ -39,6 +49,14 @@ def worker_environment() -> dict:
     return {name: n for name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
                                  "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS",
                                  "FLEXBED_THREADS")}
+
+
+def _has_warm_up(dask_scheduler) -> bool:
+    """On the scheduler: are the workers warmed already (a client held
+    across studies, a cluster that ran one)? Then a study does not warm
+    them again (~40 ms of CPU a worker)."""
+    from flexbed.study.point import WarmUp
+    return WarmUp.name in dask_scheduler.worker_plugins
 
 
 @contextmanager
@@ -62,7 +80,7 @@ def cluster_client(scheduler=None, workers: int | None = None,
     from flexbed.study.point import WarmUp
 
     def ready(client):
-        if warm_scene is not None:
+        if warm_scene is not None and not client.run_on_scheduler(_has_warm_up):
             client.register_plugin(WarmUp(warm_scene))
         return client
 

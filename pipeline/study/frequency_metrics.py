@@ -39,7 +39,7 @@ import numpy as np
 
 from flexbed.errors import InputError, NumericalError
 from flexbed.files.scene import SceneFile
-from flexbed.study.metric_keys import _options, resolve_point
+from flexbed.study.metric_keys import OneColumn, _options, resolve_point
 from flexbed.study.spec import MetricTable
 
 __all__ = ["NaturalFrequency", "EffectiveMassFraction", "Transmissibility",
@@ -79,7 +79,7 @@ def _number(value, where: str, key: str) -> float:
 
 
 @dataclass(frozen=True)
-class NaturalFrequency:
+class NaturalFrequency(OneColumn):
     """A mounted-system mode's natural frequency, damped frequency or
     damping ratio."""
 
@@ -100,13 +100,7 @@ class NaturalFrequency:
         default = f"{table.kind}.mode{k}" + ("" if q == "frequency" else f".{q}")
         return cls(table.kind, opts.get("name") or default, k, q)
 
-    @property
-    def columns(self) -> tuple:
-        return (self.column,)
-
-    @property
-    def units(self) -> tuple:
-        return (_MODAL_QUANTITIES[self.quantity],)
+    unit = property(lambda self: _MODAL_QUANTITIES[self.quantity])
 
     def values(self, outcomes: dict) -> tuple:
         m = outcomes["modal"]
@@ -118,7 +112,7 @@ class NaturalFrequency:
 
 
 @dataclass(frozen=True)
-class EffectiveMassFraction:
+class EffectiveMassFraction(OneColumn):
     """The share of the moving mass an undamped mode carries along an axis."""
 
     kind: str
@@ -142,8 +136,7 @@ class EffectiveMassFraction:
         default = f"{table.kind}.{axis}." + (f"modes1-{k}" if cum else f"mode{k}")
         return cls(table.kind, opts.get("name") or default, k, _AXES.index(axis), cum)
 
-    columns = NaturalFrequency.columns
-    units = property(lambda self: ("1",))
+    unit = "1"
 
     def values(self, outcomes: dict) -> tuple:
         m = outcomes["modal"]
@@ -175,7 +168,7 @@ def _response_options(table: MetricTable, scene: SceneFile, where: str, extra: t
 
 
 @dataclass(frozen=True)
-class Transmissibility:
+class Transmissibility(OneColumn):
     """|T| of a point at one frequency."""
 
     kind: str
@@ -194,8 +187,7 @@ class Transmissibility:
         f = _number(opts["frequency"], where, "frequency")
         return cls(table.kind, opts.get("name") or f"{stem}.{f:g}Hz", inp, point, output, f)
 
-    columns = NaturalFrequency.columns
-    units = property(lambda self: ("1",))
+    unit = "1"
 
     def values(self, outcomes: dict) -> tuple:
         t = outcomes["frf"].response(self.input, self.point, frequencies=[self.frequency])
@@ -203,7 +195,7 @@ class Transmissibility:
 
 
 @dataclass(frozen=True)
-class PeakTransmissibility:
+class PeakTransmissibility(OneColumn):
     """The largest |T| of a point over a band, or its frequency."""
 
     kind: str
@@ -231,8 +223,7 @@ class PeakTransmissibility:
         default = f"{stem}.{lo:g}-{hi:g}Hz" + ("" if q == "magnitude" else ".frequency")
         return cls(table.kind, opts.get("name") or default, inp, point, output, (lo, hi), q)
 
-    columns = NaturalFrequency.columns
-    units = property(lambda self: ("1" if self.quantity == "magnitude" else "Hz",))
+    unit = property(lambda self: "1" if self.quantity == "magnitude" else "Hz")
 
     def values(self, outcomes: dict) -> tuple:
         t = outcomes["frf"].response(self.input, self.point, band=self.band)

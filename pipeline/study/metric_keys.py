@@ -1,8 +1,9 @@
-"""The keys every metric kind shares, checked against the scene: the
-options of a ``[[metric]]`` table (unknown keys refused, ``name``), a body
-by name, a point (a scene ``[[point]]`` or a body and a position, with
-``relative_to``). Used by :mod:`flexbed.study.metrics` and
-:mod:`flexbed.study.frequency_metrics`."""
+"""What every metric kind shares: the keys, checked against the scene —
+the options of a ``[[metric]]`` table (unknown keys refused, ``name``), a
+body by name, a point (a scene ``[[point]]`` or a body and a position, with
+``relative_to``) — and the columns and units a kind makes
+(:class:`OneColumn`, :class:`PerMount`). Used by
+:mod:`flexbed.study.metrics` and :mod:`flexbed.study.frequency_metrics`."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile
 from flexbed.study.spec import MetricTable
 
-__all__ = ["resolve_point"]
+__all__ = ["resolve_point", "OneColumn", "PerMount"]
 
 
 def _options(table: MetricTable, keys: tuple, where: str) -> dict:
@@ -66,3 +67,34 @@ def resolve_point(scene: SceneFile, opts: dict, where: str,
     if rel is not None:
         _body(scene, rel, where, "relative_to")
     return body, pos, rel, label
+
+
+class OneColumn:
+    """A kind that makes one column: ``columns`` is (``column``,), ``units``
+    (``unit``,); the kind gives ``column`` (a field) and ``unit`` (a class
+    attribute, or a property when it depends on the options)."""
+
+    @property
+    def columns(self) -> tuple:
+        return (self.column,)
+
+    @property
+    def units(self) -> tuple:
+        return (self.unit,)
+
+
+class PerMount:
+    """A kind that makes one column per mount of ``names``:
+    ``<kind>.<mount>[.axisK]``, or ``label`` (the metric's ``name``, one
+    mount only), each in ``unit``."""
+
+    @property
+    def columns(self) -> tuple:
+        if self.label:
+            return (self.label,)
+        ax = f".axis{self.axis}" if self.axis else ""
+        return tuple(f"{self.kind}.{m}{ax}" for m in self.names)
+
+    @property
+    def units(self) -> tuple:
+        return (self.unit,) * len(self.names)

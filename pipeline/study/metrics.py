@@ -31,7 +31,8 @@ The frequency-domain kinds (``natural_frequency``,
 
 New kinds join :data:`KINDS` (a class with ``analysis``, ``columns``,
 ``units``, ``values(outcomes)`` and a ``build(table, scene, where)``
-constructor).
+constructor; ``columns`` and ``units`` from
+:class:`~flexbed.study.metric_keys.OneColumn` or ``PerMount``).
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ import numpy as np
 from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile
 from flexbed.study.frequency_metrics import FREQUENCY_KINDS
-from flexbed.study.metric_keys import _options, resolve_point
+from flexbed.study.metric_keys import OneColumn, PerMount, _options, resolve_point
 from flexbed.study.spec import MetricTable
 
 __all__ = ["KINDS", "build_metric", "PeakMotion", "PeakMount", "StaticDeflection",
@@ -76,7 +77,7 @@ def _axis(opts: dict, where: str) -> int | None:
 
 
 @dataclass(frozen=True)
-class PeakMotion:
+class PeakMotion(OneColumn):
     """Peak displacement or acceleration of a point (see the module)."""
 
     kind: str
@@ -99,13 +100,7 @@ class PeakMotion:
         return cls(table.kind, column, body, pos, rel,
                    None if direction is None else _DIRECTIONS[direction])
 
-    @property
-    def columns(self) -> tuple:
-        return (self.column,)
-
-    @property
-    def units(self) -> tuple:
-        return ("m" if self.kind == "peak_displacement" else "m/s^2",)
+    unit = property(lambda self: "m" if self.kind == "peak_displacement" else "m/s^2")
 
     def values(self, outcomes: dict) -> tuple:
         m = outcomes["simulate"].point(self.body, self.position, relative_to=self.relative_to)
@@ -119,7 +114,7 @@ class PeakMotion:
 
 
 @dataclass(frozen=True)
-class PeakMount:
+class PeakMount(PerMount):
     """Peak force or deflection of each mount over the run."""
 
     kind: str
@@ -137,16 +132,7 @@ class PeakMount:
             raise InputError(f"{where}: name applies to one mount (mounts = [...] with one name)")
         return cls(table.kind, idx, names, _axis(opts, where), opts.get("name"))
 
-    @property
-    def columns(self) -> tuple:
-        if self.label:
-            return (self.label,)
-        ax = f".axis{self.axis}" if self.axis else ""
-        return tuple(f"{self.kind}.{m}{ax}" for m in self.names)
-
-    @property
-    def units(self) -> tuple:
-        return ("N" if self.kind == "peak_mount_force" else "m",) * len(self.names)
+    unit = property(lambda self: "N" if self.kind == "peak_mount_force" else "m")
 
     def values(self, outcomes: dict) -> tuple:
         run = outcomes["simulate"]
@@ -165,7 +151,7 @@ def static_deflections(outcomes: dict) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class StaticDeflection:
+class StaticDeflection(PerMount):
     """Each mount's static deflection."""
 
     kind: str
@@ -174,12 +160,8 @@ class StaticDeflection:
     axis: int | None
     label: str | None
     analysis = "static"
+    unit = "m"
     build = classmethod(PeakMount.build.__func__)
-    columns = PeakMount.columns
-
-    @property
-    def units(self) -> tuple:
-        return ("m",) * len(self.names)
 
     def values(self, outcomes: dict) -> tuple:
         dx = static_deflections(outcomes)[list(self.indices)]
@@ -188,13 +170,14 @@ class StaticDeflection:
 
 
 @dataclass(frozen=True)
-class MaxStaticDeflection:
+class MaxStaticDeflection(OneColumn):
     """The largest static mount deflection."""
 
     kind: str
     column: str
     axis: int | None
     analysis = "static"
+    unit = "m"
 
     @classmethod
     def build(cls, table: MetricTable, scene: SceneFile, where: str) -> "MaxStaticDeflection":
@@ -205,9 +188,6 @@ class MaxStaticDeflection:
         return cls(table.kind, opts.get("name") or (table.kind + (f".axis{axis}" if axis else "")),
                    axis)
 
-    columns = PeakMotion.columns
-    units = property(lambda self: ("m",))
-
     def values(self, outcomes: dict) -> tuple:
         dx = static_deflections(outcomes)
         v = np.abs(dx[:, self.axis - 1]) if self.axis else np.linalg.norm(dx, axis=1)
@@ -215,7 +195,7 @@ class MaxStaticDeflection:
 
 
 @dataclass(frozen=True)
-class CompareFigure:
+class CompareFigure(OneColumn):
     """A figure of the rigid / flexible / damped comparison."""
 
     kind: str
@@ -244,8 +224,7 @@ class CompareFigure:
                              f"{', '.join(_QUANTITIES)}")
         return cls(table.kind, opts.get("name") or f"compare.{case}.{eq}.{q}", eq, case, q)
 
-    columns = PeakMotion.columns
-    units = property(lambda self: (_QUANTITIES[self.quantity],))
+    unit = property(lambda self: _QUANTITIES[self.quantity])
 
     def values(self, outcomes: dict) -> tuple:
         for row in outcomes["compare"].rows:

@@ -27,7 +27,8 @@ class PointResult:
     values : tuple of float (the metrics' cells; NaN when failed);
     solve_time, cpu_time : float [s] — wall-clock time and CPU time of the
     analyses on the worker (the CPU time of the thread that ran them, so
-    not the worker's own housekeeping threads); files : dict suffix → (datasets, attrs)."""
+    not the worker's own housekeeping threads); files : dict suffix → (writer,
+    args), the point's kept files (:mod:`flexbed.study.analyses`)."""
 
     status: str
     message: str
@@ -126,7 +127,11 @@ def warm(scene: SceneFile) -> None:
 
 
 class WarmUp(WorkerPlugin):
-    """Runs :func:`warm` once on every worker, joining now or later."""
+    """Runs :func:`warm` once on every worker, joining now or later, and
+    stops the worker's statistical profiler (Dask samples every thread's
+    stack every 10 ms by default, ``distributed.worker.profile``; the local
+    cluster starts without it, a cluster started apart may not): the
+    dashboard's profile page of a study's workers stays empty."""
 
     name = "flexbed-warm-up"
 
@@ -134,4 +139,8 @@ class WarmUp(WorkerPlugin):
         self.scene = scene
 
     def setup(self, worker) -> None:
+        for name in ("profile", "profile-cycle"):
+            callback = getattr(worker, "periodic_callbacks", {}).pop(name, None)
+            if callback is not None:
+                callback.stop()
         warm(self.scene)

@@ -13,9 +13,11 @@ row says so.
 Several points per task: the scheduler and the client spend ~5 ms of CPU
 on every task (docs/sweep-benchmark.md), so points of 0.1 s on tens of
 workers would wait on them; a task runs a batch of points (the same bed's
-modes) and returns a row for each. Batches change nothing in the rows
-(each point is run, timed, failed, resumed on its own); a worker lost
-runs its batch again elsewhere.
+modes) and returns a row for each; by default large batches first and
+single points last (:func:`auto_sizes`), so that the study does not end
+with one worker busy on a long batch and the others idle. Batches change
+nothing in the rows (each point is run, timed, failed, resumed on its
+own); a worker lost runs its batch again elsewhere.
 """
 
 from __future__ import annotations
@@ -30,37 +32,72 @@ from flexbed.study.plan import Plan, modes_scene
 from flexbed.study.point import PointResult, bed_modes, pack, run_batch
 from flexbed.study.table import Row, StudyTable, build_table, read_done, write_table
 
-__all__ = ["run_plan", "StudyProgress", "auto_batch", "batches"]
+__all__ = ["run_plan", "StudyProgress", "auto_batch", "auto_sizes", "batches"]
 
-#: seconds between two writes of the table while the study runs (each
-#: write is the whole table, CSV and HDF5: tens of ms of the client's CPU)
+#: seconds between two writes of the table while the study runs, at
+#: least (each write is the whole table, CSV and HDF5, atomically: ~40 ms
+#: of the client's CPU for 200 rows, ~0.3 s for 10,000)...
 WRITE_EVERY = 5.0
+#: ... and at least this many times the last write's own time, so that
+#: the writes take at most ~2 % of the client's time whatever the size
+#: of the table (rows done since the last write are in memory; Ctrl-C or
+#: an error writes them)
+WRITE_RATIO = 50.0
 
-#: ``batch = "auto"``: at least this many tasks per worker (so that the
-#: last batches do not leave workers idle for long) ...
-TASKS_PER_WORKER = 8
-#: ... and at most this many points per task
+#: ``batch = "auto"``: each batch holds the points left divided by this
+#: many per worker ...
+SHARES_PER_WORKER = 2
+#: ... and at most this many points
 MAX_BATCH = 16
 
 
+def auto_sizes(points: int, workers: int) -> list[int]:
+    """Points per task, task after task, when the study does not say:
+    ``ceil(points left / (SHARES_PER_WORKER × workers))``, at most
+    ``MAX_BATCH`` — large batches first (few tasks: the scheduler and the
+    client spend ~5 ms of CPU on each, docs/sweep-benchmark.md), shrinking
+    to single points at the end, so that no worker waits long for another's
+    last batch (Dask runs a study's tasks in the order submitted). 200
+    points on 2 workers: 9 tasks of 16, then 14, 11, 8, 6, 5, 3, 3, 2, 1,
+    1, 1, 1."""
+    sizes, left, shares = [], points, SHARES_PER_WORKER * max(1, workers)
+    while left > 0:
+        size = max(1, min(MAX_BATCH, math.ceil(left / shares)))
+        sizes.append(size)
+        left -= size
+    return sizes
+
+
 def auto_batch(points: int, workers: int) -> int:
-    """Points per task when the study does not say: enough tasks to keep
-    every worker busy to the end (``TASKS_PER_WORKER`` each), at most
-    ``MAX_BATCH`` points a task. Measured (docs/sweep-benchmark.md): the
-    scheduler's CPU per point 5.7 → 0.5 ms and the client's 5.1 → 1.5 ms
-    from 1 to 16 points a task, so the ceiling of a study goes from ~175
-    to ~680 points/s (the client's own work per row is then the limit)."""
-    return max(1, min(MAX_BATCH, math.ceil(points / (TASKS_PER_WORKER * max(1, workers)))))
+    """The largest (first) of :func:`auto_sizes`."""
+    return auto_sizes(points, workers)[0] if points > 0 else 1
 
 
-def batches(todo: dict, modes_keys: dict, size: int) -> list[list[str]]:
+def batches(todo: dict, modes_keys: dict, size: int | None, workers: int = 1) -> list[list[str]]:
     """The distinct scenes to run (``todo``'s keys, in study order) cut into
-    batches of at most ``size``, each batch on one bed's modes
-    (``modes_keys``: scene key → modes key or None)."""
+    batches, each on one bed's modes (``modes_keys``: scene key → modes
+    key or None), in the order to run them: ``size`` points each (the
+    last of a bed's may be smaller), or with ``size`` None
+    :func:`auto_sizes` for ``workers``."""
     groups: dict = {}
     for key in todo:
         groups.setdefault(modes_keys[key], []).append(key)
-    return [keys[i:i + size] for keys in groups.values() for i in range(0, len(keys), size)]
+    if size is not None:
+        return [keys[i:i + size] for keys in groups.values()
+                for i in range(0, len(keys), size)]
+    ordered = [key for keys in groups.values() for key in keys]
+    out, start = [], 0
+    for n in auto_sizes(len(ordered), workers):
+        chunk = ordered[start:start + n]
+        start += n
+        cut = [chunk[:1]]                               # split where the bed changes
+        for key in chunk[1:]:
+            if modes_keys[key] == modes_keys[cut[-1][-1]]:
+                cut[-1].append(key)
+            else:
+                cut.append([key])
+        out.extend(cut)
+    return out
 
 
 class StudyProgress:
@@ -144,7 +181,7 @@ def run_plan(plan: Plan, *, scheduler=None, workers: int | None = None,
         Write the plots at the end.
     batch : int, optional
         Points per task (default: the study's ``batch``, else
-        :func:`auto_batch` of the points to run and the cluster's workers).
+        :func:`auto_sizes` of the points to run and the cluster's workers).
     log : callable(str), optional
         One-line notes (points skipped, tables ignored).
     """
@@ -162,16 +199,17 @@ def run_plan(plan: Plan, *, scheduler=None, workers: int | None = None,
         log(f"{len(rows)} of {len(plan.points)} points already done in {folder / 'table.h5'}; "
             f"skipped")
     bar = StudyProgress(len(plan.points), len(rows), progress)
-    last_write = [-float("inf")]
+    last_write = [-float("inf"), WRITE_EVERY]      # when, and the next interval
 
     def save(complete: bool, force: bool = True) -> StudyTable | None:
         now = time.perf_counter()
-        if not force and (folder is None or now - last_write[0] < WRITE_EVERY):
+        if not force and (folder is None or now - last_write[0] < last_write[1]):
             return None
         table = build_table(plan, rows, complete, folder)
         if folder is not None:
             write_table(table, plan, folder)
-            last_write[0] = now
+            done = time.perf_counter()
+            last_write[:] = [done, max(WRITE_EVERY, WRITE_RATIO * (done - now))]
         return table
 
     try:
@@ -202,12 +240,11 @@ def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint, siz
             if p.modes_key is not None and p.modes_key not in modes:
                 modes[p.modes_key] = client.submit(bed_modes, modes_scene(p.scene),
                                                    key=f"flexbed-modes-{p.modes_key}")
-        if size is None:
-            size = auto_batch(len(todo), len(client.scheduler_info().get("workers", {})))
         # one graph for all the batches (a submission each would cost the
-        # scheduler several times the CPU per task)
+        # scheduler several times the CPU per task), run in this order
         setup = pack((plan.analyses, plan.metrics, keep_folder is not None))
-        groups = batches(todo, {k: pts[0].modes_key for k, pts in todo.items()}, size)
+        groups = batches(todo, {k: pts[0].modes_key for k, pts in todo.items()}, size,
+                         len(client.scheduler_info().get("workers", {})))
         names = [f"flexbed-batch-{hashlib.sha256(''.join(keys).encode()).hexdigest()[:24]}"
                  f"-{plan.signature}" for keys in groups]
         futures = client.map(run_batch, [[pack(todo[k][0].scene) for k in keys]
@@ -244,6 +281,7 @@ def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint, siz
 
 
 def _keep(folder: Path, index: int, files: dict) -> None:
-    from flexbed.files.results import write_results_contents
-    for suffix, contents in files.items():
-        write_results_contents(folder / "results" / f"point-{index:04d}-{suffix}.h5", *contents)
+    """Write a point's kept files, ``folder/results/point-NNNN-<suffix>``
+    (``files``: suffix → (writer, args), :mod:`flexbed.study.analyses`)."""
+    for suffix, (writer, args) in files.items():
+        writer(folder / "results" / f"point-{index:04d}-{suffix}", *args)

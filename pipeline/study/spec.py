@@ -70,8 +70,8 @@ class Study:
     fixed : ((path, value), ...) — ``[study.set]``, applied to every point;
     analyses : tuple of str or None (None: what the metrics need);
     metrics : tuple of MetricTable; batch : int or None — points per Dask
-    task (None: chosen from the study's and the cluster's sizes,
-    :func:`flexbed.study.runner.auto_batch`).
+    task (None: chosen from the study's and the cluster's sizes, large
+    batches first, single points last: :func:`flexbed.study.runner.auto_sizes`).
     """
 
     source: Path
