@@ -32,6 +32,16 @@ def as_cells(quads: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     return np.vstack([quads, tri[:, [0, 1, 2, 2]]])
 
 
+def edges(cells: np.ndarray) -> np.ndarray:
+    """The mesh's edges (m, 2), each once as (lower, higher) node index:
+    four per quadrilateral, three per triangle (its repeated corner makes
+    no edge), an edge shared by two cells listed once."""
+    cells = np.asarray(cells, np.int64).reshape(-1, 4)
+    pairs = np.stack([cells, np.roll(cells, -1, axis=1)], axis=-1).reshape(-1, 2)
+    pairs = np.sort(pairs[pairs[:, 0] != pairs[:, 1]], axis=1)
+    return np.unique(pairs, axis=0)
+
+
 def centres(nodes: np.ndarray, cells: np.ndarray) -> np.ndarray:
     """Mean of each cell's distinct corners (ne, 2) [m] (a triangle's
     centroid)."""

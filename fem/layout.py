@@ -2,7 +2,7 @@
 thickness of each cell and the fixed masses, placed so that the frame's
 origin is the composite centre of mass (plate + fixed masses). Pure NumPy:
 the scene reader uses it for the bed body's mass properties and to refuse
-points off the bed.
+points off the bed and stiffeners that do not run along cell edges.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import numpy as np
 from .mass_properties import MassProperties, plate_mass_properties, shift_inertia
 from .mesher import mesh_bed
 from .quad_shapes import QuadShapes
-from .stiffeners import line_mass_properties
+from .stiffeners import line_mass_properties, line_nodes
 from .spec import PlateSpec
 
 
@@ -106,6 +106,21 @@ def bed_mass_properties(spec: PlateSpec) -> MassProperties:
         return MassProperties(spec.mass, np.zeros(3), np.diag(spec.inertia))
     return bed_layout(spec).mass_properties
 
+
+def check_stiffeners(spec: PlateSpec) -> None:
+    """Refuse a stiffener that does not run along cell edges of the bed's
+    mesh, before any assembly (the scene reader calls it).
+
+    Raises
+    ------
+    GeometryError
+        One line naming the stiffener and where (:func:`flexbed.fem.stiffeners.line_nodes`).
+    """
+    if not spec.stiffeners:
+        return
+    lay = bed_layout(spec)
+    for st in spec.stiffeners:
+        line_nodes(st, lay.nodes, lay.cells, lay.centre[:2])
 
 def off_bed(spec: PlateSpec, points: np.ndarray) -> np.ndarray:
     """Which points (P, 2 or 3), drawing frame [m], are on no element of the

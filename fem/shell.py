@@ -307,7 +307,8 @@ def assemble_shell(spec: PlateSpec) -> ShellModel:
         attached.append((item, where, dofs, T, R))
     for st in spec.stiffeners:
         try:
-            K, M, slices = stiffener_matrices(st, lay.nodes, model.drilling, lay.centre[:2],
+            K, M, slices = stiffener_matrices(st, lay.nodes, lay.cells, model.drilling,
+                                              lay.centre[:2],
                                               spec.young, spec.poisson, spec.density)
         except GeometryError as exc:
             raise PlateSpecError("stiffener", str(exc)) from None

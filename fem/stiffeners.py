@@ -1,5 +1,7 @@
 """Stiffeners: straight beams along lines of the plate's mesh, joined to
-it with their eccentricity.
+it with their eccentricity. Each beam element is an edge of a cell between
+two consecutive mesh nodes on the line (:func:`line_nodes` refuses a line
+that crosses cells).
 
 A stiffener's section is a flat bar, a T, an I or a general one (A, Iy, Iz,
 J); its centroid sits at ``offset`` from the mid-surface (negative:
@@ -29,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .cells import edges
 from .geometry import GeometryError
 
 SECTIONS = ("flat", "T", "I", "general")
@@ -159,8 +162,74 @@ def _hermite(EI: float, L: float) -> np.ndarray:
                                    [-12, -6 * L, 12, -6 * L], [6 * L, 2 * L * L, -6 * L, 4 * L * L]])
 
 
-def stiffener_matrices(st: Stiffener, nodes: np.ndarray, drilling, centre: np.ndarray,
-                       young: float, poisson: float, density: float):
+def _xy(p: np.ndarray) -> str:
+    return f"[{p[0]:.6g}, {p[1]:.6g}]"
+
+
+def line_nodes(st: Stiffener, nodes: np.ndarray, cells: np.ndarray, centre: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh nodes a stiffener joins, in order from its start to its end.
+
+    The beam's elements are the pieces between consecutive nodes on its
+    line, so the nodes must reach from end to end and each piece must be an
+    edge of a cell (four per quadrilateral, three per triangle): a piece
+    across a cell would tie two of its corners through the plate.
+
+    Parameters
+    ----------
+    st : Stiffener
+    nodes : ndarray (N, 2)
+        Shell nodes in the bed frame [m].
+    cells : ndarray (ne, 4)
+        Quadrilaterals, and triangles as (a, b, c, c).
+    centre : ndarray (2,)
+        The bed frame's origin in the drawing frame [m].
+
+    Returns
+    -------
+    order : ndarray (k,) of int
+        The nodes on the line, start to end (k >= 2).
+    along : ndarray (N,)
+        Every node's distance along the line from its start [m].
+
+    Raises
+    ------
+    GeometryError
+        The nodes on the line do not reach its ends, or two consecutive
+        ones are not joined by a cell edge (one line naming them).
+    """
+    a = np.array(st.start) - centre
+    s3, n3 = st.axes()
+    s, L = s3[:2], st.length
+    rel = nodes - a
+    along = rel @ s
+    across = rel @ n3[:2]
+    scale = max(L, float(np.max(np.ptp(nodes, axis=0))))
+    on = np.flatnonzero((np.abs(across) <= 1e-9 * scale) & (along >= -1e-9 * scale)
+                        & (along <= L + 1e-9 * scale))
+    order = on[np.argsort(along[on])]
+    covered = along[order[-1]] - along[order[0]] if order.size > 1 else 0.0
+    where = f"stiffener {st.name!r} from {list(st.start)} to {list(st.end)} m"
+    if order.size < 2 or abs(along[order[0]]) > 1e-9 * scale or abs(covered - L) > 1e-9 * scale:
+        raise GeometryError("stiffener", f"{where} does not run along lines of the "
+                                         f"mesh (set element_size so the mesher puts lines "
+                                         f"through its ends, or move it onto grid lines)")
+    pieces = np.sort(np.column_stack([order[:-1], order[1:]]), axis=1)
+    known = edges(cells)
+    n = nodes.shape[0]
+    joined = np.isin(pieces[:, 0] * n + pieces[:, 1], known[:, 0] * n + known[:, 1])
+    if not joined.all():
+        k = int(np.flatnonzero(~joined)[0])
+        p, q = nodes[order[k]] + centre, nodes[order[k + 1]] + centre
+        raise GeometryError("stiffener", f"{where} crosses cells: its mesh nodes at {_xy(p)} "
+                                         f"and {_xy(q)} m, next to each other on its line, "
+                                         f"are not joined by a cell edge (give the mesh "
+                                         f"cell edges along the stiffener's line)")
+    return order, along
+
+
+def stiffener_matrices(st: Stiffener, nodes: np.ndarray, cells: np.ndarray, drilling,
+                       centre: np.ndarray, young: float, poisson: float, density: float):
     """Stiffness and mass of one stiffener on the shell's DOFs.
 
     Parameters
@@ -168,6 +237,8 @@ def stiffener_matrices(st: Stiffener, nodes: np.ndarray, drilling, centre: np.nd
     st : Stiffener
     nodes : ndarray (N, 2)
         Shell nodes in the bed frame [m].
+    cells : ndarray (ne, 4)
+        The shell's cells (triangles as (a, b, c, c)).
     drilling : sparse (N, 5N)
         The shell's nodal in-plane rotation operator.
     centre : ndarray (2,)
@@ -183,26 +254,11 @@ def stiffener_matrices(st: Stiffener, nodes: np.ndarray, drilling, centre: np.nd
     Raises
     ------
     GeometryError
-        The line does not run along edges of the mesh.
+        The line does not run along edges of the mesh (:func:`line_nodes`).
     """
     from .fixed_masses import FixedMass
-    a = np.array(st.start) - centre
-    b = np.array(st.end) - centre
+    order, along = line_nodes(st, nodes, cells, centre)
     s3, n3 = st.axes()
-    s, L = s3[:2], st.length
-    rel = nodes - a
-    along = rel @ s
-    across = rel @ n3[:2]
-    scale = max(L, float(np.max(np.ptp(nodes, axis=0))))
-    on = np.flatnonzero((np.abs(across) <= 1e-9 * scale) & (along >= -1e-9 * scale)
-                        & (along <= L + 1e-9 * scale))
-    order = on[np.argsort(along[on])]
-    covered = along[order[-1]] - along[order[0]] if order.size > 1 else 0.0
-    if order.size < 2 or abs(along[order[0]]) > 1e-9 * scale or abs(covered - L) > 1e-9 * scale:
-        raise GeometryError("stiffener", f"stiffener {st.name!r} from {list(st.start)} to "
-                                         f"{list(st.end)} m does not run along lines of the "
-                                         f"mesh (set element_size so the mesher puts lines "
-                                         f"through its ends, or move it onto grid lines)")
     sec, e = st.section, st.offset
     G = young / (2 * (1 + poisson))
     D = drilling.tocsr()

@@ -42,6 +42,34 @@ def test_input_frequency_scales_with_the_pulse():
     assert f2 == pytest.approx(2.0 * f1, rel=0.02)
 
 
+@pytest.mark.parametrize("periods", [0.14, 2.3, 6.6])
+def test_the_end_of_the_run_is_not_a_switch_off(periods):
+    """A 7 Hz drive still on when the run ends: the run never sees the input
+    after t_end, so the rule must not read the end as a step. It finds a few
+    times 7 Hz (a window of 0.14 periods resolves nothing finer than about
+    1/t_end); a real step, the same drive switched off at 0.9 t_end, is
+    still seen (a higher frequency). (Before, zeros after t_end made the end
+    a step too: 4.8 kHz, 268 Hz and 41 Hz for the drive still on.)"""
+    sf = load_scene(SDOF)
+    t_end = periods / 7.0
+    on = input_frequency(_driven(sf, Drive(2, Sinusoid(3.0, 7.0, 0.0, 0.0, 10.0))), t_end)
+    off = input_frequency(_driven(sf, Drive(2, Sinusoid(3.0, 7.0, 0.0, 0.0, 0.9 * t_end))),
+                          t_end)
+    assert 7.0 <= on < max(5.0 * 7.0, 2.0 / t_end)
+    assert off > on
+
+
+def test_reference_scene_cut_short_keeps_few_modes(tmp_path):
+    """The reference scene (a 5 Hz load for 1 s) run to t_end = 0.02 s, a
+    tenth of a period: the load's frequency is resolved no finer than about
+    1/t_end, so f_input lies between the full run's and 2/t_end (before:
+    5.1 kHz, a 10 kHz cut-off, 280 modes of a 192-triangle Mindlin bed,
+    read from the load still being on at t_end)."""
+    sf = load_scene(_auto_scene(tmp_path, ""))
+    f_in = sf.bed.auto[1]
+    assert f_in < input_frequency(sf.scene, 0.02) < 2.0 / 0.02
+
+
 def test_suspension_frequency_is_the_highest_natural_frequency():
     """50 kg on four mounts at (±0.2, ±0.3) m in the plane of its centre of
     mass: the decoupled modes are √(4k/m) per axis and, in roll,

@@ -117,3 +117,58 @@ def test_stiffener_inputs(tmp_path):
     (tmp_path / "bad.toml").write_text(good.replace("web = 0.012", "web = 0"))
     with pytest.raises(InputError, match=r"bad.toml: bed: stiffener 'keel': web = 0 must be"):
         flexbed.load_scene(tmp_path / "bad.toml")
+
+
+def _mesh_scene(tmp_path, name, cells, stiffener):
+    """The built-in scene with a flexible Mindlin bed read from a mesh file of
+    the 4 x 24 grid's nodes and the given cells, and one flat stiffener."""
+    import meshio
+    from flexbed.fem.shell import grid_mesh
+    nodes, _ = grid_mesh(PlateSpec(nx=4, ny=24))
+    meshio.write(tmp_path / f"{name}.vtu",
+                 meshio.Mesh(np.column_stack([nodes, 0 * nodes[:, 0]]), cells))
+    text = builtin_scene_path().read_text().replace(
+        'model = "rigid"', f'model = "flexible"\ntheory = "mindlin"\nmesh_file = "{name}.vtu"', 1)
+    (a, b), (c, d) = stiffener
+    stiff = (f'[[bed.stiffener]]\nname = "diag"\nstart = [{a}, {b}]\nend = [{c}, {d}]\n'
+             'section = "flat"\nheight = 0.1\nwidth = 0.02\n')
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text.replace("rayleigh = [0.0, 0.01]\n", "rayleigh = [0.0, 0.01]\n" + stiff, 1))
+    return path
+
+
+def test_stiffener_across_cells_is_refused(tmp_path):
+    """A stiffener along the diagonals of the grid's squares has mesh nodes on
+    its line from end to end, but on quads consecutive ones are opposite
+    corners of a cell, joined through it by no edge: the scene is refused in
+    one line naming the stiffener and the two nodes (exit 2). On triangles
+    whose edges run along the line it is a beam of cell edges: accepted,
+    through the five nodes in order. A line off the grid is refused by the
+    scene reader too (before: a traceback from the modes stage, exit 1)."""
+    from flexbed.cli import main
+    from flexbed.fem.layout import bed_layout
+    from flexbed.fem.shell import grid_mesh
+    from flexbed.fem.stiffeners import line_nodes
+    _, quads = grid_mesh(PlateSpec(nx=4, ny=24))
+    line = ((-0.4, -2.4), (0.4, -1.6))
+    bad = _mesh_scene(tmp_path, "quads", [("quad", quads)], line)
+    with pytest.raises(InputError, match=r"^\S*quads.toml: bed: stiffener 'diag' from "
+                                         r"\[-0.4, -2.4\] to \[0.4, -1.6\] m crosses cells: its "
+                                         r"mesh nodes at \[-0.4, -2.4\] and \[-0.2, -2.2\] m, "
+                                         r"next to each other on its line, are not joined by "
+                                         r"a cell edge \(give the mesh cell edges along the "
+                                         r"stiffener's line\)$"):
+        flexbed.load_scene(bad)
+    assert main(["modes", str(bad), "-o", str(tmp_path / "m.h5")]) == 2
+    tri = np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])   # diagonals along the line
+    good = flexbed.load_scene(_mesh_scene(tmp_path, "tri", [("triangle", tri)], line))
+    plate = good.bed.plate
+    lay = bed_layout(plate)
+    order, _ = line_nodes(plate.stiffeners[0], lay.nodes, lay.cells, lay.centre[:2])
+    expect = np.linspace(line[0], line[1], 5)
+    assert np.allclose(lay.nodes[order] + lay.centre[:2], expect, rtol=0, atol=1e-12)
+    off = _mesh_scene(tmp_path, "off", [("quad", quads)], ((0.05, -2.4), (0.05, 2.4)))
+    with pytest.raises(InputError, match=r"^\S*off.toml: bed: stiffener 'diag' from "
+                                         r"\[0.05, -2.4\] to \[0.05, 2.4\] m does not run along "
+                                         r"lines of the mesh"):
+        flexbed.load_scene(off)

@@ -14,7 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from flexbed.fem.layout import bed_mass_properties
+from flexbed.fem.geometry import GeometryError
+from flexbed.fem.layout import bed_mass_properties, check_stiffeners
 from flexbed.fem.spec import PlateSpec, PlateSpecError
 
 from flexbed.errors import InputError
@@ -232,6 +233,10 @@ def read_bed(table: dict, where: str, folder: Path | None = None) -> BedSection:
     except PlateSpecError as exc:
         raise InputError(f"{where}: {exc}") from None
     except TypeError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    try:
+        check_stiffeners(plate)            # on the mesh: along cell edges, end to end
+    except GeometryError as exc:
         raise InputError(f"{where}: {exc}") from None
     args: dict[str, Any] = {"plate": plate}
     for key in ("body", "model", "modes_file", "invariants"):
