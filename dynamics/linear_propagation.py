@@ -37,7 +37,7 @@ from scipy.linalg import expm
 from .integrate import output_grid
 from .linear_model import Linearisation
 from .piecewise import PiecewisePolynomial
-from .steppers.propagate import linear_sweep
+from .steppers.propagate import linear_sweep, poly_derivatives
 
 __all__ = ["propagate"]
 
@@ -128,23 +128,14 @@ def _propagators(lin: Linearisation, lengths: np.ndarray, terms: list) -> tuple:
     return Phis, Psis
 
 
-def _poly_derivatives(f: PiecewisePolynomial, t0: np.ndarray, h: np.ndarray) -> np.ndarray:
-    """σ-derivatives at σ = 0 (k, 6) of f on the pieces [t0, t0 + h] (each
-    inside one of f's pieces, degree ≤ 5): h^m f^(m)(t0), by Horner from
-    f's own coefficients."""
+def _poly_derivatives(f: PiecewisePolynomial, t0: np.ndarray, h: np.ndarray,
+                      out: np.ndarray) -> None:
+    """Adds to out (k, 6) the σ-derivatives at σ = 0 of f on the pieces
+    [t0, t0 + h] (each inside one of f's pieces, degree ≤ 5): h^m f^(m)(t0),
+    by Horner from f's own coefficients (compiled:
+    :func:`flexbed.dynamics.steppers.propagate.poly_derivatives`)."""
     idx = np.searchsorted(f.breaks, t0 + 0.5 * h, side="right")
-    u = t0 - f.origins[idx]
-    c = f.coeffs[idx]                                                   # (k, d + 1)
-    d = c.shape[1] - 1
-    out = np.zeros((t0.size, _DEG + 1))
-    hm = np.ones_like(h)
-    for m in range(d + 1):
-        acc = np.zeros_like(u)
-        for p in range(d, m - 1, -1):
-            acc = acc * u + c[:, p] * (math.factorial(p) / math.factorial(p - m))
-        out[:, m] = acc * hm
-        hm = hm * h
-    return out
+    poly_derivatives(f.coeffs, f.origins, idx, t0, h, out)
 
 
 def _inputs_on_pieces(lin: Linearisation, t: np.ndarray, terms: list) -> np.ndarray:
@@ -164,9 +155,11 @@ def _inputs_on_pieces(lin: Linearisation, t: np.ndarray, terms: list) -> np.ndar
     exact = [j for j, c in enumerate(lin.channels)
              if c.polys and not c.sines and max(f.degree for f in c.polys) <= _DEG]
     if nu and len(exact) == nu:
-        Wd = np.empty((k, nu, _DEG + 1))
+        Wd = np.zeros((k, nu, _DEG + 1))
+        t0 = t[:-1]
         for j, c in enumerate(lin.channels):
-            Wd[:, j] = sum(_poly_derivatives(f, t[:-1], h) for f in c.polys)
+            for f in c.polys:
+                _poly_derivatives(f, t0, h, Wd[:, j])
             Wd[:, j, 0] -= lin.u0[j]
         parts.append(Wd.reshape(k, -1))
         parts.append(np.ones((k, 1)))

@@ -154,3 +154,49 @@ def test_inputs_from_the_splines_own_coefficients_equal_the_chebyshev_fit():
     assert scale > 1e5
     assert np.max(np.abs(exact - fitted)) < 1e-9 * scale
     assert np.all(exact[:, 4:6] == 0.0)                 # a cubic has no 4th, 5th derivatives
+
+
+def test_compiled_sweep_equals_the_recursion():
+    """linear_sweep (four rows at a time, the rest one by one) equals the
+    recursion X[i + 1] = Φ_j X[i] + P[i] in NumPy to round-off, for sizes
+    with and without a remainder and two alternating propagators."""
+    from flexbed.dynamics.steppers.propagate import linear_sweep
+
+    rng = np.random.default_rng(5)
+    for n in (3, 7, 42):
+        Phis = 0.9 * rng.standard_normal((2, n, n)) / math.sqrt(n)
+        which = rng.integers(0, 2, 200).astype(np.int64)
+        P = rng.standard_normal((200, n))
+        x0 = rng.standard_normal(n)
+        X = np.empty((201, n))
+        linear_sweep(Phis, which, P, x0, X)
+        ref = np.empty_like(X)
+        ref[0] = x0
+        for i in range(200):
+            ref[i + 1] = Phis[which[i]] @ ref[i] + P[i]
+        assert np.max(np.abs(X - ref)) < 1e-13 * np.max(np.abs(ref))
+
+
+def test_compiled_poly_derivatives_are_the_exact_derivatives():
+    """poly_derivatives adds h^m f^(m)(t0) of a piecewise quintic (two pieces,
+    each with its own origin) to what out holds: against NumPy's exact
+    derivatives of the same polynomials."""
+    from numpy.polynomial import polynomial as npp
+
+    from flexbed.dynamics.piecewise import PiecewisePolynomial
+    from flexbed.dynamics.steppers.propagate import poly_derivatives
+
+    rng = np.random.default_rng(6)
+    coeffs = rng.standard_normal((3, 6))
+    f = PiecewisePolynomial([0.0, 1.0], coeffs)       # origins: 0 (left tail), 0, 1
+    t0 = np.array([-0.3, 0.2, 0.55, 1.4])
+    h = np.array([0.1, 0.3, 0.25, 0.5])
+    idx = np.searchsorted(f.breaks, t0 + 0.5 * h, side="right")
+    out = np.ones((t0.size, 6))
+    poly_derivatives(f.coeffs, f.origins, idx, t0, h, out)
+    for i in range(t0.size):
+        c = coeffs[idx[i]]
+        u = t0[i] - f.origins[idx[i]]
+        for m in range(6):
+            exact = npp.polyval(u, npp.polyder(c, m)) * h[i] ** m if m else npp.polyval(u, c)
+            assert abs(out[i, m] - 1.0 - exact) < 1e-13 * (1.0 + abs(exact))

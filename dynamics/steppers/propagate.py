@@ -19,7 +19,7 @@ import numba
 #: their meaning
 jit = numba.njit(cache=True, error_model="numpy", fastmath={"reassoc", "contract"})
 
-__all__ = ["linear_sweep", "deviations_to_states", "rates_of_states"]
+__all__ = ["linear_sweep", "poly_derivatives", "deviations_to_states", "rates_of_states"]
 
 
 @jit
@@ -43,11 +43,52 @@ def linear_sweep(Phis, which, P, x0, X):
         X[0, j] = x0[j]
     for i in range(which.size):
         Phi = Phis[which[i]]
-        for r in range(n):
-            s = P[i, r]
+        x = X[i]
+        # four rows at a time: four independent sums over x (1.3–1.4 times
+        # faster than one row at a time at n = 42 … 54)
+        r = 0
+        while r + 4 <= n:
+            f0, f1, f2, f3 = Phi[r], Phi[r + 1], Phi[r + 2], Phi[r + 3]
+            s0, s1, s2, s3 = P[i, r], P[i, r + 1], P[i, r + 2], P[i, r + 3]
             for c in range(n):
-                s += Phi[r, c] * X[i, c]
-            X[i + 1, r] = s
+                xc = x[c]
+                s0 += f0[c] * xc
+                s1 += f1[c] * xc
+                s2 += f2[c] * xc
+                s3 += f3[c] * xc
+            X[i + 1, r], X[i + 1, r + 1], X[i + 1, r + 2], X[i + 1, r + 3] = s0, s1, s2, s3
+            r += 4
+        while r < n:
+            f0 = Phi[r]
+            s0 = P[i, r]
+            for c in range(n):
+                s0 += f0[c] * x[c]
+            X[i + 1, r] = s0
+            r += 1
+
+
+@jit
+def poly_derivatives(coeffs, origins, idx, t0, h, out):
+    """Adds to out (k, q) the σ-derivatives h^m f^(m)(t0) (m < q) of the
+    piecewise polynomial f on the pieces [t0, t0 + h] (k,), each inside
+    f's piece ``idx`` (k,) of ascending coefficients ``coeffs[idx]`` in
+    u = t − ``origins[idx]`` (:class:`flexbed.dynamics.piecewise.PiecewisePolynomial`):
+    Horner in u of the m-th derivative's coefficients p!/(p − m)! c_p."""
+    d = coeffs.shape[1] - 1
+    q = out.shape[1]
+    for i in range(t0.size):
+        j = idx[i]
+        u = t0[i] - origins[j]
+        hm = 1.0
+        for m in range(min(d, q - 1) + 1):
+            acc = 0.0
+            for p in range(d, m - 1, -1):
+                ratio = 1.0
+                for r in range(p - m + 1, p + 1):
+                    ratio *= r
+                acc = acc * u + coeffs[j, p] * ratio
+            out[i, m] += acc * hm
+            hm *= h[i]
 
 
 @jit
