@@ -28,6 +28,11 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 from skfem import Basis, BilinearForm, ElementHex2, MeshHex, asm
 
+from .spec import PlateSpec
+
+#: the reference bed, whose values the solid's defaults are
+_REFERENCE = PlateSpec()
+
 
 @dataclass(frozen=True)
 class Web:
@@ -59,12 +64,12 @@ class SolidBed:
         Target cell side of the base grid (level 0) [m].
     """
 
-    length_x: float = 0.8
-    length_y: float = 4.8
-    thickness: float = 0.1
-    young: float = 2.1e11
-    poisson: float = 0.3
-    density: float = 7800.0
+    length_x: float = _REFERENCE.length_x
+    length_y: float = _REFERENCE.length_y
+    thickness: float = _REFERENCE.thickness
+    young: float = _REFERENCE.young
+    poisson: float = _REFERENCE.poisson
+    density: float = _REFERENCE.density
     hole: tuple[float, float, float, float] | None = None
     webs: tuple[Web, ...] = ()
     h0: float = 0.2
