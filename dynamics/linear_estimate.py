@@ -353,6 +353,25 @@ def _error_on_every_sample(A: np.ndarray, t: np.ndarray, nodes: np.ndarray,
     return _propagate_defect(A, t, C_samples)
 
 
+_ROWS = 128     # samples per block of the motion scan: 128 × 3P doubles stay
+                # below glibc's mmap threshold, so the block reuses heap pages
+
+
+def _largest_motion(Zp: np.ndarray, T: np.ndarray) -> float:
+    """The largest |point| [m] of T z over the rows of Zp (k, n_pos), T
+    (3P, n_pos): the product a block of samples at a time into one
+    buffer, never the whole (k, 3P) array (fresh pages of a 1–2 MB array
+    cost more than the product on them)."""
+    k = Zp.shape[0]
+    buf = np.empty((min(k, _ROWS), T.shape[0]))
+    best = 0.0
+    for a in range(0, k, _ROWS):
+        out = buf[:min(_ROWS, k - a)]
+        np.matmul(Zp[a:a + _ROWS], T.T, out=out)
+        best = max(best, largest_point(out))
+    return best
+
+
 def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
                    Z: np.ndarray) -> ErrorEstimate:
     """Defect of the linear solution in the nonlinear equations, propagated
@@ -363,7 +382,7 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
     npos = coords.n_pos
     T = _point_map(system, coords).reshape(-1, coords.nz)[:, :npos]     # (3P, n_pos)
     A = np.ascontiguousarray(lin.A)
-    motion = largest_point(Z[:, :npos] @ T.T) if T.shape[0] else 0.0
+    motion = _largest_motion(Z[:, :npos], T) if T.shape[0] else 0.0
     k = t.size
     if k < 2:                                  # the start only: e(0) = 0
         none = np.zeros((k, system.layout.work.stop - system.layout.work.start))

@@ -182,15 +182,16 @@ def _inputs_on_pieces(lin: Linearisation, t: np.ndarray, terms: list) -> np.ndar
     return np.concatenate(parts, axis=1)
 
 
-def _step_inputs(Psis: np.ndarray, which: np.ndarray, W: np.ndarray) -> np.ndarray:
-    """P_i = Ψ_{which[i]} W_i (k, nz), one matrix product per distinct length."""
+def _step_inputs(Psis: np.ndarray, which: np.ndarray, W: np.ndarray,
+                 out: np.ndarray) -> np.ndarray:
+    """P_i = Ψ_{which[i]} W_i written into ``out`` (k, nz), one matrix
+    product per distinct length."""
     if Psis.shape[0] == 1:
-        return W @ Psis[0].T
-    P = np.empty((W.shape[0], Psis.shape[1]))
+        return np.matmul(W, Psis[0].T, out=out)
     for i in range(Psis.shape[0]):
         sel = which == i
-        P[sel] = W[sel] @ Psis[i].T
-    return P
+        out[sel] = W[sel] @ Psis[i].T
+    return out
 
 
 def propagate(lin: Linearisation, z0: np.ndarray, t_end: float,
@@ -206,8 +207,11 @@ def propagate(lin: Linearisation, z0: np.ndarray, t_end: float,
     lengths, which = _lengths(np.diff(t))
     terms = _sine_terms(lin)
     Phis, Psis = _propagators(lin, lengths, terms)
-    P = _step_inputs(Psis, which, _inputs_on_pieces(lin, t, terms))
+    # the inputs' parts P_i are written into Z[1:] and the sweep adds Φ z_i
+    # to them in place: no second (k, nz) array (fresh pages cost more
+    # than the products on them)
     Z = np.empty((t.size, lin.A.shape[0]))
+    P = _step_inputs(Psis, which, _inputs_on_pieces(lin, t, terms), Z[1:])
     linear_sweep(Phis, which, P, np.ascontiguousarray(z0, dtype=float), Z)
     if t.size == grid.size:                  # no knot between the output samples
         return grid, Z, int(t.size - 1)

@@ -132,6 +132,11 @@ def test_hermite_peak_and_largest_point():
     assert abs(got - ref) < 1e-12 * ref
     assert abs(largest_point(every) - ref) < 1e-14 * ref
     assert got > 1.001 * np.sqrt(np.max(np.sum(V(t[nodes]).reshape(-1, 4, 3) ** 2, axis=2)))
+    # the motion scan a block of samples at a time: the largest over all of
+    # them, with a last block shorter than the others
+    Zp, T = rng.standard_normal((2 * linear_estimate._ROWS + 37, 5)), rng.standard_normal((12, 5))
+    full = np.sqrt(np.max(np.sum((Zp @ T.T).reshape(-1, 4, 3) ** 2, axis=2)))
+    assert abs(linear_estimate._largest_motion(Zp, T) - full) < 1e-14 * full
 
 
 @pytest.fixture(scope="module")

@@ -175,6 +175,11 @@ def test_compiled_sweep_equals_the_recursion():
         for i in range(200):
             ref[i + 1] = Phis[which[i]] @ ref[i] + P[i]
         assert np.max(np.abs(X - ref)) < 1e-13 * np.max(np.abs(ref))
+        # in place: P held in X[1:] itself (as propagate does) gives the same bits
+        Y = np.empty((201, n))
+        Y[1:] = P
+        linear_sweep(Phis, which, Y[1:], x0, Y)
+        assert np.array_equal(Y, X)
 
 
 def test_compiled_poly_derivatives_are_the_exact_derivatives():

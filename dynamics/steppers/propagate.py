@@ -33,7 +33,9 @@ def linear_sweep(Phis, which, P, x0, X):
     which : (k,) int64
         The propagator of each piece.
     P : (k, n) float64
-        The inputs' part of each piece's step.
+        The inputs' part of each piece's step. It may be ``X[1:]`` itself
+        (the sweep then adds Φ x_i in place): row i + 1 of X is written
+        only after P[i] is read.
     x0 : (n,) float64
     X : (k + 1, n) float64
         Written.
