@@ -184,22 +184,24 @@ def test_a_study_on_a_scheduler_and_two_workers_equals_single_runs(tmp_path, sch
 
 def test_an_interrupted_study_keeps_its_finished_rows(tmp_path, scheduler):
     """SIGINT (Ctrl-C) to a running ``flexbed sweep``: exit 130, every row
-    finished so far written, the table marked incomplete. (Points of 2 s
-    of motion: in batches the rows come 4 at a time, and 60 points of
-    0.5 s were all done before the signal arrived.)"""
+    finished so far written, the table marked incomplete. (240 points of
+    2 s of motion, one a task, so that the first row comes early and the
+    signal long before the last: with "auto" batches of 60 points the first
+    rows came after a quarter of them, and the rest were done before the
+    signal arrived.)"""
     body = """sampling = "grid"
 
 [[parameter]]
 path = "bed.thickness"
 from = 0.08
 to = 0.14
-num = 60
+num = 240
 """
     study = study_file(tmp_path, body, t_end=2.0, metrics='[[metric]]\nkind = "peak_mount_force"'
                        '\nmounts = ["M5"]\n')
     out = tmp_path / "out"
     p = subprocess.Popen([sys.executable, "-m", "flexbed.cli", "sweep", str(study),
-                          "--scheduler", scheduler, "-o", str(out), "--no-plots"],
+                          "--scheduler", scheduler, "-o", str(out), "--no-plots", "--batch", "1"],
                          cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     csv = out / "table.csv"
     deadline = time.monotonic() + 120
@@ -217,7 +219,7 @@ num = 60
     assert "flexbed sweep: interrupted" in err
     cols, attrs = table_columns(out)
     assert not attrs["complete"]
-    assert seen <= attrs["points_done"] < 60
+    assert seen <= attrs["points_done"] < 240
     assert set(cols["status"]) == {"ok"}
     assert np.all(np.isfinite(cols["peak_mount_force.M5"]))
 

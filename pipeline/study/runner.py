@@ -28,6 +28,7 @@ import sys
 import time
 from pathlib import Path
 
+from flexbed.interrupts import Interrupted, held
 from flexbed.study.plan import Plan, modes_scene
 from flexbed.study.point import PointResult, bed_modes, pack, run_batch
 from flexbed.study.table import Row, StudyTable, build_table, read_done, write_table
@@ -207,9 +208,14 @@ def run_plan(plan: Plan, *, scheduler=None, workers: int | None = None,
             return None
         table = build_table(plan, rows, complete, folder)
         if folder is not None:
-            write_table(table, plan, folder)
+            # the table's two files are written whole, whatever the signal;
+            # one that comes meanwhile is acted on once both are written
+            with held() as pending:
+                write_table(table, plan, folder)
             done = time.perf_counter()
             last_write[:] = [done, max(WRITE_EVERY, WRITE_RATIO * (done - now))]
+            if pending:
+                raise Interrupted(pending[0])
         return table
 
     try:
