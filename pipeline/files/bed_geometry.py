@@ -46,26 +46,35 @@ def _region(t, where: str) -> Region:
         raise InputError(f"{where}: {exc}") from None
 
 
+def _named_tables(table: dict, key: str, where: str, known: tuple, required: tuple):
+    """Each ``[[bed.<key>]]`` table with the name messages give it:
+    (``"<where>: <key> 'name'"`` or ``"… <key> <i>"``, table), its keys
+    checked against ``known`` and ``required`` (InputError naming them)."""
+    value = table.get(key, [])
+    if not isinstance(value, list):
+        raise InputError(f"{where}: {key} must be an array of tables [[bed.{key}]]")
+    for i, t in enumerate(value):
+        w = f"{where}: {key} {i + 1}"
+        if not isinstance(t, dict):
+            raise InputError(f"{w}: must be a table")
+        if isinstance(t.get("name"), str):
+            w = f"{where}: {key} {t['name']!r}"
+        for k in t:
+            if k not in known:
+                raise InputError(f"{w}: unknown key '{k}' (known: {', '.join(known)})")
+        for k in required:
+            if k not in t:
+                raise InputError(f"{w}: '{k}' is required")
+        yield w, t
+
+
 def read_fixed_masses(table: dict, where: str) -> tuple[FixedMass, ...]:
     """``[[bed.fixed_mass]]`` tables: name, position [x, y, z] (drawing frame,
     z above the mid-surface) [m], mass [kg], inertia about its centre of
     mass (3 numbers or 3 × 3, default zero) [kg m²]."""
-    value = table.get("fixed_mass", [])
-    if not isinstance(value, list):
-        raise InputError(f"{where}: fixed_mass must be an array of tables [[bed.fixed_mass]]")
     out = []
-    for i, t in enumerate(value):
-        w = f"{where}: fixed_mass {i + 1}"
-        if not isinstance(t, dict):
-            raise InputError(f"{w}: must be a table")
-        if isinstance(t.get("name"), str):
-            w = f"{where}: fixed_mass {t['name']!r}"
-        for key in t:
-            if key not in _MASS_KEYS:
-                raise InputError(f"{w}: unknown key '{key}' (known: {', '.join(_MASS_KEYS)})")
-        for key in ("name", "position", "mass"):
-            if key not in t:
-                raise InputError(f"{w}: '{key}' is required")
+    for w, t in _named_tables(table, "fixed_mass", where, _MASS_KEYS,
+                              ("name", "position", "mass")):
         if not isinstance(t["name"], str):
             raise InputError(f"{w}: name = {t['name']!r} must be a string")
         try:
@@ -85,9 +94,6 @@ def read_stiffeners(table: dict, where: str, geometry: BedGeometry | None = None
     and I sections on the plate's face (offset = ∓(t/2 + centroid height),
     t the local thickness: a zone's under the stiffener, the plate's
     elsewhere); offset [m] is the centroid's height above the mid-surface."""
-    value = table.get("stiffener", [])
-    if not isinstance(value, list):
-        raise InputError(f"{where}: stiffener must be an array of tables [[bed.stiffener]]")
     default = {f.name: f.default for f in fields(PlateSpec)}
     thickness = table.get("thickness", default["thickness"])
     zones = geometry.zones if geometry is not None else ()
@@ -100,19 +106,8 @@ def read_stiffeners(table: dict, where: str, geometry: BedGeometry | None = None
         except (TypeError, ZeroDivisionError):
             zones = ()                  # the plate's own checks name the bad value
     out = []
-    for i, t in enumerate(value):
-        w = f"{where}: stiffener {i + 1}"
-        if not isinstance(t, dict):
-            raise InputError(f"{w}: must be a table")
-        if isinstance(t.get("name"), str):
-            w = f"{where}: stiffener {t['name']!r}"
-        for key in t:
-            if key not in _STIFFENER_KEYS:
-                raise InputError(f"{w}: unknown key '{key}' (known: "
-                                 f"{', '.join(_STIFFENER_KEYS)})")
-        for key in ("name", "start", "end", "section"):
-            if key not in t:
-                raise InputError(f"{w}: '{key}' is required")
+    for w, t in _named_tables(table, "stiffener", where, _STIFFENER_KEYS,
+                              ("name", "start", "end", "section")):
         kind = t["section"]
         side = t.get("side", "below")
         if side not in ("below", "above"):
