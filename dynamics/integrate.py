@@ -85,7 +85,7 @@ from .stiffness import (auto_method, jacobian_columns, motion_eigenvalues, segme
 from .system import System
 
 __all__ = ["Settings", "Stats", "Run", "integrate", "warm_up", "METHODS", "output_grid",
-           "motion_eigenvalues", "stable_step", "stiff_message"]
+           "motion_eigenvalues", "stable_step", "stiff_message", "forced_steps", "too_many_steps"]
 
 
 METHODS = ("auto", "rk4", "adams", "bdf", "radau", "dop853")
@@ -321,13 +321,9 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     counts = np.zeros(N_COUNTS, dtype=np.int64)
     complete, message, interrupt = True, "completed", None
     try:
-        need, h_min = forced_steps(system, settings, "rk4" if requested == "rk4" else "dop853")
-        if need > settings.max_steps:
-            what = "rk4's step dt" if requested == "rk4" else "the inputs' longest step"
-            raise _Stop(f"refused before integrating: {what} of {h_min:.3g} s would take "
-                        f"{need:.3g} steps over 0 – {t_end:g} s, more than max_steps = "
-                        f"{settings.max_steps}; shorten t_end, lower the input's frequency "
-                        f"or raise max_steps")
+        refusal = too_many_steps(system, settings)
+        if refusal:
+            raise _Stop(f"refused before integrating: {refusal}")
         watch = _Watch(system, y)
         state["watch"] = watch
         if requested == "auto":
@@ -635,3 +631,18 @@ def forced_steps(system: System, settings: Settings, method: str) -> tuple[float
                 h_min = min(h_min, h)
         t = tb
     return n, h_min
+
+
+def too_many_steps(system: System, settings: Settings) -> str | None:
+    """Why a run cannot finish within ``settings.max_steps``, or None: rk4's
+    step dt, or the longest step the base inputs allow (dop853's), would
+    need more steps over 0 – t_end (a load at 1e12 Hz would otherwise
+    crawl)."""
+    rk4 = settings.method == "rk4"
+    need, h = forced_steps(system, settings, "rk4" if rk4 else "dop853")
+    if need <= settings.max_steps:
+        return None
+    what = "rk4's step dt" if rk4 else "the base inputs' longest step"
+    return (f"{what} of {h:.3g} s would take {need:.3g} steps over 0 – {settings.t_end:g} s, "
+            f"more than [solver] max_steps = {settings.max_steps}; shorten t_end, lower the "
+            f"input's frequency (or sample it) or raise max_steps")

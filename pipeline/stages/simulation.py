@@ -9,7 +9,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from flexbed.dynamics.integrate import Settings, forced_steps, output_samples
+from flexbed.dynamics.integrate import Settings, output_samples, too_many_steps
 from flexbed.dynamics.stability import instability
 from flexbed.dynamics.statics import Equilibrium, solve_statics
 from flexbed.dynamics.system import System
@@ -59,15 +59,10 @@ def checked(system: System, eq: Equilibrium) -> Equilibrium:
 
 def _check_steps(sf: SceneFile, system: System, settings: Settings) -> None:
     """InputError, before any work, when the inputs (or rk4's dt) force more
-    steps than ``max_steps`` (a load at 1e12 Hz would otherwise crawl)."""
-    method = "rk4" if settings.method == "rk4" else "dop853"
-    need, h = forced_steps(system, settings, method)
-    if need > settings.max_steps:
-        what = "rk4's step dt" if method == "rk4" else "the base inputs' longest step"
-        raise InputError(f"{sf.source.name}: {what} of {h:.3g} s would take {need:.3g} steps "
-                         f"over 0 – {settings.t_end:g} s, more than [solver] max_steps = "
-                         f"{settings.max_steps}; shorten t_end, lower the input's frequency "
-                         f"(or sample it) or raise max_steps")
+    steps than ``max_steps``."""
+    refusal = too_many_steps(system, settings)
+    if refusal:
+        raise InputError(f"{sf.source.name}: {refusal}")
 
 
 #: the most memory a run's results may take [bytes], estimated before
