@@ -31,7 +31,7 @@ from .integrate import Run, Settings, Stats
 from .linear_estimate import (ErrorEstimate, _largest_displacement, _point_map,  # noqa: F401
                               estimate_error)
 from .linear_model import Coordinates, Linearisation, linearise
-from .linear_propagation import propagate
+from .linear_propagation import propagate, propagate_pieces
 from .system import System
 
 __all__ = ["Coordinates", "Linearisation", "LinearRun", "linearise", "propagate",
@@ -99,10 +99,12 @@ def run_linear(system: System, y_eq: np.ndarray, y0: np.ndarray,
                             _e=np.zeros((1, lin.coords.nz)))
         return LinearRun(run, est, lin, w1 - w0, 0.0, 0.0, 0)
     z0 = lin.coords.to_z(np.asarray(y0, dtype=float))
-    t, Z, pieces = propagate(lin, z0, settings.t_end, settings.output_dt)
+    tp, Zp, samples = propagate_pieces(lin, z0, settings.t_end, settings.output_dt)
+    pieces = tp.size - 1
     w2 = time.perf_counter()
-    est = estimate_error(system, lin, t, Z)
+    est = estimate_error(system, lin, tp, Zp, samples)
     w3 = time.perf_counter()
+    t, Z = (tp, Zp) if samples.size == tp.size else (tp[samples], Zp[samples])
     Y = lin.coords.to_y(Z)
     Y[:, system.layout.work] = np.asarray(y0)[system.layout.work] + est.works
     stats = Stats(method="linear", steps=pieces, rhs_evaluations=lin.evaluations + est.evaluations,

@@ -6,30 +6,38 @@ Error estimate against the nonlinear model
 Along the linear solution the nonlinear model leaves the defect
 ``d(t) = f(z(t), t) − (A z + b0 + B Δu)``. The nonlinear solution differs
 from the linear one by ``e`` with ``ė = A e + d + O(e²)``. ``d`` is
-evaluated (the right-hand side in one compiled batch) on every m-th output
-sample (the nodes) and taken between them as the local cubic through the
-two nodes on each side; m = 8 is halved (the right-hand side evaluated
-midway, one more batch) until the cubics through every other node predict
-d, and each power of the energy quadratures, at the nodes between to 8 %
-of its largest value — the cubics on every node then follow them to about
-0.5 % (their miss is O(H⁴)). ``e`` is propagated exactly from node to node
-(the φ-functions of the interval's ``A L``, one product per distinct
-length, the recursion compiled); on every sample only when asked for
-(:attr:`ErrorEstimate.e`, e.g. for the first-order correction: the same
-cubics, propagated sample by sample, the same e at the nodes). The largest
-error of a point that matters (the centres of mass of bodies 2… and both
-ends of every mount on them, rotations and modes included with their lever
-arms) over every sample, between the nodes the cubic Hermite interpolant
-of ``T e`` and ``T ė = T (A e + d)``, is the reported estimate [m]. On the
-reference scene (0–3 s, 1 ms samples) it is within 0.2 % of the estimate
-with the defect evaluated on every sample (rigid bed −0.12 %, 2- and
-6-mode beds −0.05 %), on an eighth of the right-hand sides. It is a
-first-order (Newton) estimate, reliable while ``e`` is small against the
-motion, which :attr:`ErrorEstimate.reliable` checks.
+evaluated (the right-hand side in one compiled batch a round) at some of
+the propagation's piece ends (the output samples and the inputs' knots
+between them), the nodes, and taken between them as the local cubic
+through the two nodes on each side. Every 16th piece end first (runs of
+longer pieces, where the knots stop, every few so that the intervals stay
+near 16 of the shortest); then, round by round, every node interval next
+to a node where the local cubics through the nodes it was added to miss
+d, or a power of the energy quadratures, by more than 8 % of its largest
+value is halved (the right-hand side evaluated midway): the cubics on the
+nodes kept then follow them to about 0.5 % (their miss is O(H⁴)), and a
+quiet stretch keeps its long intervals. ``e`` is propagated exactly from
+node to node (the φ-functions of the interval's ``A L``, one series and
+its doublings per family of lengths, compiled, on the defect's non-zero
+columns only; the recursion compiled); on every output sample only when
+asked for (:attr:`ErrorEstimate.e`, e.g. for the first-order correction:
+the same cubics, propagated piece by piece, the same e at the nodes). The
+largest error of a point that matters (the centres of mass of bodies 2…
+and both ends of every mount on them, rotations and modes included with
+their lever arms) over every piece end, between the nodes the cubic
+Hermite interpolant of ``T e`` and ``T ė = T (A e + d)``, is the reported
+estimate [m]. On the reference scene (0–1.5 s, 1 ms samples, rigid bed)
+it is within 0.3 % of the estimate with the defect evaluated on every
+sample, e within 1.6 % and the works within 8e-4 of their largest, on
+133 right-hand sides against 1501 (every 8th sample: 188). The same
+scene with 10 ms output samples (10 ms pieces once the load has stopped)
+gives the same estimate. It is a first-order (Newton) estimate, reliable
+while ``e`` is small against the motion, which
+:attr:`ErrorEstimate.reliable` checks.
 
 The energy quadratures of the state (works of mounts, loads, drive and
 structural damping) are the exact integrals of the powers' local cubics
-through their values at the nodes (on the reference scene within 1e-4 of
+through their values at the nodes (on the reference scene within 8e-4 of
 their largest value of those with the powers on every sample).
 """
 
@@ -46,6 +54,7 @@ from .linear_model import Coordinates, Linearisation
 from .linear_propagation import _lengths
 from .steppers.defect import (cubic_pieces, hermite_peak, largest_point, pieces_at,
                               pieces_integral_at)
+from .steppers.phi import phi_double, phi_series
 from .steppers.propagate import linear_sweep
 from .system import System
 
@@ -59,18 +68,20 @@ class ErrorEstimate:
     position : float [m], the largest error |δP| of a point that matters
     (the centres of mass of bodies 2… and both ends of every mount on
     them, so that rotations and, on a flexible bed, the modes count with
-    their lever arms) over every sample (between the nodes, the cubic
-    Hermite interpolant of the points' errors and rates);
+    their lever arms) over every piece end of the propagation (the output
+    samples and the inputs' knots between them; between the nodes, the
+    cubic Hermite interpolant of the points' errors and rates);
     rotation : float [rad], the largest error of a rotation coordinate,
     likewise;
     motion : float [m], the largest displacement of those points in the
-    linear solution from the equilibrium, over every sample;
+    linear solution from the equilibrium, over every piece end;
     reliable : bool, ``position <= 0.1 × motion`` (or both tiny);
     evaluations : right-hand sides it took; powers : (k, 4) [W] at every
-    sample; nodes : (n,) int, the samples where the defect is evaluated;
-    e_nodes : (n, nz), the error there; works : (k, 4) [J], the powers'
-    exact integrals from the first sample. :attr:`e` gives the error on
-    every sample (k, nz), computed when first asked for.
+    output sample; nodes : (n,) int, the piece ends where the defect is
+    evaluated (the output samples' indices when no knot lies between
+    them); e_nodes : (n, nz), the error there; works : (k, 4) [J], the
+    powers' exact integrals from the first sample. :attr:`e` gives the
+    error on every output sample (k, nz), computed when first asked for.
     """
 
     position: float
@@ -149,12 +160,14 @@ def _largest_displacement(Z: np.ndarray, coords: Coordinates, to_points: np.ndar
     return float(np.sqrt(np.max(np.sum(d * d, axis=2))))
 
 
-#: the defect is evaluated on every m-th sample, m the largest of these ...
-_STRIDES = (8, 4, 2, 1)
-#: ... for which the local cubics through every other node predict the
-#: defect and the powers at the nodes between to 16 times this share of
-#: their largest value: the cubics on every node then follow them to about
-#: this share (their miss is O(H⁴): 16 times smaller at half the stride)
+#: the defect is first evaluated on every this-many-th sample (fewer when
+#: that leaves under 9 nodes) ...
+_START = 16
+#: ... and a node interval is halved (the right-hand side evaluated midway)
+#: next to every node where the local cubics through the nodes it was added
+#: to miss the defect or a power by more than 16 times this share of its
+#: largest value: the cubics on the nodes kept then follow them to about
+#: this share (their miss is O(H⁴): 16 times smaller at half the interval)
 _CUBIC_SHARE = 5e-3
 #: a defect below this share of the rates is the linearisation's round-off
 _NOISE = 1e-8
@@ -175,30 +188,69 @@ def _cubics(tn: np.ndarray, V: np.ndarray) -> np.ndarray:
     return C
 
 
-def _cubic_miss(tn: np.ndarray, V: np.ndarray, scale: np.ndarray) -> float:
-    """The largest miss, over the columns of V (n, c) each divided by its
-    scale (c,), of the local cubics through every other node (and the last)
-    at the nodes they skip; inf below 7 nodes."""
-    if tn.size < 7:
-        return math.inf
-    keep = _sample_nodes(tn.size, 2)
-    skip = np.arange(1, tn.size - 1, 2)
-    pred = np.empty((skip.size, V.shape[1]))
-    pieces_at(tn[skip], tn[keep], _cubics(tn[keep], V[keep]), pred)
-    return float(np.max(np.abs(pred - V[skip]) / scale))
+def _misses(t_old: np.ndarray, V_old: np.ndarray, t_new: np.ndarray, V_new: np.ndarray,
+            scale: np.ndarray) -> np.ndarray:
+    """(q,) the largest miss, over the columns each divided by its scale
+    (c,) or (1,), of the local cubics through the nodes t_old (values
+    V_old (n, c)) at the times t_new (values V_new (q, c)); inf where
+    fewer than 4 nodes carry them."""
+    if t_old.size < 4:
+        return np.full(t_new.size, math.inf)
+    pred = np.empty(V_new.shape)
+    pieces_at(t_new, t_old, _cubics(t_old, V_old), pred)
+    return np.max(np.abs(pred - V_new) / scale, axis=1)
+
+
+def _halve_next_to(nodes: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """The midpoints (sample indices) of the intervals of ``nodes`` on either
+    side of the nodes ``at`` (a subset of them), those at least two samples
+    long."""
+    pos = np.searchsorted(nodes, at)
+    j = np.unique(np.concatenate([pos - 1, pos]))
+    j = j[(j >= 0) & (j < nodes.size - 1)]
+    a, b = nodes[j], nodes[j + 1]
+    return ((a + b) // 2)[b - a >= 2]
+
+
+def _first_nodes(t: np.ndarray) -> np.ndarray:
+    """The first nodes among the piece ends t (k,): every :data:`_START`-th
+    (fewer when that leaves under 9 nodes). Where the pieces are longer
+    (an input's knots closer than the output samples elsewhere), each run
+    of equal pieces starts at a node and takes every m-th end, m pieces
+    the nearest to :data:`_START` of the shortest (at least one), so that
+    the intervals keep few distinct lengths."""
+    k = t.size
+    m = max(1, min(_START, (k - 1) // 8))
+    if k < 3:
+        return _sample_nodes(k, m)
+    h = np.diff(t)
+    lengths, which = _lengths(h)
+    if lengths.size == 1:
+        return _sample_nodes(k, m)
+    starts = np.flatnonzero(np.diff(which)) + 1                 # a run's first piece
+    starts = np.concatenate([[0], starts])
+    ends = np.append(starts[1:], k - 1)
+    out = [np.array([k - 1])]
+    shortest = float(np.min(lengths))
+    for a, b in zip(starts, ends):
+        step = max(1, min(m, int(round(m * shortest / float(h[a])))))
+        out.append(np.arange(a, b, step))
+    return np.unique(np.concatenate(out))
 
 
 def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
                   Z: np.ndarray) -> tuple:
     """The nodes, and the defect d = R − A z (n, nz) (R: the nonlinear
-    rates less b0 + B Δu) and the powers (n, 4) [W] there: every 8th
-    sample first, the stride then halved (the right-hand side evaluated
-    midway between the nodes, one compiled batch each time) until the
-    local cubics through every other node miss d and each power at the
-    nodes between by at most 16 × :data:`_CUBIC_SHARE` of its largest
-    value (d's scale at least :data:`_NOISE` times the largest R), or
-    every sample."""
-    k = t.size
+    rates less b0 + B Δu) and the powers (n, 4) [W] there.
+
+    Every :data:`_START`-th sample first; the nodes are then refined
+    where they need it: the right-hand side is evaluated midway in every
+    node interval next to a node where the local cubics through the
+    nodes it was added to (at first every other node) miss d or a power by
+    more than 16 × :data:`_CUBIC_SHARE` of its largest value (d's scale at
+    least :data:`_NOISE` times the largest R), one compiled batch a round,
+    until no node misses or the intervals are single samples. A quiet
+    stretch of the run keeps long intervals."""
     coords = lin.coords
     work = system.layout.work
     AT = lin.A.T
@@ -206,27 +258,33 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     def evaluate(idx):
         tn = t[idx]
         dY, _ = system.rhs_batch(tn, coords.to_y(Z[idx]))
-        return coords.rate(dY) - lin.b0 - lin.inputs(tn) @ lin.B.T, dY[:, work]
+        R = coords.rate(dY) - lin.b0 - lin.inputs(tn) @ lin.B.T
+        return R - Z[idx] @ AT, dY[:, work], float(np.max(np.abs(R))) if R.size else 0.0
 
     system.set_segment(None)
-    nodes = _sample_nodes(k, _STRIDES[0])
-    R, W = evaluate(nodes)
-    D = R - Z[nodes] @ AT
-    while nodes.size < k:
-        tn = t[nodes]
-        d_scale = max(float(np.max(np.abs(D))), _NOISE * float(np.max(np.abs(R))), 1e-300)
+    nodes = _first_nodes(t)
+    D, W, r_max = evaluate(nodes)
+    old = _sample_nodes(nodes.size, 2)                   # positions in nodes
+    new = np.setdiff1d(np.arange(nodes.size), old, assume_unique=True)
+    while new.size:
+        d_scale = max(float(np.max(np.abs(D))), _NOISE * r_max, 1e-300)
         w_scale = np.maximum(np.max(np.abs(W), axis=0), 1e-300)
-        if (_cubic_miss(tn, D, np.array([d_scale])) <= 16.0 * _CUBIC_SHARE
-                and _cubic_miss(tn, W, w_scale) <= 16.0 * _CUBIC_SHARE):
+        tol = 16.0 * _CUBIC_SHARE
+        t_old, t_new = t[nodes[old]], t[nodes[new]]
+        miss = np.maximum(_misses(t_old, D[old], t_new, D[new], np.array([d_scale])),
+                          _misses(t_old, W[old], t_new, W[new], w_scale))
+        mids = _halve_next_to(nodes, nodes[new[miss > tol]])
+        if not mids.size:
             break
-        a, b = nodes[:-1], nodes[1:]
-        new = ((a + b) // 2)[b - a >= 2]
-        R2, W2 = evaluate(new)
-        order = np.argsort(np.concatenate([nodes, new]), kind="stable")
-        nodes = np.concatenate([nodes, new])[order]
-        R = np.concatenate([R, R2])[order]
+        D2, W2, r2 = evaluate(mids)
+        r_max = max(r_max, r2)
+        merged = np.concatenate([nodes, mids])
+        order = np.argsort(merged, kind="stable")
+        nodes = merged[order]
+        D = np.concatenate([D, D2])[order]
         W = np.concatenate([W, W2])[order]
-        D = R - Z[nodes] @ AT
+        is_new = order >= merged.size - mids.size
+        old, new = np.flatnonzero(~is_new), np.flatnonzero(is_new)
     return nodes, D, W
 
 
@@ -251,10 +309,13 @@ def _taylor_tables(degree: int) -> tuple:
     return coef, mix, 2.0 ** -np.arange(q)
 
 
-def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3) -> tuple:
-    """Φ (m, nz, nz) and P (m, degree + 1, nz, nz) of ė = A e + d over each
+def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
+                       cols: np.ndarray | None = None) -> tuple:
+    """Φ (m, nz, nz) and P (m, degree + 1, nz, c) of ė = A e + d over each
     length L (m,) [s], d a polynomial of σ = t/L ∈ [0, 1] with σ-derivatives
-    w_p at 0: ``e(L) = Φ e(0) + Σ_p P_p w_p``, ``P_p = L φ_{p+1}(L A)``,
+    w_p at 0: ``e(L) = Φ e(0) + Σ_p P_p w_p``, ``P_p = L φ_{p+1}(L A)``
+    (its columns ``cols`` (c,) only, d being zero in the others; all by
+    default),
     φ_j(X) = Σ_k X^k/(k + j)! (the blocks of Van Loan's exponential).
     Scaling and squaring on the nz × nz blocks: the Taylor series over
     h = L / 2^s to (hA)^16, then s exact doublings
@@ -268,12 +329,15 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3) -> t
     while the series' last two terms are above 1e-17 in ‖·‖₁."""
     nz = A.shape[0]
     q = degree + 1
+    cols = np.arange(nz) if cols is None else np.asarray(cols, dtype=np.int64)
+    c = cols.size
     Ab, (scale, _) = matrix_balance(A, permute=False, separate=True)
+    Ab = np.ascontiguousarray(Ab)
     norm = float(np.linalg.norm(Ab, 1))
     Phis = np.empty((lengths.size, nz, nz))
-    Ps = np.empty((lengths.size, q, nz, nz))
-    K = _TAYLOR_TERMS + 1
+    Ps = np.empty((lengths.size, q, nz, c))
     coef, mix, halves = _taylor_tables(degree)
+    Phi, P = np.empty((nz, nz)), np.empty((q, nz, c))
     done = np.zeros(lengths.size, dtype=bool)
     for i in np.argsort(-lengths, kind="stable"):
         if done[i]:
@@ -281,19 +345,15 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3) -> t
         L = float(lengths[i])
         x = norm * L
         s = max(0, math.ceil(math.log2(x / _TAYLOR_NORM))) if x > _TAYLOR_NORM else 0
-        h = L / 2.0 ** s
-        X = h * Ab
-        powers = np.empty((K + 1, nz, nz))
-        powers[0] = np.eye(nz)
-        for k in range(K):
-            np.matmul(powers[k], X, out=powers[k + 1])
-        while max(float(np.linalg.norm(powers[k], 1)) / math.factorial(k)
-                  for k in (K - 1, K)) > _TAYLOR_TAIL:
-            s, h = s + 1, 0.5 * h                  # X/2: the powers X^k scale by 2^−k
-            powers *= (0.5 ** np.arange(K + 1))[:, None, None]
-        F = (coef @ powers.reshape(K + 1, -1)).reshape(q + 1, nz, nz)   # φ_0 … φ_q (hA)
-        Phi = F[0]
-        P = h * F[1:]                                                    # (q, nz, nz)
+        # deep enough to pass through every shorter length that is L / 2^j
+        left = lengths[~done & (lengths < L)]
+        if left.size:
+            j = np.log2(L / left)
+            on = np.abs(j - np.round(j)) <= 1e-9
+            if np.any(on):
+                s = max(s, int(np.max(np.round(j[on]))))
+        while phi_series(Ab * (L / 2.0 ** s), coef, L / 2.0 ** s, cols, Phi, P) > _TAYLOR_TAIL:
+            s += 1
         for level in range(s, -1, -1):
             length = L / 2.0 ** level
             # the other lengths equal to this one (to 1e-12 relative) take it
@@ -301,26 +361,26 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3) -> t
             Phis[same], Ps[same] = Phi, P
             done |= same
             if level:
-                prod = Phi @ np.concatenate([P.transpose(1, 0, 2).reshape(nz, -1), Phi], axis=1)
-                PhiP = prod[:, :q * nz].reshape(nz, q, nz).transpose(1, 0, 2)
-                P = (PhiP + np.tensordot(mix, P, axes=(0, 0))) * halves[:, None, None]
-                Phi = prod[:, q * nz:]
+                phi_double(Phi, P, mix, halves)
         done[i] = True
-    ratio = scale[:, None] / scale[None, :]                             # S · S⁻¹
-    return Phis * ratio, Ps * ratio
+    # S · S⁻¹
+    return Phis * (scale[:, None] / scale[None, :]), Ps * (scale[:, None] / scale[None, cols])
 
 
 def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray) -> np.ndarray:
     """e (n, nz) at the times tn (n,) of ė = A e + d, e(0) = 0, d on each
     interval the cubic of C (n − 1, 4, nz) (ascending powers of σ):
     ``e_{j+1} = Φ e_j + Σ_p P_p w_p``, w_p = p! C[j, p] its σ-derivatives
-    at the interval's start; the sums Σ_p P_p w_p as one matrix product
-    per distinct interval length, the recursion compiled
+    at the interval's start; only d's columns that are not zero throughout
+    (a translation's kinematic row ṙ = v is exact: its defect is 0) enter
+    P_p; the sums Σ_p P_p w_p as one matrix product per distinct interval
+    length, the recursion compiled
     (:func:`flexbed.dynamics.steppers.propagate.linear_sweep`)."""
     nz = A.shape[0]
+    cols = np.flatnonzero(np.any(C != 0.0, axis=(0, 1)))
     lengths, which = _lengths(np.diff(tn))
-    Phis, Ps = defect_propagators(A, lengths)
-    W = (C * _FACT4[None, :, None]).reshape(C.shape[0], -1)            # (n − 1, 4 nz)
+    Phis, Ps = defect_propagators(A, lengths, cols=cols)
+    W = (C[:, :, cols] * _FACT4[None, :, None]).reshape(C.shape[0], -1)   # (n − 1, 4 c)
     Pcat = Ps.transpose(0, 2, 1, 3).reshape(lengths.size, nz, -1)       # [P0 P1 P2 P3]
     counts = np.bincount(which, minlength=lengths.size)
     main = int(np.argmax(counts))
@@ -372,29 +432,42 @@ def _largest_motion(Zp: np.ndarray, T: np.ndarray) -> float:
     return best
 
 
-def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
-                   Z: np.ndarray) -> ErrorEstimate:
+def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndarray,
+                   samples: np.ndarray | None = None) -> ErrorEstimate:
     """Defect of the linear solution in the nonlinear equations, propagated
-    (see the module docstring). Also returns the powers at the samples
-    (k, 4) [W] and their integrals [J] for the energy quadratures."""
+    (see the module docstring).
+
+    Parameters
+    ----------
+    t : (k,) [s], Z : (k, nz)
+        The linear solution at the piece ends of its propagation
+        (:func:`flexbed.dynamics.linear_propagation.propagate_pieces`):
+        the nodes are among them, and the largest errors and motion are
+        taken over all of them.
+    samples : (s,) int, optional
+        Where the output samples are among them (all by default): the
+        powers, their integrals and :attr:`ErrorEstimate.e` are given there.
+    """
     coords = lin.coords
     nfev0 = system.nfev
     npos = coords.n_pos
     T = _point_map(system, coords).reshape(-1, coords.nz)[:, :npos]     # (3P, n_pos)
     A = np.ascontiguousarray(lin.A)
+    samples = np.arange(t.size) if samples is None else samples
+    ts = t[samples]
     motion = _largest_motion(Z[:, :npos], T) if T.shape[0] else 0.0
     k = t.size
     if k < 2:                                  # the start only: e(0) = 0
-        none = np.zeros((k, system.layout.work.stop - system.layout.work.start))
+        none = np.zeros((ts.size, system.layout.work.stop - system.layout.work.start))
         return ErrorEstimate(0.0, 0.0, motion, True, 0, none, np.arange(k),
-                             np.zeros((k, coords.nz)), none, _e=np.zeros((k, coords.nz)))
+                             np.zeros((k, coords.nz)), none, _e=np.zeros((ts.size, coords.nz)))
     nodes, D, W = _defect_nodes(system, lin, t, Z)
     tn = t[nodes]
     C = _cubics(tn, D)
     CW = _cubics(tn, W)
-    powers, works = np.empty((k, W.shape[1])), np.empty((k, W.shape[1]))
-    pieces_at(t, tn, CW, powers)
-    pieces_integral_at(t, tn, CW, works)
+    powers, works = np.empty((ts.size, W.shape[1])), np.empty((ts.size, W.shape[1]))
+    pieces_at(ts, tn, CW, powers)
+    pieces_integral_at(ts, tn, CW, works)
     # ė = A e + d, d the local cubics: Φ, P0 … P3 per distinct interval
     En = _propagate_defect(A, tn, C)
     # the points' errors between the nodes: cubic Hermite with ė = A e + d there
@@ -408,4 +481,4 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray,
         rot = hermite_peak(t, nodes, V, Vd)
     reliable = pos <= 0.1 * motion or pos < 1e-12
     return ErrorEstimate(pos, rot, motion, reliable, system.nfev - nfev0, powers, nodes, En,
-                         works, lambda: _error_on_every_sample(A, t, nodes, C))
+                         works, lambda: _error_on_every_sample(A, t, nodes, C)[samples])

@@ -39,7 +39,7 @@ from .linear_model import Linearisation
 from .piecewise import PiecewisePolynomial
 from .steppers.propagate import linear_sweep, poly_derivatives
 
-__all__ = ["propagate"]
+__all__ = ["propagate", "propagate_pieces"]
 
 _DEG = 5                                   # degree of the inputs' local polynomials
 _NODES = 0.5 - 0.5 * np.cos((2 * np.arange(_DEG + 1) + 1) * np.pi / (2 * (_DEG + 1)))
@@ -194,13 +194,15 @@ def _step_inputs(Psis: np.ndarray, which: np.ndarray, W: np.ndarray,
     return out
 
 
-def propagate(lin: Linearisation, z0: np.ndarray, t_end: float,
-              output_dt: float) -> tuple[np.ndarray, np.ndarray, int]:
-    """Exact solution of the linear model on the output grid.
+def propagate_pieces(lin: Linearisation, z0: np.ndarray, t_end: float,
+                     output_dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Exact solution of the linear model at every piece end: the output
+    samples and the inputs' knots between them.
 
     Returns
     -------
-    t : (k,) [s]; Z : (k, nz) deviations; pieces : int, pieces propagated.
+    t : (k,) [s], the piece ends; Z : (k, nz) deviations there;
+    samples : (s,) int, where the output samples are among them.
     """
     grid = output_grid(t_end, output_dt)
     t = _pieces(lin, grid)
@@ -213,7 +215,19 @@ def propagate(lin: Linearisation, z0: np.ndarray, t_end: float,
     Z = np.empty((t.size, lin.A.shape[0]))
     P = _step_inputs(Psis, which, _inputs_on_pieces(lin, t, terms), Z[1:])
     linear_sweep(Phis, which, P, np.ascontiguousarray(z0, dtype=float), Z)
-    if t.size == grid.size:                  # no knot between the output samples
-        return grid, Z, int(t.size - 1)
-    on_grid = np.searchsorted(t, grid)
-    return grid, Z[on_grid], int(t.size - 1)
+    samples = np.arange(t.size) if t.size == grid.size else np.searchsorted(t, grid)
+    return t, Z, samples
+
+
+def propagate(lin: Linearisation, z0: np.ndarray, t_end: float,
+              output_dt: float) -> tuple[np.ndarray, np.ndarray, int]:
+    """Exact solution of the linear model on the output grid.
+
+    Returns
+    -------
+    t : (k,) [s]; Z : (k, nz) deviations; pieces : int, pieces propagated.
+    """
+    t, Z, samples = propagate_pieces(lin, z0, t_end, output_dt)
+    if samples.size == t.size:               # no knot between the output samples
+        return t, Z, int(t.size - 1)
+    return t[samples], Z[samples], int(t.size - 1)

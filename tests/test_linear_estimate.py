@@ -150,29 +150,40 @@ def reference_scene():
 
 
 def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(reference_scene, monkeypatch):
-    """The reference scene (rigid bed, 0–1 s, 1 ms samples): the defect on
-    every 8th sample and its local cubics give the estimate, e and the
-    works of the estimate with the defect on every sample (the cubics then
-    reproduce it at every sample) to 0.5 %, 1 % and 3e-4 of their largest."""
+    """The reference scene (rigid bed, 0–1.5 s: the load stops at 1 s; 1 ms
+    samples): the defect on every 16th sample, halved to 8 where the local
+    cubics need it, gives the estimate, e and the works of the estimate
+    with the defect on every sample (the cubics then reproduce it at
+    every sample) to 0.5 %, 3 % and 2e-3 of their largest; the states are
+    the same. With 10 ms samples (the same knots while the load lasts, 10 ms
+    pieces after it) the nodes are as many and the estimate the same."""
     from flexbed.dynamics.integrate import Settings
 
     system, y = reference_scene
-    st = Settings("rk4", t_end=1.0, output_dt=1e-3)
+    st = Settings("rk4", t_end=1.5, output_dt=1e-3)
     lr = linear.run_linear(system, y, y, st)
     est = lr.estimate
-    assert np.array_equal(est.nodes, np.arange(0, 1001, 8))
-    assert est.evaluations == est.nodes.size
-    monkeypatch.setattr(linear_estimate, "_STRIDES", (1,))
+    assert np.all(np.isin(np.arange(0, 1501, 16), est.nodes))
+    steps = np.diff(est.nodes)
+    assert np.sum(steps == 8) > 50 and np.sum(steps == 16) > 20 and np.all(steps <= 16)
+    assert est.evaluations == est.nodes.size < 0.75 * 1501 / 8     # 133 against 188
+    monkeypatch.setattr(linear_estimate, "_START", 1)
     ref = linear.run_linear(system, y, y, st)
-    assert ref.estimate.nodes.size == 1001
-    assert abs(est.position / ref.estimate.position - 1.0) < 5e-3            # seen −1.2e-3
-    assert np.max(np.abs(est.e - ref.estimate.e)) < 1e-2 * np.max(np.abs(ref.estimate.e))  # 2.3e-3
+    assert ref.estimate.nodes.size == 1501
+    assert abs(est.position / ref.estimate.position - 1.0) < 5e-3            # seen +3.0e-3
+    assert np.max(np.abs(est.e - ref.estimate.e)) < 3e-2 * np.max(np.abs(ref.estimate.e))  # 1.6e-2
     assert np.max(np.abs(est.e[est.nodes] - est.e_nodes)) < 1e-10 * np.max(np.abs(est.e))
     work = system.layout.work
     w, w_ref = lr.run.y[:, work], ref.run.y[:, work]
     scale = np.maximum(np.max(np.abs(w_ref - y[work]), axis=0), 1e-300)
-    assert np.max(np.abs(w - w_ref) / scale) < 3e-4                     # seen 9e-5
+    assert np.max(np.abs(w - w_ref) / scale) < 2e-3                      # seen 8.1e-4
     assert np.array_equal(lr.run.y[:, :work.start], ref.run.y[:, :work.start])
+    monkeypatch.setattr(linear_estimate, "_START", 16)
+    coarse = linear.run_linear(system, y, y, Settings("rk4", t_end=1.5, output_dt=1e-2))
+    assert coarse.pieces == 1050 and coarse.run.t.size == 151
+    assert abs(coarse.estimate.position / est.position - 1.0) < 1e-9
+    assert abs(coarse.estimate.nodes.size - est.nodes.size) <= 10
+    assert np.max(np.abs(coarse.estimate.e - est.e[::10])) < 3e-2 * np.max(np.abs(est.e))
 
 
 def test_compiled_states_and_rates_of_many_rows_equal_the_numpy_maps(reference_scene):
