@@ -255,37 +255,38 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     work = system.layout.work
     AT = lin.A.T
 
+    nz = lin.A.shape[0]
+
     def evaluate(idx):
+        """[d | powers] (q, nz + 4) at the samples idx, and the largest |R|."""
         tn = t[idx]
         dY, _ = system.rhs_batch(tn, coords.to_y(Z[idx]))
         R = coords.rate(dY) - lin.b0 - lin.inputs(tn) @ lin.B.T
-        return R - Z[idx] @ AT, dY[:, work], float(np.max(np.abs(R))) if R.size else 0.0
+        return (np.concatenate([R - Z[idx] @ AT, dY[:, work]], axis=1),
+                float(np.max(np.abs(R))) if R.size else 0.0)
 
     system.set_segment(None)
     nodes = _first_nodes(t)
-    D, W, r_max = evaluate(nodes)
+    V, r_max = evaluate(nodes)
     old = _sample_nodes(nodes.size, 2)                   # positions in nodes
     new = np.setdiff1d(np.arange(nodes.size), old, assume_unique=True)
+    tol = 16.0 * _CUBIC_SHARE
     while new.size:
-        d_scale = max(float(np.max(np.abs(D))), _NOISE * r_max, 1e-300)
-        w_scale = np.maximum(np.max(np.abs(W), axis=0), 1e-300)
-        tol = 16.0 * _CUBIC_SHARE
-        t_old, t_new = t[nodes[old]], t[nodes[new]]
-        miss = np.maximum(_misses(t_old, D[old], t_new, D[new], np.array([d_scale])),
-                          _misses(t_old, W[old], t_new, W[new], w_scale))
+        scale = np.maximum(np.max(np.abs(V), axis=0), 1e-300)
+        scale[:nz] = max(float(np.max(scale[:nz])), _NOISE * r_max, 1e-300)
+        miss = _misses(t[nodes[old]], V[old], t[nodes[new]], V[new], scale)
         mids = _halve_next_to(nodes, nodes[new[miss > tol]])
         if not mids.size:
             break
-        D2, W2, r2 = evaluate(mids)
+        V2, r2 = evaluate(mids)
         r_max = max(r_max, r2)
         merged = np.concatenate([nodes, mids])
         order = np.argsort(merged, kind="stable")
         nodes = merged[order]
-        D = np.concatenate([D, D2])[order]
-        W = np.concatenate([W, W2])[order]
+        V = np.concatenate([V, V2])[order]
         is_new = order >= merged.size - mids.size
         old, new = np.flatnonzero(~is_new), np.flatnonzero(is_new)
-    return nodes, D, W
+    return nodes, V[:, :nz], V[:, nz:]
 
 
 #: the propagators' Taylor series are summed over h = L / 2^s, ‖hA‖₁ (balanced)
