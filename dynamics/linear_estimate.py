@@ -54,7 +54,7 @@ from .linear_model import Coordinates, Linearisation
 from .linear_propagation import _lengths
 from .steppers.defect import (cubic_pieces, hermite_peak, largest_point, pieces_at,
                               pieces_integral_at)
-from .steppers.phi import phi_double, phi_series
+from .steppers.phi import SERIES_NORM, phi_double, phi_functions
 from .steppers.propagate import linear_sweep
 from .system import System
 
@@ -203,12 +203,13 @@ def _misses(t_old: np.ndarray, V_old: np.ndarray, t_new: np.ndarray, V_new: np.n
 
 def _halve_next_to(nodes: np.ndarray, at: np.ndarray) -> np.ndarray:
     """The midpoints (sample indices) of the intervals of ``nodes`` on either
-    side of the nodes ``at`` (a subset of them), those at least two samples
+    side of the nodes at the positions ``at``, those at least two samples
     long."""
-    pos = np.searchsorted(nodes, at)
-    j = np.unique(np.concatenate([pos - 1, pos]))
-    j = j[(j >= 0) & (j < nodes.size - 1)]
-    a, b = nodes[j], nodes[j + 1]
+    side = np.zeros(nodes.size, dtype=bool)          # interval j: nodes j … j + 1
+    side[at] = True
+    side[at - 1] = True
+    side[-1] = False
+    a, b = nodes[:-1][side[:-1]], nodes[1:][side[:-1]]
     return ((a + b) // 2)[b - a >= 2]
 
 
@@ -268,14 +269,16 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     system.set_segment(None)
     nodes = _first_nodes(t)
     V, r_max = evaluate(nodes)
-    old = _sample_nodes(nodes.size, 2)                   # positions in nodes
-    new = np.setdiff1d(np.arange(nodes.size), old, assume_unique=True)
+    is_new = np.ones(nodes.size, dtype=bool)              # every other node, the last kept
+    is_new[::2] = False
+    is_new[-1] = False
     tol = 16.0 * _CUBIC_SHARE
-    while new.size:
+    while np.any(is_new):
+        old, new = np.flatnonzero(~is_new), np.flatnonzero(is_new)
         scale = np.maximum(np.max(np.abs(V), axis=0), 1e-300)
         scale[:nz] = max(float(np.max(scale[:nz])), _NOISE * r_max, 1e-300)
         miss = _misses(t[nodes[old]], V[old], t[nodes[new]], V[new], scale)
-        mids = _halve_next_to(nodes, nodes[new[miss > tol]])
+        mids = _halve_next_to(nodes, new[miss > tol])
         if not mids.size:
             break
         V2, r2 = evaluate(mids)
@@ -285,29 +288,17 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
         nodes = merged[order]
         V = np.concatenate([V, V2])[order]
         is_new = order >= merged.size - mids.size
-        old, new = np.flatnonzero(~is_new), np.flatnonzero(is_new)
     return nodes, V[:, :nz], V[:, nz:]
 
 
-#: the propagators' Taylor series are summed over h = L / 2^s, ‖hA‖₁ (balanced)
-#: at most this ...
-_TAYLOR_NORM = 0.5
-#: ... to (hA)^(this + 1) (the next term is below 1e-17 of the first) ...
-_TAYLOR_TERMS = 15
-#: ... with the last two below this in ‖·‖₁ (else L / 2^(s + 1))
-_TAYLOR_TAIL = 1e-17
-
-
 @functools.lru_cache(maxsize=4)
-def _taylor_tables(degree: int) -> tuple:
-    """The Taylor coefficients 1/(k + j)! (j = 0 … degree + 1 rows, k = 0 …
-    K columns) of φ_j, and the doublings' mixing 1/(p − i)! (i ≤ p) and
-    2^−p: P_p ← 2^−p (Φ P_p + Σ_i P_i mix[i, p])."""
-    q, K = degree + 1, _TAYLOR_TERMS + 1
-    coef = np.array([[1.0 / math.factorial(k + j) for k in range(K + 1)] for j in range(q + 1)])
+def _doubling_tables(degree: int) -> tuple:
+    """The doublings' mixing 1/(p − i)! (i ≤ p) and 2^−p:
+    P_p ← 2^−p (Φ P_p + Σ_i P_i mix[i, p])."""
+    q = degree + 1
     mix = np.array([[1.0 / math.factorial(p - i) if i <= p else 0.0 for p in range(q)]
                     for i in range(q)])
-    return coef, mix, 2.0 ** -np.arange(q)
+    return mix, 2.0 ** -np.arange(q)
 
 
 def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
@@ -318,16 +309,17 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
     (its columns ``cols`` (c,) only, d being zero in the others; all by
     default),
     φ_j(X) = Σ_k X^k/(k + j)! (the blocks of Van Loan's exponential).
-    Scaling and squaring on the nz × nz blocks: the Taylor series over
-    h = L / 2^s to (hA)^16, then s exact doublings
-    Φ ← Φ², P_p ← 2^−p (Φ P_p + Σ_{i ≤ p} P_i/(p − i)!) (one product
-    Φ [P_0 … P_degree Φ] each); a length that is another's half, quarter …
-    is taken from that one's doublings. A is balanced first (LAPACK's
-    diagonal scaling by powers of 2, exact: ``A = S A' S⁻¹``,
+    Scaling and squaring on the nz × nz blocks: the φ-functions of h A,
+    h = L / 2^s (:func:`flexbed.dynamics.steppers.phi.phi_functions`: φ_4
+    by its series, the others by φ_j = X φ_{j+1} + I/j!), then s exact
+    doublings Φ ← Φ², P_p ← 2^−p (Φ P_p + Σ_{i ≤ p} P_i/(p − i)!) (one
+    product Φ [P_0 … P_degree Φ] each); a length that is another's half,
+    quarter … is taken from that one's doublings. A is balanced first
+    (LAPACK's diagonal scaling by powers of 2, exact: ``A = S A' S⁻¹``,
     ``φ_j(A) = S φ_j(A') S⁻¹``; ‖A'‖₁ is near the spectral radius where
     ‖A‖₁ counts stiffness over mass: 217 against 7.3e4 1/s on the
-    reference scene's rigid bed); s is the least with ‖hA'‖₁ ≤ 1/2, raised
-    while the series' last two terms are above 1e-17 in ‖·‖₁."""
+    reference scene's rigid bed); s is the least with ‖hA'‖₁ ≤ 2 (and
+    deep enough to pass through the shorter lengths L/2^j)."""
     nz = A.shape[0]
     q = degree + 1
     cols = np.arange(nz) if cols is None else np.asarray(cols, dtype=np.int64)
@@ -337,15 +329,15 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
     norm = float(np.linalg.norm(Ab, 1))
     Phis = np.empty((lengths.size, nz, nz))
     Ps = np.empty((lengths.size, q, nz, c))
-    coef, mix, halves = _taylor_tables(degree)
-    Phi, P = np.empty((nz, nz)), np.empty((q, nz, c))
+    mix, halves = _doubling_tables(degree)
+    F = np.empty((q + 1, nz, nz))
     done = np.zeros(lengths.size, dtype=bool)
     for i in np.argsort(-lengths, kind="stable"):
         if done[i]:
             continue
         L = float(lengths[i])
         x = norm * L
-        s = max(0, math.ceil(math.log2(x / _TAYLOR_NORM))) if x > _TAYLOR_NORM else 0
+        s = max(0, math.ceil(math.log2(x / SERIES_NORM))) if x > SERIES_NORM else 0
         # deep enough to pass through every shorter length that is L / 2^j
         left = lengths[~done & (lengths < L)]
         if left.size:
@@ -353,8 +345,10 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
             on = np.abs(j - np.round(j)) <= 1e-9
             if np.any(on):
                 s = max(s, int(np.max(np.round(j[on]))))
-        while phi_series(Ab * (L / 2.0 ** s), coef, L / 2.0 ** s, cols, Phi, P) > _TAYLOR_TAIL:
-            s += 1
+        h = L / 2.0 ** s
+        phi_functions(Ab * h, F)
+        Phi = np.ascontiguousarray(F[0])
+        P = np.ascontiguousarray(h * F[1:][:, :, cols])                  # (q, nz, c)
         for level in range(s, -1, -1):
             length = L / 2.0 ** level
             # the other lengths equal to this one (to 1e-12 relative) take it
@@ -368,20 +362,21 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
     return Phis * (scale[:, None] / scale[None, :]), Ps * (scale[:, None] / scale[None, cols])
 
 
-def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray) -> np.ndarray:
+def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray,
+                      cols: np.ndarray | None = None) -> np.ndarray:
     """e (n, nz) at the times tn (n,) of ė = A e + d, e(0) = 0, d on each
-    interval the cubic of C (n − 1, 4, nz) (ascending powers of σ):
+    interval the cubic of C (n − 1, 4, c) (ascending powers of σ) in its
+    columns ``cols`` (c,) and zero in the others (all columns by default;
+    a translation's kinematic row ṙ = v is exact: its defect is 0):
     ``e_{j+1} = Φ e_j + Σ_p P_p w_p``, w_p = p! C[j, p] its σ-derivatives
-    at the interval's start; only d's columns that are not zero throughout
-    (a translation's kinematic row ṙ = v is exact: its defect is 0) enter
-    P_p; the sums Σ_p P_p w_p as one matrix product per distinct interval
-    length, the recursion compiled
+    at the interval's start; the sums Σ_p P_p w_p as one matrix product
+    per distinct interval length, the recursion compiled
     (:func:`flexbed.dynamics.steppers.propagate.linear_sweep`)."""
     nz = A.shape[0]
-    cols = np.flatnonzero(np.any(C != 0.0, axis=(0, 1)))
+    cols = np.arange(nz) if cols is None else cols
     lengths, which = _lengths(np.diff(tn))
     Phis, Ps = defect_propagators(A, lengths, cols=cols)
-    W = (C[:, :, cols] * _FACT4[None, :, None]).reshape(C.shape[0], -1)   # (n − 1, 4 c)
+    W = (C * _FACT4[None, :, None]).reshape(C.shape[0], -1)            # (n − 1, 4 c)
     Pcat = Ps.transpose(0, 2, 1, 3).reshape(lengths.size, nz, -1)       # [P0 P1 P2 P3]
     counts = np.bincount(which, minlength=lengths.size)
     main = int(np.argmax(counts))
@@ -396,11 +391,12 @@ def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray) -> np.ndarra
 
 
 def _error_on_every_sample(A: np.ndarray, t: np.ndarray, nodes: np.ndarray,
-                           C: np.ndarray) -> np.ndarray:
+                           C: np.ndarray, cols: np.ndarray | None = None) -> np.ndarray:
     """e (k, nz) on every sample from e(0) = 0: the defect's local cubics
-    C (n − 1, 4, nz) between the nodes, each restricted to the samples'
-    intervals and propagated exactly sample by sample (at the nodes the
-    same e as the sweep over the nodes, to round-off)."""
+    C (n − 1, 4, c) between the nodes (its columns ``cols``, all by
+    default), each restricted to the samples' intervals and propagated
+    exactly sample by sample (at the nodes the same e as the sweep over
+    the nodes, to round-off)."""
     tn = t[nodes]
     j = np.clip(np.searchsorted(nodes, np.arange(t.size - 1), side="right") - 1, 0, nodes.size - 2)
     H = tn[j + 1] - tn[j]
@@ -411,7 +407,7 @@ def _error_on_every_sample(A: np.ndarray, t: np.ndarray, nodes: np.ndarray,
     C_samples = np.stack([c0 + s * (c1 + s * (c2 + s * c3)),
                           r * (c1 + s * (2.0 * c2 + 3.0 * s * c3)),
                           r * r * (c2 + 3.0 * s * c3), r ** 3 * c3], axis=1)
-    return _propagate_defect(A, t, C_samples)
+    return _propagate_defect(A, t, C_samples, cols)
 
 
 _ROWS = 128     # samples per block of the motion scan: 128 × 3P doubles stay
@@ -464,13 +460,14 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndar
                              np.zeros((k, coords.nz)), none, _e=np.zeros((ts.size, coords.nz)))
     nodes, D, W = _defect_nodes(system, lin, t, Z)
     tn = t[nodes]
-    C = _cubics(tn, D)
+    cols = np.flatnonzero(np.any(D != 0.0, axis=0))      # d's columns that are not all 0
+    C = _cubics(tn, D[:, cols])
     CW = _cubics(tn, W)
     powers, works = np.empty((ts.size, W.shape[1])), np.empty((ts.size, W.shape[1]))
     pieces_at(ts, tn, CW, powers)
     pieces_integral_at(ts, tn, CW, works)
     # ė = A e + d, d the local cubics: Φ, P0 … P3 per distinct interval
-    En = _propagate_defect(A, tn, C)
+    En = _propagate_defect(A, tn, C, cols)
     # the points' errors between the nodes: cubic Hermite with ė = A e + d there
     Ed = En @ A.T + D
     pos = hermite_peak(t, nodes, En[:, :npos] @ T.T, Ed[:, :npos] @ T.T) if T.shape[0] else 0.0
@@ -482,4 +479,4 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndar
         rot = hermite_peak(t, nodes, V, Vd)
     reliable = pos <= 0.1 * motion or pos < 1e-12
     return ErrorEstimate(pos, rot, motion, reliable, system.nfev - nfev0, powers, nodes, En,
-                         works, lambda: _error_on_every_sample(A, t, nodes, C)[samples])
+                         works, lambda: _error_on_every_sample(A, t, nodes, C, cols)[samples])

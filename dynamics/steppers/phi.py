@@ -14,66 +14,75 @@ import numpy as np
 
 from .propagate import jit
 
-__all__ = ["phi_series", "phi_double"]
+__all__ = ["phi_functions", "phi_double", "SERIES_NORM"]
+
+
+#: the series are summed for ‖X‖₁ at most this ...
+SERIES_NORM = 2.0
+#: ... to X^SERIES_TERMS: the first term left out of φ_q, X^21/(21 + q)!,
+#: is below 2^21/25! = 1.4e-19 of 1 and 3e-18 of φ_4 (≥ 1/4!)
+SERIES_TERMS = 20
+#: the powers X … X^_BLOCK of Paterson and Stockmeyer's evaluation
+_BLOCK = 5
 
 
 @jit
-def phi_series(X, coef, h, cols, Phi, P):
-    """Φ = Σ_k coef[0, k] X^k and P_p = h Σ_k coef[p + 1, k] X^k[:, cols]
-    (k = 0 … K), the matrix products compiled (BLAS).
+def phi_functions(X, out):
+    """φ_0(X) … φ_q(X) into out (q + 1, n, n), ‖X‖₁ ≤ :data:`SERIES_NORM`.
+
+    φ_q by its Taylor series to X^:data:`SERIES_TERMS`, summed by
+    Paterson and Stockmeyer's scheme (X² … X⁵, then Horner in X⁵: 7
+    products); then φ_j = X φ_{j+1} + I/j!, j = q − 1 … 0 (q products).
 
     Parameters
     ----------
     X : (n, n) float64
-        h A (balanced), its norm small enough for K + 1 terms.
-    coef : (q + 1, K + 1) float64
-        1/(k + j)!, j = 0 … q.
-    h : float [s]
-    cols : (c,) int64
-        The columns of P kept.
-    Phi : (n, n) float64
+    out : (q + 1, n, n) float64
         Written.
-    P : (q, n, c) float64
-        Written.
-
-    Returns
-    -------
-    float
-        The larger of ‖X^K‖₁/K! and ‖X^(K−1)‖₁/(K−1)! (the series' tail).
     """
     n = X.shape[0]
-    q = P.shape[0]
-    K = coef.shape[1] - 1
-    c = cols.size
-    Xk = np.eye(n)
+    q = out.shape[0] - 1
+    m = _BLOCK
+    powers = np.empty((m + 1, n, n))
     for i in range(n):
         for j in range(n):
-            Phi[i, j] = 0.0
-        for p in range(q):
-            for j in range(c):
-                P[p, i, j] = 0.0
-    tail = 0.0
+            powers[0, i, j] = 1.0 if i == j else 0.0
+            powers[1, i, j] = X[i, j]
+    for k in range(2, m + 1):
+        powers[k] = np.dot(powers[k - 1], X)
+    # coefficients 1/(k + q)!, k = 0 … SERIES_TERMS
+    K = SERIES_TERMS
+    c = np.empty(K + 1)
+    f = 1.0
+    for i in range(2, q + 1):
+        f *= i
     for k in range(K + 1):
         if k:
-            Xk = np.dot(Xk, X)
-        a = coef[0, k]
-        for i in range(n):
-            for j in range(n):
-                Phi[i, j] += a * Xk[i, j]
-        for p in range(q):
-            b = h * coef[p + 1, k]
-            for i in range(n):
-                for j in range(c):
-                    P[p, i, j] += b * Xk[i, cols[j]]
-        if k >= K - 1:
-            norm = 0.0
-            for j in range(n):
-                s = 0.0
-                for i in range(n):
-                    s += abs(Xk[i, j])
-                norm = max(norm, s)
-            tail = max(tail, norm * coef[0, k])
-    return tail
+            f *= k + q
+        c[k] = 1.0 / f
+    blocks = (K + 1 + m - 1) // m
+    R = np.zeros((n, n))
+    for b in range(blocks - 1, -1, -1):
+        if b < blocks - 1:
+            R = np.dot(R, powers[m])
+        for i in range(m):
+            k = b * m + i
+            if k > K:
+                break
+            ck = c[k]
+            for r in range(n):
+                for s in range(n):
+                    R[r, s] += ck * powers[i, r, s]
+    out[q] = R
+    inv = 1.0
+    for j in range(1, q):
+        inv /= j
+    for j in range(q - 1, -1, -1):                    # inv = 1/j!
+        out[j] = np.dot(X, out[j + 1])
+        for r in range(n):
+            out[j, r, r] += inv
+        if j:
+            inv *= j
 
 
 @jit
