@@ -33,6 +33,7 @@ Propagated exactly, with an estimate of its error, by
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -55,6 +56,64 @@ def _qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     out[..., 2] = a0 * b2 + b0 * a2 + a3 * b1 - a1 * b3
     out[..., 3] = a0 * b3 + b0 * a3 + a1 * b2 - a2 * b1
     return out
+
+
+#: each system's index arrays of :class:`Coordinates` (they depend on its
+#: layout only), made once
+_INDICES: "weakref.WeakKeyDictionary[System, dict]" = weakref.WeakKeyDictionary()
+
+
+def _index_arrays(system: System) -> dict:
+    """The attributes of :class:`Coordinates` that depend on the layout
+    only (read-only arrays, shared by every linearisation of the system)."""
+    got = _INDICES.get(system)
+    if got is not None:
+        return got
+    lay = system.layout
+    n = len(lay.rigid)
+    nb3 = 3 * lay.base_free
+    n_pos = nb3 + 6 * n + lay.n_modal
+    d = dict(n_rigid=n, n_pos=n_pos, nz=2 * n_pos)
+    body = nb3 + 6 * np.arange(n)[:, None]
+    d["r_index"] = body + np.arange(3)[None, :]
+    d["th_index"] = body + np.arange(3, 6)[None, :]
+    d["v_index"] = n_pos + d["r_index"]
+    d["w_index"] = n_pos + d["th_index"]
+    d["base_index"] = np.arange(nb3)
+    d["base_v_index"] = n_pos + d["base_index"]
+    d["a_index"] = nb3 + 6 * n + np.arange(lay.n_modal)
+    d["ad_index"] = n_pos + d["a_index"]
+    qr = np.arange(lay.q_rigid.start, lay.q_rigid.stop).reshape(n, 7)
+    vr = np.arange(lay.v_rigid.start, lay.v_rigid.stop).reshape(n, 6)
+    d["y_r"], d["y_p"] = qr[:, :3], qr[:, 3:]
+    d["y_rd"], d["y_w"] = vr[:, :3], vr[:, 3:]
+    d["y_base"] = np.arange(lay.q_base.start, lay.q_base.stop)
+    d["y_base_v"] = np.arange(lay.v_base.start, lay.v_base.stop)
+    d["y_a"] = np.arange(lay.q_modal.start, lay.q_modal.stop)
+    d["y_ad"] = np.arange(lay.v_modal.start, lay.v_modal.stop)
+    # (z index, y index) of the entries added to y_eq and of those put in
+    # place, for the compiled to_y of many rows
+    d["_add"] = np.stack([np.concatenate([d["base_index"], d["r_index"].ravel(), d["a_index"]]),
+                          np.concatenate([d["y_base"], d["y_r"].ravel(), d["y_a"]])],
+                         axis=1).astype(np.int64)
+    d["_put"] = np.stack([np.concatenate([d["base_v_index"], d["v_index"].ravel(),
+                                          d["w_index"].ravel(), d["ad_index"]]),
+                          np.concatenate([d["y_base_v"], d["y_rd"].ravel(), d["y_w"].ravel(),
+                                          d["y_ad"]])], axis=1).astype(np.int64)
+    # (z index, y index) of the rates taken as they are, for the compiled rate
+    d["_take"] = np.stack([np.concatenate([d["base_index"], d["base_v_index"],
+                                           d["r_index"].ravel(), d["v_index"].ravel(),
+                                           d["w_index"].ravel(), d["a_index"], d["ad_index"]]),
+                           np.concatenate([d["y_base"], d["y_base_v"], d["y_r"].ravel(),
+                                           d["y_rd"].ravel(), d["y_w"].ravel(), d["y_a"],
+                                           d["y_ad"]])], axis=1).astype(np.int64)
+    d["_th"] = d["th_index"].astype(np.int64)
+    d["_yp"] = d["y_p"].astype(np.int64)
+    for v in d.values():
+        if isinstance(v, np.ndarray):
+            v.setflags(write=False)
+    _INDICES[system] = d
+    return d
 
 
 class Coordinates:
@@ -80,50 +139,11 @@ class Coordinates:
         lay = system.layout
         self.layout = lay
         self.y_eq = np.array(y_eq, dtype=float)
-        n = len(lay.rigid)
-        self.n_rigid = n
-        nb3 = 3 * lay.base_free
-        self.n_pos = nb3 + 6 * n + lay.n_modal
-        self.nz = 2 * self.n_pos
+        self.__dict__.update(_index_arrays(system))
         parts = lay.split(self.y_eq)
         p_eq = np.array(parts["p"], dtype=float)
         self.p_eq = p_eq / np.linalg.norm(p_eq, axis=1, keepdims=True)
         self.p_eq_conj = self.p_eq * np.array([1.0, -1.0, -1.0, -1.0])
-        body = nb3 + 6 * np.arange(n)[:, None]
-        self.r_index = body + np.arange(3)[None, :]
-        self.th_index = body + np.arange(3, 6)[None, :]
-        self.v_index = self.n_pos + self.r_index
-        self.w_index = self.n_pos + self.th_index
-        self.base_index = np.arange(nb3)
-        self.base_v_index = self.n_pos + self.base_index
-        self.a_index = nb3 + 6 * n + np.arange(lay.n_modal)
-        self.ad_index = self.n_pos + self.a_index
-        qr = np.arange(lay.q_rigid.start, lay.q_rigid.stop).reshape(n, 7)
-        vr = np.arange(lay.v_rigid.start, lay.v_rigid.stop).reshape(n, 6)
-        self.y_r, self.y_p = qr[:, :3], qr[:, 3:]
-        self.y_rd, self.y_w = vr[:, :3], vr[:, 3:]
-        self.y_base = np.arange(lay.q_base.start, lay.q_base.stop)
-        self.y_base_v = np.arange(lay.v_base.start, lay.v_base.stop)
-        self.y_a = np.arange(lay.q_modal.start, lay.q_modal.stop)
-        self.y_ad = np.arange(lay.v_modal.start, lay.v_modal.stop)
-        # (z index, y index) of the entries added to y_eq and of those put
-        # in place, for the compiled to_y of many rows
-        self._add = np.stack([np.concatenate([self.base_index, self.r_index.ravel(), self.a_index]),
-                              np.concatenate([self.y_base, self.y_r.ravel(), self.y_a])],
-                             axis=1).astype(np.int64)
-        self._put = np.stack([np.concatenate([self.base_v_index, self.v_index.ravel(),
-                                              self.w_index.ravel(), self.ad_index]),
-                              np.concatenate([self.y_base_v, self.y_rd.ravel(), self.y_w.ravel(),
-                                              self.y_ad])], axis=1).astype(np.int64)
-        # (z index, y index) of the rates taken as they are, for the compiled rate
-        self._take = np.stack([np.concatenate([self.base_index, self.base_v_index,
-                                               self.r_index.ravel(), self.v_index.ravel(),
-                                               self.w_index.ravel(), self.a_index, self.ad_index]),
-                               np.concatenate([self.y_base, self.y_base_v, self.y_r.ravel(),
-                                               self.y_rd.ravel(), self.y_w.ravel(), self.y_a,
-                                               self.y_ad])], axis=1).astype(np.int64)
-        self._th = self.th_index.astype(np.int64)
-        self._yp = self.y_p.astype(np.int64)
 
     def to_y(self, z: np.ndarray) -> np.ndarray:
         """States for deviations z (..., nz) → (..., ny); work entries from y_eq."""
@@ -218,9 +238,20 @@ def _sine_part(shape, kind: str) -> tuple:
     return (w, float(shape.start), float(shape.end), cs, cc)
 
 
-def _channels(system: System) -> tuple[list[_Channel], list[tuple[str, int]]]:
+#: each system's input channels (they depend on its scene only), made once
+_CHANNELS: "weakref.WeakKeyDictionary[System, tuple]" = weakref.WeakKeyDictionary()
+
+
+def _channels(system: System) -> tuple[tuple[_Channel, ...], tuple[tuple[str, int], ...]]:
     """The base's input channels and, for each, (kind, axis) with kind
-    "load" | "displacement" | "velocity"."""
+    "load" | "displacement" | "velocity" (made once per system)."""
+    got = _CHANNELS.get(system)
+    if got is None:
+        got = _CHANNELS[system] = _make_channels(system)
+    return got
+
+
+def _make_channels(system: System) -> tuple[tuple[_Channel, ...], tuple[tuple[str, int], ...]]:
     base = system.scene.base
     chans, kinds = [], []
     if base.motion == "free":
@@ -256,7 +287,7 @@ def _channels(system: System) -> tuple[list[_Channel], list[tuple[str, int]]]:
         chans.append(_Channel(f"{kind} {'xyz'[k]}", values, np.unique(knots), max_piece,
                               tuple(sines), polys))
         kinds.append((kind, k))
-    return chans, kinds
+    return tuple(chans), tuple(kinds)
 
 
 @dataclass(frozen=True)
