@@ -48,7 +48,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import matrix_balance
+from scipy.linalg.lapack import get_lapack_funcs
 
 from .linear_model import Coordinates, Linearisation
 from .linear_propagation import _lengths
@@ -324,42 +324,59 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
     q = degree + 1
     cols = np.arange(nz) if cols is None else np.asarray(cols, dtype=np.int64)
     c = cols.size
-    Ab, (scale, _) = matrix_balance(A, permute=False, separate=True)
-    Ab = np.ascontiguousarray(Ab)
+    Ab, scale = _balanced(A)
     norm = float(np.linalg.norm(Ab, 1))
     Phis = np.empty((lengths.size, nz, nz))
     Ps = np.empty((lengths.size, q, nz, c))
     mix, halves = _doubling_tables(degree)
     F = np.empty((q + 1, nz, nz))
-    done = np.zeros(lengths.size, dtype=bool)
-    for i in np.argsort(-lengths, kind="stable"):
+    Ls = [float(v) for v in lengths]                # a few lengths: plain floats
+    done = [False] * len(Ls)
+    for i in sorted(range(len(Ls)), key=lambda i: -Ls[i]):
         if done[i]:
             continue
-        L = float(lengths[i])
+        L = Ls[i]
         x = norm * L
         s = max(0, math.ceil(math.log2(x / SERIES_NORM))) if x > SERIES_NORM else 0
         # deep enough to pass through every shorter length that is L / 2^j
-        left = lengths[~done & (lengths < L)]
-        if left.size:
-            j = np.log2(L / left)
-            on = np.abs(j - np.round(j)) <= 1e-9
-            if np.any(on):
-                s = max(s, int(np.max(np.round(j[on]))))
+        for j, other in enumerate(Ls):
+            if not done[j] and 0.0 < other < L:
+                r = math.log2(L / other)
+                if abs(r - round(r)) <= 1e-9:
+                    s = max(s, round(r))
         h = L / 2.0 ** s
         phi_functions(Ab * h, F)
         Phi = np.ascontiguousarray(F[0])
         P = np.ascontiguousarray(h * F[1:][:, :, cols])                  # (q, nz, c)
         for level in range(s, -1, -1):
             length = L / 2.0 ** level
-            # the other lengths equal to this one (to 1e-12 relative) take it
-            same = ~done & (np.abs(lengths - length) <= 1e-12 * L)
-            Phis[same], Ps[same] = Phi, P
-            done |= same
+            # the lengths equal to this one (to 1e-12 relative) take it
+            for j, other in enumerate(Ls):
+                if not done[j] and abs(other - length) <= 1e-12 * L:
+                    Phis[j], Ps[j] = Phi, P
+                    done[j] = True
             if level:
                 phi_double(Phi, P, mix, halves)
-        done[i] = True
     # S · S⁻¹
-    return Phis * (scale[:, None] / scale[None, :]), Ps * (scale[:, None] / scale[None, cols])
+    Phis *= scale[:, None] / scale[None, :]
+    Ps *= scale[:, None] / scale[None, cols]
+    return Phis, Ps
+
+
+def _balanced(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A' = S⁻¹ A S (C-contiguous) and the diagonal of S: LAPACK's
+    balancing by powers of 2, scaling only (``gebal``, as SciPy's
+    ``matrix_balance(permute=False)``)."""
+    Ab, _, _, scale, info = _gebal()(A, scale=1, permute=0)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"gebal failed (info {info})")
+    return np.ascontiguousarray(Ab), scale
+
+
+@functools.lru_cache(maxsize=1)
+def _gebal():
+    """LAPACK's dgebal (SciPy's wrapper)."""
+    return get_lapack_funcs("gebal", (np.zeros((1, 1)),))
 
 
 def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray,
