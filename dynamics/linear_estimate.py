@@ -74,7 +74,7 @@ class ErrorEstimate:
     rotation : float [rad], the largest error of a rotation coordinate,
     likewise;
     motion : float [m], the largest displacement of those points in the
-    linear solution from the equilibrium, over every piece end;
+    linear solution from the equilibrium, over the output samples;
     reliable : bool, ``position <= 0.1 × motion`` (or both tiny);
     evaluations : right-hand sides it took; powers : (k, 4) [W] at every
     output sample; nodes : (n,) int, the piece ends where the defect is
@@ -303,9 +303,9 @@ def _doubling_tables(degree: int) -> tuple:
 
 def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
                        cols: np.ndarray | None = None) -> tuple:
-    """Φ (m, nz, nz) and P (m, degree + 1, nz, c) of ė = A e + d over each
+    """Φ (m, nz, nz) and P (m, nz, degree + 1, c) of ė = A e + d over each
     length L (m,) [s], d a polynomial of σ = t/L ∈ [0, 1] with σ-derivatives
-    w_p at 0: ``e(L) = Φ e(0) + Σ_p P_p w_p``, ``P_p = L φ_{p+1}(L A)``
+    w_p at 0: ``e(L) = Φ e(0) + Σ_p P_p w_p``, ``P_p = L φ_{p+1}(L A)`` (P[:, :, p])
     (its columns ``cols`` (c,) only, d being zero in the others; all by
     default),
     φ_j(X) = Σ_k X^k/(k + j)! (the blocks of Van Loan's exponential).
@@ -327,7 +327,7 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
     Ab, scale = _balanced(A)
     norm = float(np.linalg.norm(Ab, 1))
     Phis = np.empty((lengths.size, nz, nz))
-    Ps = np.empty((lengths.size, q, nz, c))
+    Ps = np.empty((lengths.size, nz, q, c))
     mix, halves = _doubling_tables(degree)
     F = np.empty((q + 1, nz, nz))
     Ls = [float(v) for v in lengths]                # a few lengths: plain floats
@@ -353,13 +353,13 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
             # the lengths equal to this one (to 1e-12 relative) take it
             for j, other in enumerate(Ls):
                 if not done[j] and abs(other - length) <= 1e-12 * L:
-                    Phis[j], Ps[j] = Phi, P
+                    Phis[j], Ps[j] = Phi, P.transpose(1, 0, 2)
                     done[j] = True
             if level:
                 phi_double(Phi, P, mix, halves)
     # S · S⁻¹
     Phis *= scale[:, None] / scale[None, :]
-    Ps *= scale[:, None] / scale[None, cols]
+    Ps *= (scale[:, None] / scale[None, cols])[:, None, :]
     return Phis, Ps
 
 
@@ -394,7 +394,7 @@ def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray,
     lengths, which = _lengths(np.diff(tn))
     Phis, Ps = defect_propagators(A, lengths, cols=cols)
     W = (C * _FACT4[None, :, None]).reshape(C.shape[0], -1)            # (n − 1, 4 c)
-    Pcat = Ps.transpose(0, 2, 1, 3).reshape(lengths.size, nz, -1)       # [P0 P1 P2 P3]
+    Pcat = Ps.reshape(lengths.size, nz, -1)                             # [P0 P1 P2 P3]
     counts = np.bincount(which, minlength=lengths.size)
     main = int(np.argmax(counts))
     Q = W @ Pcat[main].T
@@ -456,11 +456,12 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndar
     t : (k,) [s], Z : (k, nz)
         The linear solution at the piece ends of its propagation
         (:func:`flexbed.dynamics.linear_propagation.propagate_pieces`):
-        the nodes are among them, and the largest errors and motion are
-        taken over all of them.
+        the nodes are among them, and the largest errors are taken over
+        all of them.
     samples : (s,) int, optional
         Where the output samples are among them (all by default): the
-        powers, their integrals and :attr:`ErrorEstimate.e` are given there.
+        motion is taken over them, and the powers, their integrals and
+        :attr:`ErrorEstimate.e` are given there.
     """
     coords = lin.coords
     nfev0 = system.nfev
@@ -469,7 +470,8 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndar
     A = np.ascontiguousarray(lin.A)
     samples = np.arange(t.size) if samples is None else samples
     ts = t[samples]
-    motion = _largest_motion(Z[:, :npos], T) if T.shape[0] else 0.0
+    motion = (_largest_motion(Z[:, :npos] if samples.size == t.size else Z[samples, :npos], T)
+              if T.shape[0] else 0.0)
     k = t.size
     if k < 2:                                  # the start only: e(0) = 0
         none = np.zeros((ts.size, system.layout.work.stop - system.layout.work.start))

@@ -57,7 +57,7 @@ def test_defect_propagators_are_the_block_exponential():
         # 1.8e-12 at 0.2 s where the free mass has drifted: ‖Φ‖ ≈ 7e4)
         ref_phi, ref_p = _van_loan(A, L)
         assert np.max(np.abs(Phi - ref_phi)) < 1e-11 * np.max(np.abs(ref_phi))
-        for got, ref in zip(P, ref_p):
+        for got, ref in zip(P.transpose(1, 0, 2), ref_p):
             assert np.max(np.abs(got - ref)) < 1e-11 * np.max(np.abs(ref))
 
 
