@@ -37,11 +37,12 @@ from scipy.linalg import expm
 from .integrate import output_grid
 from .linear_model import Linearisation
 from .piecewise import PiecewisePolynomial
-from .steppers.propagate import linear_sweep, poly_derivatives
+from .steppers.propagate import few_distinct, linear_sweep, merge_cuts, poly_derivatives
 
 __all__ = ["propagate", "propagate_pieces"]
 
 _DEG = 5                                   # degree of the inputs' local polynomials
+_FEW = 32                                  # distinct piece lengths found without sorting
 _NODES = 0.5 - 0.5 * np.cos((2 * np.arange(_DEG + 1) + 1) * np.pi / (2 * (_DEG + 1)))
 _VINV = np.linalg.inv(_NODES[:, None] ** np.arange(_DEG + 1)[None, :])
 _FACT = np.array([math.factorial(m) for m in range(_DEG + 1)], dtype=float)
@@ -50,8 +51,9 @@ _FACT = np.array([math.factorial(m) for m in range(_DEG + 1)], dtype=float)
 def _pieces(lin: Linearisation, grid: np.ndarray) -> np.ndarray:
     """Piece boundaries: the output grid, the inputs' knots inside it, and
     extra cuts where a channel needs shorter pieces (none for analytic
-    sinusoids: they are propagated exactly); near-coincident times (within
-    1e-9 of the output spacing) merged."""
+    sinusoids: they are propagated exactly); a cut within 1e-9 of the
+    output spacing of another time, or of a grid time, left out (compiled
+    merge, :func:`flexbed.dynamics.steppers.propagate.merge_cuts`)."""
     t_end = float(grid[-1])
     cuts = [grid]
     for c in lin.channels:
@@ -60,22 +62,13 @@ def _pieces(lin: Linearisation, grid: np.ndarray) -> np.ndarray:
         if math.isfinite(c.max_piece) and not c.sines:
             cuts.append(np.arange(0.0, t_end, c.max_piece))
     tol = 1e-9 * (float(np.min(np.diff(grid))) if grid.size > 1 else t_end)
-    extra = np.concatenate(cuts[1:]) if len(cuts) > 1 else np.zeros(0)
-    if grid.size > 1 and extra.size:
-        # every cut on a grid point already (a load sampled on the output
-        # grid): the grid itself
-        i = np.clip(np.searchsorted(grid, extra), 1, grid.size - 1)
-        if np.all(np.minimum(grid[i] - extra, extra - grid[i - 1]) <= tol):
-            return grid.copy()
-    t = np.unique(np.concatenate(cuts))
-    keep = np.concatenate([[True], np.diff(t) > tol])
-    t = t[keep]
-    # snap back onto the output grid where a knot replaced a grid point
-    idx = np.clip(np.searchsorted(t, grid), 0, t.size - 1)
-    left = np.clip(idx - 1, 0, t.size - 1)
-    pick = np.where(np.abs(t[idx] - grid) <= np.abs(t[left] - grid), idx, left)
-    t[pick] = grid
-    return t
+    if len(cuts) > 2:
+        extra = np.sort(np.concatenate(cuts[1:]))
+    else:                                         # one channel's knots: sorted already
+        extra = cuts[1] if len(cuts) == 2 else np.zeros(0)
+    out = np.empty(grid.size + extra.size)
+    n = merge_cuts(grid, np.ascontiguousarray(extra, dtype=float), tol, out)
+    return out[:n].copy() if n < out.size else out
 
 
 def _lengths(h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -84,8 +77,11 @@ def _lengths(h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if not h.size:
         return np.zeros(0), np.zeros(0, dtype=np.int64)
     keys = np.round(h * (1e12 / float(np.max(h))))
-    if keys.min() == keys.max():                           # one length (a uniform grid)
-        return h[:1], np.zeros(h.size, dtype=np.int64)
+    which = np.empty(h.size, dtype=np.int64)
+    first = np.empty(_FEW, dtype=np.int64)
+    m = few_distinct(keys, which, first, _FEW)
+    if m > 0:
+        return h[first[:m]], which
     _, first, which = np.unique(keys, return_index=True, return_inverse=True)
     return h[first], which.astype(np.int64).reshape(-1)
 

@@ -205,3 +205,23 @@ def test_compiled_poly_derivatives_are_the_exact_derivatives():
         for m in range(6):
             exact = npp.polyval(u, npp.polyder(c, m)) * h[i] ** m if m else npp.polyval(u, c)
             assert abs(out[i, m] - 1.0 - exact) < 1e-13 * (1.0 + abs(exact))
+
+
+def test_pieces_merge_knots_into_the_grid():
+    """The pieces' ends: every grid time exactly, a knot within 1e-9 of the
+    spacing of a grid time or of the cut before it left out, the others kept
+    in order; the piece lengths grouped without sorting when few."""
+    from flexbed.dynamics.linear_propagation import _lengths
+    from flexbed.dynamics.steppers.propagate import merge_cuts
+
+    grid = np.linspace(0.0, 0.1, 11)
+    tol = 1e-9 * 0.01
+    extra = np.array([0.005, 0.02 + 0.4 * tol, 0.0349, 0.0349 + 0.5 * tol, 0.06 - 0.3 * tol, 0.095])
+    out = np.empty(grid.size + extra.size)
+    n = merge_cuts(grid, extra, tol, out)
+    expected = np.sort(np.concatenate([grid, [0.005, 0.0349, 0.095]]))
+    assert n == expected.size and np.array_equal(out[:n], expected)
+    assert np.array_equal(out[:n][np.isin(out[:n], grid)], grid)
+    lengths, which = _lengths(np.diff(out[:n]))
+    assert np.allclose(lengths[which], np.diff(out[:n]), rtol=1e-11, atol=0.0)
+    assert np.all(np.diff(lengths) > 0)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 
 #: as :data:`flexbed.dynamics.steppers.common.jit`, with the sums' terms
 #: free to be reordered and fused (vectorised dot products: 3–4 times
@@ -19,7 +20,8 @@ import numba
 #: their meaning
 jit = numba.njit(cache=True, error_model="numpy", fastmath={"reassoc", "contract"})
 
-__all__ = ["linear_sweep", "poly_derivatives", "deviations_to_states", "rates_of_states"]
+__all__ = ["linear_sweep", "poly_derivatives", "deviations_to_states", "rates_of_states",
+           "few_distinct"]
 
 
 @jit
@@ -140,3 +142,72 @@ def rates_of_states(dY, take, th_index, p_index, p_conj, Zd):
             Zd[i, th_index[b, 0]] = 2.0 * (a0 * b1 + b0 * a1 + a2 * b3 - a3 * b2)
             Zd[i, th_index[b, 1]] = 2.0 * (a0 * b2 + b0 * a2 + a3 * b1 - a1 * b3)
             Zd[i, th_index[b, 2]] = 2.0 * (a0 * b3 + b0 * a3 + a1 * b2 - a2 * b1)
+
+
+@jit
+def few_distinct(keys, which, first, most):
+    """The distinct values of keys (k,) when there are at most ``most``:
+    which[i] the rank of keys[i] among them (ascending), first[r] the first
+    i of rank r; returns how many, or −1 when there are more (a linear scan
+    over the few seen so far: the usual case of one or two piece lengths,
+    without sorting k values).
+
+    Parameters
+    ----------
+    keys : (k,) float64
+    which : (k,) int64
+        Written.
+    first : (most,) int64
+        Written (its first m entries).
+    most : int
+    """
+    vals = np.empty(most)
+    seen = np.empty(most, dtype=np.int64)
+    m = 0
+    for i in range(keys.size):
+        v = keys[i]
+        j = 0
+        while j < m and vals[j] != v:
+            j += 1
+        if j == m:
+            if m == most:
+                return -1
+            vals[m] = v
+            seen[m] = i
+            m += 1
+        which[i] = j
+    order = np.argsort(vals[:m])
+    rank = np.empty(m, dtype=np.int64)
+    for r in range(m):
+        rank[order[r]] = r
+        first[r] = seen[order[r]]
+    for i in range(keys.size):
+        which[i] = rank[which[i]]
+    return m
+
+
+@jit
+def merge_cuts(grid, extra, tol, out):
+    """The output grid (k,) and the sorted extra cuts (e,) merged into out
+    (at least k + e long), ascending, a cut within ``tol`` of the time kept
+    before it or of the next grid time left out (the grid's times exact);
+    returns how many were written."""
+    k, e = grid.size, extra.size
+    i = j = n = 0
+    while i < k or j < e:
+        if j == e or (i < k and grid[i] <= extra[j]):
+            v = grid[i]
+            i += 1
+            if n and v - out[n - 1] <= tol:
+                out[n - 1] = v                   # a cut just before it: the grid's time
+            else:
+                out[n] = v
+                n += 1
+        else:
+            v = extra[j]
+            j += 1
+            if (n and v - out[n - 1] <= tol) or (i < k and grid[i] - v <= tol):
+                continue
+            out[n] = v
+            n += 1
+    return n
