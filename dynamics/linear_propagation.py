@@ -43,6 +43,7 @@ __all__ = ["propagate", "propagate_pieces"]
 
 _DEG = 5                                   # degree of the inputs' local polynomials
 _FEW = 32                                  # distinct piece lengths found without sorting
+_POWER_MAX = 16                            # a length up to this times the shortest: its power
 _NODES = 0.5 - 0.5 * np.cos((2 * np.arange(_DEG + 1) + 1) * np.pi / (2 * (_DEG + 1)))
 _VINV = np.linalg.inv(_NODES[:, None] ** np.arange(_DEG + 1)[None, :])
 _FACT = np.array([math.factorial(m) for m in range(_DEG + 1)], dtype=float)
@@ -98,28 +99,49 @@ def _propagators(lin: Linearisation, lengths: np.ndarray, terms: list) -> tuple:
         d/dσ [z; w] = [[h A, h G], [0, S]] [z; w],
 
     w = (each channel's polynomial σ-derivatives, degree ≤ 5; 1 for b0;
-    each sinusoid's (x_s, x_c) rotating at ωh)."""
+    each sinusoid's (x_s, x_c) rotating at ωh). A length k times the
+    shortest (k ≤ 16) is the shortest's exponential to the k-th power (in
+    t-derivatives: binary powers, a few products instead of an exponential)."""
     nz, nu = lin.B.shape
     d1 = _DEG + 1
     ns = len(terms)
     nw = nu * d1 + 1 + 2 * ns
     Phis = np.empty((lengths.size, nz, nz))
     Psis = np.empty((lengths.size, nz, nw))
-    for i, h in enumerate(lengths):
-        M = np.zeros((nz + nw, nz + nw))
-        M[:nz, :nz] = h * lin.A
-        for j in range(nu):
-            c0 = nz + j * d1
-            M[:nz, c0] = h * lin.B[:, j]
-            for m in range(_DEG):
-                M[c0 + m, c0 + m + 1] = 1.0
-        M[:nz, nz + nu * d1] = h * lin.b0
-        for q, (j, (w, *_)) in enumerate(terms):
-            cs = nz + nu * d1 + 1 + 2 * q
-            M[:nz, cs] = h * lin.B[:, j]
-            M[cs, cs + 1] = w * h
-            M[cs + 1, cs] = -w * h
-        E = expm(M)
+    # the σ-derivatives are h^m times the t-derivatives: E(h) = T_h E_t(h) T_h⁻¹
+    # with E_t(h) = exp(h M_t), M_t free of h, so that E_t(k h) = E_t(h)^k
+    degree = np.tile(np.arange(d1), nu)
+
+    def scaling(h):
+        s = np.ones(nz + nw)
+        s[nz:nz + nu * d1] = h ** degree
+        return s
+
+    base = None
+    for i in np.argsort(lengths, kind="stable"):
+        h = float(lengths[i])
+        k = round(h / base[0]) if base is not None else 0
+        if base is not None and 2 <= k <= _POWER_MAX and abs(h - k * base[0]) <= 1e-9 * h:
+            s = scaling(h)
+            E = np.linalg.matrix_power(base[1], k) * (s[:, None] / s[None, :])
+        else:
+            M = np.zeros((nz + nw, nz + nw))
+            M[:nz, :nz] = h * lin.A
+            for j in range(nu):
+                c0 = nz + j * d1
+                M[:nz, c0] = h * lin.B[:, j]
+                for m in range(_DEG):
+                    M[c0 + m, c0 + m + 1] = 1.0
+            M[:nz, nz + nu * d1] = h * lin.b0
+            for q, (j, (w, *_)) in enumerate(terms):
+                cs = nz + nu * d1 + 1 + 2 * q
+                M[:nz, cs] = h * lin.B[:, j]
+                M[cs, cs + 1] = w * h
+                M[cs + 1, cs] = -w * h
+            E = expm(M)
+            if base is None:
+                s = scaling(h)
+                base = (h, E * (s[None, :] / s[:, None]))
         Phis[i], Psis[i] = E[:nz, :nz], E[:nz, nz:]
     return Phis, Psis
 

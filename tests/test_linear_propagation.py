@@ -225,3 +225,21 @@ def test_pieces_merge_knots_into_the_grid():
     lengths, which = _lengths(np.diff(out[:n]))
     assert np.allclose(lengths[which], np.diff(out[:n]), rtol=1e-11, atol=0.0)
     assert np.all(np.diff(lengths) > 0)
+
+
+def test_a_multiple_of_the_shortest_piece_is_its_power():
+    """The propagators of a piece k times the shortest (binary powers of the
+    shortest's exponential in t-derivatives) equal the exponential of its own
+    augmented matrix to round-off (the reference scene: a sampled load)."""
+    from flexbed.dynamics.linear_propagation import _propagators, _sine_terms
+
+    system = compile_scene(load_scene(None))
+    lin = linearise(system, solve_statics(system, tol=1e-11).y)
+    terms = _sine_terms(lin)
+    Phis, Psis = _propagators(lin, np.array([1e-3, 1e-2, 3e-3]), terms)
+    for i, h in ((1, 1e-2), (2, 3e-3)):
+        Phi, Psi = _propagators(lin, np.array([h]), terms)
+        assert np.max(np.abs(Phis[i] - Phi[0])) < 1e-13 * np.max(np.abs(Phi[0]))
+        for col in range(Psi.shape[2]):
+            ref = Psi[0][:, col]
+            assert np.max(np.abs(Psis[i][:, col] - ref)) <= 1e-12 * np.max(np.abs(ref)) + 1e-300
