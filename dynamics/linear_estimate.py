@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import functools
 import math
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -105,6 +106,39 @@ class ErrorEstimate:
         return self._e
 
 
+#: each system's points that matter, as :func:`_point_structure` gives them
+_POINTS: "weakref.WeakKeyDictionary[System, tuple]" = weakref.WeakKeyDictionary()
+
+
+def _point_structure(system: System) -> tuple:
+    """What :func:`_point_map` needs of the system alone (made once per
+    system): the points' bodies (their positions among bodies 2…), their
+    body-frame arms s̄ (P, 3), and for each flexible body among them the
+    points on it, the columns of its modes and the mode shapes there."""
+    got = _POINTS.get(system)
+    if got is not None:
+        return got
+    lay = system.layout
+    where = {b: k for k, b in enumerate(lay.rigid)}
+    end_body = np.asarray(system.end_body, dtype=np.int64)
+    ends = np.array([e for e, b in enumerate(end_body) if int(b) in where], dtype=np.int64)
+    n = len(lay.rigid)
+    body = np.concatenate([np.arange(n), [where[int(b)] for b in end_body[ends]]]).astype(np.int64)
+    arms = np.zeros((body.size, 3))
+    if ends.size:
+        arms[n:] = np.asarray(system.S, dtype=float)[ends]
+    end_phi = np.asarray(system.data.end_phi)
+    modal, offset = [], 0
+    for b, nm in lay.modal:
+        first = offset
+        offset += nm
+        on = np.flatnonzero(end_body[ends] == b) + n if b in where else np.zeros(0, np.int64)
+        if on.size:
+            modal.append((on, first, nm, end_phi[ends[on - n]][:, :, :nm]))
+    got = _POINTS[system] = (body, arms, tuple(modal))
+    return got
+
+
 def _point_map(system: System, coords: Coordinates) -> np.ndarray:
     """(P, 3, nz) first-order map from the deviations z to the inertial
     displacements of every point that matters: the centres of mass of
@@ -113,32 +147,17 @@ def _point_map(system: System, coords: Coordinates) -> np.ndarray:
     columns of z are non-zero."""
     from .rotation import A as rotation_matrix
 
-    lay = system.layout
-    where = {b: k for k, b in enumerate(lay.rigid)}
-    ends = np.array([e for e, b in enumerate(system.end_body) if int(b) in where], dtype=np.int64)
-    n = len(lay.rigid)
-    P = n + ends.size
+    body, arms, modal = _point_structure(system)
+    P = body.size
     if not P:
         return np.zeros((0, 3, coords.nz))
-    end_body = np.asarray(system.end_body, dtype=np.int64)
-    body = np.concatenate([np.arange(n), [where[int(b)] for b in end_body[ends]]]).astype(np.int64)
-    s = np.zeros((P, 3))
-    if ends.size:
-        s[n:] = np.asarray(system.S, dtype=float)[ends]
+    s = arms.copy()
     A_eq = rotation_matrix(coords.p_eq)[body]                          # (P, 3, 3)
     T = np.zeros((P, 3, coords.nz))
     rows = np.arange(P)
     T[rows[:, None], np.arange(3)[None, :], coords.r_index[body]] = 1.0
-    end_phi = np.asarray(system.data.end_phi)
-    modal, offset = [], 0
-    for b, nm in lay.modal:
-        idx = coords.a_index[offset:offset + nm]
-        offset += nm
-        on = np.flatnonzero(end_body[ends] == b) + n if b in where else np.zeros(0, np.int64)
-        if on.size:                                   # the lever arm includes the sag
-            phi = end_phi[ends[on - n]][:, :, :idx.size]                # (E, 3, nm)
-            s[on] += phi @ coords.y_eq[coords.y_a[idx - coords.a_index[0]]]
-            modal.append((on, idx, phi))
+    for on, first, nm, phi in modal:                  # the lever arm includes the sag
+        s[on] += phi @ coords.y_eq[coords.y_a[first:first + nm]]
     # δθ × s̄ = −s̃ δθ, turned into the inertial frame
     s_tilde = np.zeros((P, 3, 3))
     s_tilde[:, 0, 1], s_tilde[:, 0, 2] = -s[:, 2], s[:, 1]
@@ -146,7 +165,8 @@ def _point_map(system: System, coords: Coordinates) -> np.ndarray:
     s_tilde[:, 2, 0], s_tilde[:, 2, 1] = -s[:, 1], s[:, 0]
     T[rows[:, None, None], np.arange(3)[None, :, None], coords.th_index[body][:, None, :]] = \
         -A_eq @ s_tilde
-    for on, idx, phi in modal:
+    for on, first, nm, phi in modal:
+        idx = coords.a_index[first:first + nm]
         T[on[:, None, None], np.arange(3)[None, :, None], idx[None, None, :]] = A_eq[on] @ phi
     return T
 
