@@ -53,8 +53,8 @@ from scipy.linalg.lapack import get_lapack_funcs
 
 from .linear_model import Coordinates, Linearisation
 from .linear_propagation import _lengths
-from .steppers.defect import (cubic_pieces, hermite_peak, largest_point, pieces_at,
-                              pieces_integral_at)
+from .steppers.defect import (cubic_misses, cubic_pieces, defect_rows, hermite_peak,
+                              largest_point, pieces_at, pieces_integral_at)
 from .steppers.phi import SERIES_NORM, phi_double, phi_functions
 from .steppers.propagate import linear_sweep
 from .system import System
@@ -274,35 +274,42 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     stretch of the run keeps long intervals."""
     coords = lin.coords
     work = system.layout.work
-    AT = lin.A.T
-
-    nz = lin.A.shape[0]
+    A = np.ascontiguousarray(lin.A)
+    nz = A.shape[0]
+    conv = (coords.y_eq, coords._add, coords._put, coords._th, coords._yp, coords.p_eq,
+            coords._take, coords.p_eq_conj)
+    kernel = system.kernel
 
     def evaluate(idx):
-        """[d | powers] (q, nz + 4) at the samples idx, and the largest |R|."""
-        tn = t[idx]
-        dY, _ = system.rhs_batch(tn, coords.to_y(Z[idx]))
-        R = coords.rate(dY) - lin.b0 - lin.inputs(tn) @ lin.B.T
-        return (np.concatenate([R - Z[idx] @ AT, dY[:, work]], axis=1),
-                float(np.max(np.abs(R))) if R.size else 0.0)
+        """[d | powers] (q, nz + 4) at the samples idx, and the largest |R|
+        (:func:`flexbed.dynamics.steppers.defect.defect_rows`)."""
+        V = np.empty((idx.size, nz + work.stop - work.start))
+        r = defect_rows(kernel, system.seg_end, t, Z, idx, conv, A, lin.b0, lin.B,
+                        lin.inputs(t[idx]), work.start, V)
+        system.nfev += idx.size
+        return V, r
 
     system.set_segment(None)
     nodes = _first_nodes(t)
     V, r_max = evaluate(nodes)
+    vmax = np.max(np.abs(V), axis=0)
     is_new = np.ones(nodes.size, dtype=bool)              # every other node, the last kept
     is_new[::2] = False
     is_new[-1] = False
     tol = 16.0 * _CUBIC_SHARE
     while np.any(is_new):
         old, new = np.flatnonzero(~is_new), np.flatnonzero(is_new)
-        scale = np.maximum(np.max(np.abs(V), axis=0), 1e-300)
-        scale[:nz] = max(float(np.max(scale[:nz])), _NOISE * r_max, 1e-300)
-        miss = _misses(t[nodes[old]], V[old], t[nodes[new]], V[new], scale)
+        scale = np.maximum(vmax, 1e-300)
+        scale[:nz] = max(float(np.max(vmax[:nz])), _NOISE * r_max, 1e-300)
+        miss = np.full(new.size, math.inf)
+        if old.size >= 4:
+            cubic_misses(t[nodes[old]], V[old], t[nodes[new]], V[new], scale, miss)
         mids = _halve_next_to(nodes, new[miss > tol])
         if not mids.size:
             break
         V2, r2 = evaluate(mids)
         r_max = max(r_max, r2)
+        vmax = np.maximum(vmax, np.max(np.abs(V2), axis=0))
         merged = np.concatenate([nodes, mids])
         order = np.argsort(merged, kind="stable")
         nodes = merged[order]

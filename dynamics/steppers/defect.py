@@ -15,9 +15,10 @@ import math
 
 import numpy as np
 
-from .propagate import jit
+from .propagate import deviations_to_states, jit, rates_of_states
 
-__all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak", "largest_point"]
+__all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak", "largest_point",
+           "defect_rows", "cubic_misses"]
 
 
 @jit
@@ -197,3 +198,93 @@ def largest_point(dP):
             if s > best:
                 best = s
     return math.sqrt(best)
+
+
+@jit
+def defect_rows(kernel, seg_end, t, Z, idx, coords, A, b0, B, du, w0, V):
+    """The defect and the powers at the samples idx (q,), one compiled pass:
+    V[r] = [R − A z_i, ẏ_i[w0 : w0 + c]], i = idx[r], R = ż(f(t_i, y(z_i)))
+    − b0 − B du[r] (the nonlinear rates less the linear model's inputs).
+
+    Parameters
+    ----------
+    kernel : tuple (function, F, I)
+        The compiled right-hand side (:attr:`flexbed.dynamics.system.System.kernel`).
+    seg_end : float [s]
+    t : (k,) float64 [s]; Z : (k, nz) float64
+        The linear solution.
+    idx : (q,) int64
+    coords : tuple
+        (y_eq, add, put, th_index, p_index, p_eq, take, p_conj) of
+        :func:`flexbed.dynamics.steppers.propagate.deviations_to_states` and
+        :func:`~flexbed.dynamics.steppers.propagate.rates_of_states`.
+    A : (nz, nz); b0 : (nz,); B : (nz, nu); du : (q, nu) float64
+    w0 : int
+        Where the powers start in ẏ.
+    V : (q, nz + c) float64
+        Written.
+
+    Returns
+    -------
+    float
+        The largest |R| (the rates' scale).
+    """
+    fn, F, I = kernel
+    y_eq, add, put, th, yp, p_eq, take, p_conj = coords
+    nz = A.shape[0]
+    nu = B.shape[1]
+    nw = V.shape[1] - nz
+    y = np.empty((1, y_eq.size))
+    dy = np.empty((1, y_eq.size))
+    zd = np.empty((1, nz))
+    r_max = 0.0
+    for r in range(idx.size):
+        i = idx[r]
+        deviations_to_states(Z[i:i + 1], y_eq, add, put, th, yp, p_eq, y)
+        fn(t[i], seg_end, y[0].ctypes, dy[0].ctypes, F.ctypes, I.ctypes)
+        rates_of_states(dy, take, th, yp, p_conj, zd)
+        z = Z[i]
+        for a in range(nz):
+            R = zd[0, a] - b0[a]
+            for u in range(nu):
+                R -= B[a, u] * du[r, u]
+            if abs(R) > r_max:
+                r_max = abs(R)
+            row = A[a]
+            s = 0.0
+            for c in range(nz):
+                s += row[c] * z[c]
+            V[r, a] = R - s
+        for c in range(nw):
+            V[r, nz + c] = dy[0, w0 + c]
+    return r_max
+
+
+@jit
+def cubic_misses(t_old, V_old, t_new, V_new, scale, miss):
+    """miss[r] = the largest |p(t_new[r]) − V_new[r]| / scale over the
+    columns, p the local cubics (module docstring) through the nodes t_old
+    (n ≥ 4, ascending) with values V_old (n, c); scale (c,)."""
+    n, c = V_old.shape
+    j = 0
+    for r in range(t_new.size):
+        tq = t_new[r]
+        while j < n - 2 and tq >= t_old[j + 1]:
+            j += 1
+        j0 = min(max(j - 1, 0), n - 4)
+        best = 0.0
+        # Lagrange's weights of the four nodes at tq
+        w = np.empty(4)
+        for a in range(4):
+            wa = 1.0
+            for b in range(4):
+                if b != a:
+                    wa *= (tq - t_old[j0 + b]) / (t_old[j0 + a] - t_old[j0 + b])
+            w[a] = wa
+        for q in range(c):
+            p = (w[0] * V_old[j0, q] + w[1] * V_old[j0 + 1, q] + w[2] * V_old[j0 + 2, q]
+                 + w[3] * V_old[j0 + 3, q])
+            m = abs(p - V_new[r, q]) / scale[q]
+            if m > best:
+                best = m
+        miss[r] = best
