@@ -4,11 +4,15 @@ A run allocates and frees arrays of 0.1–10 MB (a linear path on 1 ms
 samples: its states, 1 MB each). glibc serves them from the heap once one
 has been freed, but gives the heap's free top back to the system as soon
 as it exceeds twice the largest such array; the next run then touches
-fresh pages, one minor page fault per 4 KiB (3–7 µs each on this kind of
-machine). Measured: the linear path on the reference scene's 3,001 samples
-took 574 page faults a call when called alone in a loop, and none when its
-allocations interleaved with an integrator's, which kept the heap's top
-in use; the same call, the same figures, cost 10–30 % more.
+fresh pages, one minor page fault per 4 KiB. At one stage of its
+development the linear path on the reference scene's 3,001 samples took
+574 page faults a call when called again and again (and none when its
+calls alternated with an integrator's, which kept the heap's top in use);
+its fastest call of 100 was 7.1 and 9.8 ms against 5.0 and 5.5 ms with
+the thresholds fixed, two runs of each. Whether a given version of a
+calculation falls into the pattern depends on the order of its
+allocations; three 1 MiB arrays made and freed again and again do
+(480 faults a round here; tests/test_heap.py).
 
 :func:`keep_freed_memory` fixes glibc's thresholds instead of letting them
 float: arrays under 32 MiB from the heap (glibc's own ceiling for its
