@@ -42,7 +42,7 @@ COMPILED = (
     "kernel.storage", "kernel.inputs", "kernel.mount_laws", "kernel.flexible_body",
     "kernel.rhs", "kernel.batch",
     "steppers.common", "steppers.rk4", "steppers.dop853", "steppers.radau",
-    "steppers.propagate", "steppers.defect",
+    "steppers.propagate", "steppers.defect", "steppers.phi",
 )
 
 _ROOT = Path(__file__).resolve().parent
