@@ -274,18 +274,19 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     stretch of the run keeps long intervals."""
     coords = lin.coords
     work = system.layout.work
-    A = np.ascontiguousarray(lin.A)
-    nz = A.shape[0]
+    AT = lin.A.T
+    nz = AT.shape[0]
     conv = (coords.y_eq, coords._add, coords._put, coords._th, coords._yp, coords.p_eq,
             coords._take, coords.p_eq_conj)
     kernel = system.kernel
 
     def evaluate(idx):
         """[d | powers] (q, nz + 4) at the samples idx, and the largest |R|
-        (:func:`flexbed.dynamics.steppers.defect.defect_rows`)."""
+        (:func:`flexbed.dynamics.steppers.defect.defect_rows`, then A z off)."""
         V = np.empty((idx.size, nz + work.stop - work.start))
-        r = defect_rows(kernel, system.seg_end, t, Z, idx, conv, A, lin.b0, lin.B,
+        r = defect_rows(kernel, system.seg_end, t, Z, idx, conv, lin.b0, lin.B,
                         lin.inputs(t[idx]), work.start, V)
+        V[:, :nz] -= Z[idx] @ AT
         system.nfev += idx.size
         return V, r
 

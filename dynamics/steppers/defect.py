@@ -201,10 +201,11 @@ def largest_point(dP):
 
 
 @jit
-def defect_rows(kernel, seg_end, t, Z, idx, coords, A, b0, B, du, w0, V):
-    """The defect and the powers at the samples idx (q,), one compiled pass:
-    V[r] = [R − A z_i, ẏ_i[w0 : w0 + c]], i = idx[r], R = ż(f(t_i, y(z_i)))
-    − b0 − B du[r] (the nonlinear rates less the linear model's inputs).
+def defect_rows(kernel, seg_end, t, Z, idx, coords, b0, B, du, w0, V):
+    """The rates and the powers at the samples idx (q,), one compiled pass:
+    V[r] = [R, ẏ_i[w0 : w0 + c]], i = idx[r], R = ż(f(t_i, y(z_i))) − b0
+    − B du[r] (the nonlinear rates less the linear model's inputs: the
+    defect once A z_i is taken off).
 
     Parameters
     ----------
@@ -218,7 +219,7 @@ def defect_rows(kernel, seg_end, t, Z, idx, coords, A, b0, B, du, w0, V):
         (y_eq, add, put, th_index, p_index, p_eq, take, p_conj) of
         :func:`flexbed.dynamics.steppers.propagate.deviations_to_states` and
         :func:`~flexbed.dynamics.steppers.propagate.rates_of_states`.
-    A : (nz, nz); b0 : (nz,); B : (nz, nu); du : (q, nu) float64
+    b0 : (nz,); B : (nz, nu); du : (q, nu) float64
     w0 : int
         Where the powers start in ẏ.
     V : (q, nz + c) float64
@@ -231,7 +232,7 @@ def defect_rows(kernel, seg_end, t, Z, idx, coords, A, b0, B, du, w0, V):
     """
     fn, F, I = kernel
     y_eq, add, put, th, yp, p_eq, take, p_conj = coords
-    nz = A.shape[0]
+    nz = b0.size
     nu = B.shape[1]
     nw = V.shape[1] - nz
     y = np.empty((1, y_eq.size))
@@ -243,18 +244,13 @@ def defect_rows(kernel, seg_end, t, Z, idx, coords, A, b0, B, du, w0, V):
         deviations_to_states(Z[i:i + 1], y_eq, add, put, th, yp, p_eq, y)
         fn(t[i], seg_end, y[0].ctypes, dy[0].ctypes, F.ctypes, I.ctypes)
         rates_of_states(dy, take, th, yp, p_conj, zd)
-        z = Z[i]
         for a in range(nz):
             R = zd[0, a] - b0[a]
             for u in range(nu):
                 R -= B[a, u] * du[r, u]
             if abs(R) > r_max:
                 r_max = abs(R)
-            row = A[a]
-            s = 0.0
-            for c in range(nz):
-                s += row[c] * z[c]
-            V[r, a] = R - s
+            V[r, a] = R
         for c in range(nw):
             V[r, nz + c] = dy[0, w0 + c]
     return r_max
