@@ -8,15 +8,16 @@ Exact propagation
 -----------------
 By :mod:`flexbed.dynamics.linear_propagation`: one matrix exponential of
 the state augmented with the inputs (polynomial pieces, analytic
-sinusoids as rotating pairs) per distinct piece length, the recursion in
-compiled code.
+sinusoids as rotating pairs) per distinct piece length (a small multiple
+of the shortest takes the shortest's power), the recursion in compiled
+code.
 
 Error estimate against the nonlinear model
 ------------------------------------------
 By :mod:`flexbed.dynamics.linear_estimate`: the defect of the linear
-solution in the nonlinear right-hand side on a subset of the samples,
-propagated exactly through the linear model; also the energy
-quadratures' works.
+solution in the nonlinear right-hand side at nodes among the pieces' ends,
+refined where its local cubics need it, propagated exactly through the
+linear model; also the energy quadratures' works.
 """
 
 from __future__ import annotations
