@@ -235,11 +235,13 @@ def _halve_next_to(nodes: np.ndarray, at: np.ndarray) -> np.ndarray:
 
 def _first_nodes(t: np.ndarray) -> np.ndarray:
     """The first nodes among the piece ends t (k,): every :data:`_START`-th
-    (fewer when that leaves under 9 nodes). Where the pieces are longer
-    (an input's knots closer than the output samples elsewhere), each run
-    of equal pieces starts at a node and takes every m-th end, m pieces
-    the nearest to :data:`_START` of the shortest (at least one), so that
-    the intervals keep few distinct lengths."""
+    (fewer when that leaves under 9 nodes). Where the pieces are longer in
+    long runs (an input's knots closer than the output samples elsewhere,
+    e.g. once the load's samples stop), each run of equal pieces starts at
+    a node and takes every m-th end, m pieces the nearest to
+    :data:`_START` of the shortest (at least one), so that the intervals
+    keep few distinct lengths. Pieces of changing lengths that do not form
+    long runs (knots between the samples) keep every :data:`_START`-th end."""
     k = t.size
     m = max(1, min(_START, (k - 1) // 8))
     if k < 3:
@@ -248,8 +250,9 @@ def _first_nodes(t: np.ndarray) -> np.ndarray:
     lengths, which = _lengths(h)
     if lengths.size == 1:
         return _sample_nodes(k, m)
-    starts = np.flatnonzero(np.diff(which)) + 1                 # a run's first piece
-    starts = np.concatenate([[0], starts])
+    starts = np.concatenate([[0], np.flatnonzero(np.diff(which)) + 1])   # a run's first piece
+    if starts.size > max(4, (k - 1) // (4 * _START)):                     # short runs
+        return _sample_nodes(k, m)
     ends = np.append(starts[1:], k - 1)
     out = [np.array([k - 1])]
     shortest = float(np.min(lengths))

@@ -121,7 +121,7 @@ def _propagators(lin: Linearisation, lengths: np.ndarray, terms: list) -> tuple:
     for i in np.argsort(lengths, kind="stable"):
         h = float(lengths[i])
         k = round(h / base[0]) if base is not None else 0
-        if base is not None and 2 <= k <= _POWER_MAX and abs(h - k * base[0]) <= 1e-9 * h:
+        if base is not None and 2 <= k <= _POWER_MAX and abs(h - k * base[0]) <= 1e-12 * h:
             s = scaling(h)
             E = np.linalg.matrix_power(base[1], k) * (s[:, None] / s[None, :])
         else:

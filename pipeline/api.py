@@ -46,7 +46,6 @@ from flexbed.files.variants import vary
 from flexbed.stages.modes import compute_modes, ensure_modes
 from flexbed.stages.simulation import equilibrium, simulate_system
 from flexbed.stages.system import compile_scene
-from flexbed.heap import keep_freed_memory
 from flexbed.threads import limited
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
@@ -54,11 +53,9 @@ __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "ope
 
 
 def _pinned(fn):
-    """Run ``fn`` with the thread pools limited (:func:`flexbed.threads.limited`)
-    and freed memory kept (:func:`flexbed.heap.keep_freed_memory`)."""
+    """Run ``fn`` with the thread pools limited (:func:`flexbed.threads.limited`)."""
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
-        keep_freed_memory()
         with limited():
             return fn(*args, **kwargs)
     return wrapper

@@ -17,7 +17,9 @@ allocations; three 1 MiB arrays made and freed again and again do
 :func:`keep_freed_memory` fixes glibc's thresholds instead of letting them
 float: arrays under 32 MiB from the heap (glibc's own ceiling for its
 floating threshold), and up to 64 MiB of free heap kept. Elsewhere than
-glibc it does nothing.
+glibc it does nothing. The setting is the whole process's: the command
+line makes it (flexbed's own process); a program that calls the Python
+API decides for itself (``flexbed.heap.keep_freed_memory()``).
 """
 
 from __future__ import annotations
@@ -44,7 +46,7 @@ def keep_freed_memory() -> bool:
         return True
     try:
         mallopt = ctypes.CDLL(None).mallopt          # the process's own C library
-    except (OSError, AttributeError):
+    except (OSError, AttributeError, TypeError):      # no C library by that name (Windows)
         return False
     mallopt.argtypes = (ctypes.c_int, ctypes.c_int)
     _done = bool(mallopt(_M_MMAP_THRESHOLD, MMAP_THRESHOLD)) and bool(

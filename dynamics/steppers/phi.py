@@ -19,8 +19,8 @@ __all__ = ["phi_functions", "phi_double", "SERIES_NORM"]
 
 #: the series are summed for ‖X‖₁ at most this ...
 SERIES_NORM = 2.0
-#: ... to X^SERIES_TERMS: the first term left out of φ_q, X^21/(21 + q)!,
-#: is below 2^21/25! = 1.4e-19 of 1 and 3e-18 of φ_4 (≥ 1/4!)
+#: ... to X^SERIES_TERMS: the first term left out of φ_4, X^21/25!, is
+#: below 2^21/25! = 1.4e-19 in norm, 5e-18 of φ_4(−2) = 0.029
 SERIES_TERMS = 20
 #: the powers X … X^_BLOCK of Paterson and Stockmeyer's evaluation
 _BLOCK = 5
