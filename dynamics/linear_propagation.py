@@ -202,10 +202,17 @@ def _inputs_on_pieces(lin: Linearisation, t: np.ndarray, terms: list) -> np.ndar
 
 def _step_inputs(Psis: np.ndarray, which: np.ndarray, W: np.ndarray,
                  out: np.ndarray) -> np.ndarray:
-    """P_i = Ψ_{which[i]} W_i written into ``out`` (k, nz), one matrix
-    product per distinct length."""
+    """P_i = Ψ_{which[i]} W_i written into ``out`` (k, nz): one matrix
+    product per run of equal pieces when they come in a few runs (the
+    load's knots, then longer output samples), else one per distinct
+    length."""
     if Psis.shape[0] == 1:
         return np.matmul(W, Psis[0].T, out=out)
+    cuts = np.flatnonzero(np.diff(which)) + 1
+    if cuts.size < 16:
+        for a, b in zip(np.concatenate([[0], cuts]), np.append(cuts, which.size)):
+            np.matmul(W[a:b], Psis[which[a]].T, out=out[a:b])
+        return out
     for i in range(Psis.shape[0]):
         sel = which == i
         out[sel] = W[sel] @ Psis[i].T
