@@ -267,14 +267,14 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     """The nodes, and the defect d = R − A z (n, nz) (R: the nonlinear
     rates less b0 + B Δu) and the powers (n, 4) [W] there.
 
-    Every :data:`_START`-th sample first; the nodes are then refined
-    where they need it: the right-hand side is evaluated midway in every
-    node interval next to a node where the local cubics through the
-    nodes it was added to (at first every other node) miss d or a power by
-    more than 16 × :data:`_CUBIC_SHARE` of its largest value (d's scale at
-    least :data:`_NOISE` times the largest R), one compiled batch a round,
-    until no node misses or the intervals are single samples. A quiet
-    stretch of the run keeps long intervals."""
+    The nodes of :func:`_first_nodes` first; they are then refined where
+    they need it: the right-hand side is evaluated midway in every node
+    interval next to a node where the local cubics through the nodes it
+    was added to (at first every other node) miss d or a power by more
+    than 16 × :data:`_CUBIC_SHARE` of its largest value (d's scale at least
+    :data:`_NOISE` times the largest R), one compiled pass a round, until
+    no node misses or the intervals are single pieces. A quiet stretch of
+    the run keeps long intervals."""
     coords = lin.coords
     work = system.layout.work
     AT = lin.A.T
@@ -336,9 +336,9 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
                        cols: np.ndarray | None = None) -> tuple:
     """Φ (m, nz, nz) and P (m, nz, degree + 1, c) of ė = A e + d over each
     length L (m,) [s], d a polynomial of σ = t/L ∈ [0, 1] with σ-derivatives
-    w_p at 0: ``e(L) = Φ e(0) + Σ_p P_p w_p``, ``P_p = L φ_{p+1}(L A)`` (P[:, :, p])
-    (its columns ``cols`` (c,) only, d being zero in the others; all by
-    default),
+    w_p at 0: ``e(L) = Φ e(0) + Σ_p P_p w_p``, ``P_p = L φ_{p+1}(L A)`` =
+    ``P[:, :, p]`` (its columns ``cols`` (c,) only, d being zero in the
+    others; all by default),
     φ_j(X) = Σ_k X^k/(k + j)! (the blocks of Van Loan's exponential).
     Scaling and squaring on the nz × nz blocks: the φ-functions of h A,
     h = L / 2^s (:func:`flexbed.dynamics.steppers.phi.phi_functions`: φ_4
