@@ -45,13 +45,12 @@ from __future__ import annotations
 
 import functools
 import math
-import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.linalg.lapack import get_lapack_funcs
 
-from .linear_model import Coordinates, Linearisation
+from .linear_model import Coordinates, Linearisation, per_system
 from .linear_propagation import _lengths
 from .steppers.defect import (cubic_misses, cubic_pieces, defect_rows, hermite_peak,
                               largest_point, pieces_at, pieces_integral_at)
@@ -106,18 +105,12 @@ class ErrorEstimate:
         return self._e
 
 
-#: each system's points that matter, as :func:`_point_structure` gives them
-_POINTS: "weakref.WeakKeyDictionary[System, tuple]" = weakref.WeakKeyDictionary()
-
-
+@per_system
 def _point_structure(system: System) -> tuple:
     """What :func:`_point_map` needs of the system alone (made once per
     system): the points' bodies (their positions among bodies 2…), their
     body-frame arms s̄ (P, 3), and for each flexible body among them the
     points on it, the columns of its modes and the mode shapes there."""
-    got = _POINTS.get(system)
-    if got is not None:
-        return got
     lay = system.layout
     where = {b: k for k, b in enumerate(lay.rigid)}
     end_body = np.asarray(system.end_body, dtype=np.int64)
@@ -135,8 +128,7 @@ def _point_structure(system: System) -> tuple:
         on = np.flatnonzero(end_body[ends] == b) + n if b in where else np.zeros(0, np.int64)
         if on.size:
             modal.append((on, first, nm, end_phi[ends[on - n]][:, :, :nm]))
-    got = _POINTS[system] = (body, arms, tuple(modal))
-    return got
+    return body, arms, tuple(modal)
 
 
 def _point_map(system: System, coords: Coordinates) -> np.ndarray:
@@ -206,19 +198,6 @@ def _cubics(tn: np.ndarray, V: np.ndarray) -> np.ndarray:
     C = np.empty((tn.size - 1, 4, V.shape[1]))
     cubic_pieces(tn, np.ascontiguousarray(V), C)
     return C
-
-
-def _misses(t_old: np.ndarray, V_old: np.ndarray, t_new: np.ndarray, V_new: np.ndarray,
-            scale: np.ndarray) -> np.ndarray:
-    """(q,) the largest miss, over the columns each divided by its scale
-    (c,) or (1,), of the local cubics through the nodes t_old (values
-    V_old (n, c)) at the times t_new (values V_new (q, c)); inf where
-    fewer than 4 nodes carry them."""
-    if t_old.size < 4:
-        return np.full(t_new.size, math.inf)
-    pred = np.empty(V_new.shape)
-    pieces_at(t_new, t_old, _cubics(t_old, V_old), pred)
-    return np.max(np.abs(pred - V_new) / scale, axis=1)
 
 
 def _halve_next_to(nodes: np.ndarray, at: np.ndarray) -> np.ndarray:

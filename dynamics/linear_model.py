@@ -32,6 +32,7 @@ Propagated exactly, with an estimate of its error, by
 
 from __future__ import annotations
 
+import functools
 import math
 import weakref
 from dataclasses import dataclass
@@ -58,17 +59,25 @@ def _qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
-#: each system's index arrays of :class:`Coordinates` (they depend on its
-#: layout only), made once
-_INDICES: "weakref.WeakKeyDictionary[System, dict]" = weakref.WeakKeyDictionary()
+def per_system(make):
+    """``make(system)`` made once per System and kept while the system
+    lives: for what depends on the compiled scene alone (its layout,
+    inputs, points), as compile_scene's own work does."""
+    cache: "weakref.WeakKeyDictionary[System, object]" = weakref.WeakKeyDictionary()
+
+    @functools.wraps(make)
+    def once(system: System):
+        got = cache.get(system)
+        if got is None:
+            got = cache[system] = make(system)
+        return got
+    return once
 
 
+@per_system
 def _index_arrays(system: System) -> dict:
     """The attributes of :class:`Coordinates` that depend on the layout
     only (read-only arrays, shared by every linearisation of the system)."""
-    got = _INDICES.get(system)
-    if got is not None:
-        return got
     lay = system.layout
     n = len(lay.rigid)
     nb3 = 3 * lay.base_free
@@ -112,7 +121,6 @@ def _index_arrays(system: System) -> dict:
     for v in d.values():
         if isinstance(v, np.ndarray):
             v.setflags(write=False)
-    _INDICES[system] = d
     return d
 
 
@@ -238,20 +246,10 @@ def _sine_part(shape, kind: str) -> tuple:
     return (w, float(shape.start), float(shape.end), cs, cc)
 
 
-#: each system's input channels (they depend on its scene only), made once
-_CHANNELS: "weakref.WeakKeyDictionary[System, tuple]" = weakref.WeakKeyDictionary()
-
-
+@per_system
 def _channels(system: System) -> tuple[tuple[_Channel, ...], tuple[tuple[str, int], ...]]:
     """The base's input channels and, for each, (kind, axis) with kind
     "load" | "displacement" | "velocity" (made once per system)."""
-    got = _CHANNELS.get(system)
-    if got is None:
-        got = _CHANNELS[system] = _make_channels(system)
-    return got
-
-
-def _make_channels(system: System) -> tuple[tuple[_Channel, ...], tuple[tuple[str, int], ...]]:
     base = system.scene.base
     chans, kinds = [], []
     if base.motion == "free":

@@ -17,7 +17,7 @@ from flexbed.dynamics.linear import run_linear
 
 from flexbed.bench.cases import CaseSpec, build_case
 from flexbed.bench.context import BenchContext
-from flexbed.bench.dynamics import fastest_reaching, settings_for
+from flexbed.bench.dynamics import settings_for
 from flexbed.bench.markdown import fmt_error, md_table
 from flexbed.bench.modelling import solve
 from flexbed.bench.reference import errors, sample
@@ -36,7 +36,8 @@ def _side_by_side(ctx: BenchContext, case, st: Settings, ladder: list, target: f
     times) whose error is at most ``target``, timed in interleaved pairs
     (CPU seconds of whole calls): the cheapest setting, the one with the
     largest median over its pairs of linear / integrator (a ratio of times
-    taken side by side, steadier than either time), and that ratio."""
+    taken side by side, steadier than either time), and that ratio; None
+    when no setting reaches ``target``."""
     ok = sorted((m for m in ladder if m.ok and m.position_error <= target),
                 key=lambda m: m.wall_time)[:_CANDIDATES]
     pairs = _PAIRS_QUICK if ctx.quick else _PAIRS
@@ -86,11 +87,8 @@ def section_linear(ctx: BenchContext) -> str:
         corrected[:, case.system.layout.work] = lr.run.y[:, case.system.layout.work]
         pos_c, _ = errors(ref.samples, sample(case.system, replace(lr.run, y=corrected)))
         ladder = ctx.results.get("integrators", {}).get(key, [])
-        best = fastest_reaching(ladder, max(pos, 1e-12))
-        ratio, side = math.nan, None
-        if best is not None:
-            side = _side_by_side(ctx, case, st, ladder, max(pos, 1e-12))
-            best, ratio = side["best"], side["ratio"]
+        side = _side_by_side(ctx, case, st, ladder, max(pos, 1e-12))
+        best, ratio = (None, math.nan) if side is None else (side["best"], side["ratio"])
         best_s = "–" if best is None else (
             f"{best.method} ({best.setting}): {side['integrator']:.4f} s")
         res[key] = dict(solve_time=solve_t, estimate_time=est_t, total_time=total_t,
