@@ -156,7 +156,9 @@ def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(reference_s
     with the defect on every sample (the cubics then reproduce it at
     every sample) to 0.5 %, 3 % and 2e-3 of their largest; the states are
     the same. With 10 ms samples (the same knots while the load lasts, 10 ms
-    pieces after it) the nodes are as many and the estimate the same."""
+    pieces after it) the first nodes are every 20 ms throughout (one length
+    of node intervals and its halves), fewer, and the estimate and e those
+    of the defect on every sample to 0.5 % and 4 %."""
     from flexbed.dynamics.integrate import Settings
 
     system, y = reference_scene
@@ -181,9 +183,13 @@ def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(reference_s
     monkeypatch.setattr(linear_estimate, "_START", 16)
     coarse = linear.run_linear(system, y, y, Settings("rk4", t_end=1.5, output_dt=1e-2))
     assert coarse.pieces == 1050 and coarse.run.t.size == 151
-    assert abs(coarse.estimate.position / est.position - 1.0) < 1e-9
-    assert abs(coarse.estimate.nodes.size - est.nodes.size) <= 10
-    assert np.max(np.abs(coarse.estimate.e - est.e[::10])) < 3e-2 * np.max(np.abs(est.e))
+    nodes = coarse.estimate.nodes
+    assert np.all(np.isin(np.arange(0, 1000, 20), nodes))      # 1 ms pieces to 1 s
+    assert np.all(np.isin(np.arange(1000, 1050, 2), nodes))    # then 10 ms pieces
+    assert nodes.size < est.nodes.size                                         # 116 against 133
+    assert abs(coarse.estimate.position / ref.estimate.position - 1.0) < 5e-3  # seen −3.3e-4
+    assert (np.max(np.abs(coarse.estimate.e - ref.estimate.e[::10]))
+            < 4e-2 * np.max(np.abs(ref.estimate.e)))                          # seen 2.7e-2
 
 
 def test_compiled_states_and_rates_of_many_rows_equal_the_numpy_maps(reference_scene):
