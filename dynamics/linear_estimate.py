@@ -55,7 +55,8 @@ from scipy.linalg.lapack import get_lapack_funcs
 from .linear_model import Coordinates, Linearisation, per_system
 from .linear_propagation import _lengths
 from .steppers.defect import (cubic_misses, cubic_pieces, defect_rows, hermite_peak,
-                              largest_point, pieces_at, pieces_integral_at)
+                              largest_point, modal_point_rows, pieces_at, pieces_integral_at,
+                              point_rows)
 from .steppers.phi import SERIES_NORM, phi_double, phi_functions
 from .steppers.propagate import linear_sweep
 from .system import System
@@ -129,7 +130,7 @@ def _point_structure(system: System) -> tuple:
         offset += nm
         on = np.flatnonzero(end_body[ends] == b) + n if b in where else np.zeros(0, np.int64)
         if on.size:
-            modal.append((on, first, nm, end_phi[ends[on - n]][:, :, :nm]))
+            modal.append((on, first, nm, np.ascontiguousarray(end_phi[ends[on - n]][:, :, :nm])))
     return body, arms, tuple(modal)
 
 
@@ -137,31 +138,23 @@ def _point_map(system: System, coords: Coordinates) -> np.ndarray:
     """(P, 3, nz) first-order map from the deviations z to the inertial
     displacements of every point that matters: the centres of mass of
     bodies 2… and both ends of every mount on them,
-    δP = δr + A_eq (δθ × (s̄ + Φ_e a_eq) + Φ_e δa). Only the position
-    columns of z are non-zero."""
-    from .rotation import A as rotation_matrix
-
+    δP = δr + A_eq (δθ × (s̄ + Φ_e a_eq) + Φ_e δa) (the rigid part
+    compiled: :func:`flexbed.dynamics.steppers.defect.point_rows` and
+    ``modal_point_rows``). Only
+    the position columns of z are non-zero."""
     body, arms, modal = _point_structure(system)
     P = body.size
+    T = np.empty((P, 3, coords.nz))
     if not P:
-        return np.zeros((0, 3, coords.nz))
-    s = arms.copy()
-    A_eq = rotation_matrix(coords.p_eq)[body]                          # (P, 3, 3)
-    T = np.zeros((P, 3, coords.nz))
-    rows = np.arange(P)
-    T[rows[:, None], np.arange(3)[None, :], coords.r_index[body]] = 1.0
-    for on, first, nm, phi in modal:                  # the lever arm includes the sag
-        s[on] += phi @ coords.y_eq[coords.y_a[first:first + nm]]
-    # δθ × s̄ = −s̃ δθ, turned into the inertial frame
-    s_tilde = np.zeros((P, 3, 3))
-    s_tilde[:, 0, 1], s_tilde[:, 0, 2] = -s[:, 2], s[:, 1]
-    s_tilde[:, 1, 0], s_tilde[:, 1, 2] = s[:, 2], -s[:, 0]
-    s_tilde[:, 2, 0], s_tilde[:, 2, 1] = -s[:, 1], s[:, 0]
-    T[rows[:, None, None], np.arange(3)[None, :, None], coords.th_index[body][:, None, :]] = \
-        -A_eq @ s_tilde
+        return T
+    s = arms
+    if modal:                                         # the lever arm includes the sag
+        s = arms.copy()
+        for on, first, nm, phi in modal:
+            s[on] += phi @ coords.y_eq[coords.y_a[first:first + nm]]
+    point_rows(body, s, coords.p_eq, coords.r_index, coords.th_index, T)
     for on, first, nm, phi in modal:
-        idx = coords.a_index[first:first + nm]
-        T[on[:, None, None], np.arange(3)[None, :, None], idx[None, None, :]] = A_eq[on] @ phi
+        modal_point_rows(on, body, coords.p_eq, phi, coords.a_index[first:first + nm], T)
     return T
 
 

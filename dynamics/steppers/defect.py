@@ -18,7 +18,7 @@ import numpy as np
 from .propagate import deviations_to_states, jit, rates_of_states
 
 __all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak", "largest_point",
-           "defect_rows", "cubic_misses"]
+           "defect_rows", "cubic_misses", "point_rows", "modal_point_rows"]
 
 
 @jit
@@ -284,3 +284,83 @@ def cubic_misses(t_old, V_old, t_new, V_new, scale, miss):
             if m > best:
                 best = m
         miss[r] = best
+
+
+@jit
+def point_rows(body, s, p_eq, r_index, th_index, T):
+    """The rigid-body part of the first-order map from the deviations z to
+    the inertial displacements of points, into T (P, 3, nz) (zeroed
+    first): δP = δr + A_eq (δθ × s) for a point at the body-frame arm s
+    (the sag of a flexible body's modes included) on body ``body``,
+    A_eq the rotation matrix of its equilibrium Euler parameters.
+
+    Parameters
+    ----------
+    body : (P,) int64
+        Each point's body (its row in p_eq, r_index, th_index).
+    s : (P, 3) float64 [m]
+    p_eq : (n, 4) float64
+        Unit Euler parameters (scalar first).
+    r_index, th_index : (n, 3) int64
+        The columns of z of each body's translation and rotation.
+    T : (P, 3, nz) float64
+        Written.
+    """
+    T[:] = 0.0
+    R = np.empty((3, 3))
+    for i in range(body.size):
+        b = body[i]
+        _rotation(p_eq[b], R)
+        sx, sy, sz = s[i, 0], s[i, 1], s[i, 2]
+        for k in range(3):
+            T[i, k, r_index[b, k]] = 1.0
+            # columns of A_eq (e_j × s): e_x × s = (0, −sz, sy), e_y × s =
+            # (sz, 0, −sx), e_z × s = (−sy, sx, 0)
+            T[i, k, th_index[b, 0]] = -R[k, 1] * sz + R[k, 2] * sy
+            T[i, k, th_index[b, 1]] = R[k, 0] * sz - R[k, 2] * sx
+            T[i, k, th_index[b, 2]] = -R[k, 0] * sy + R[k, 1] * sx
+
+
+@jit
+def modal_point_rows(on, body, p_eq, phi, idx, T):
+    """The modal part of :func:`point_rows`, added for the points ``on``
+    (c,) of one flexible body: T[on[i], :, idx] = A_eq Φ_e,i, with Φ_e,i
+    (3, nm) the mode shapes at the point and ``idx`` (nm,) the columns of
+    the body's modal deviations.
+
+    Parameters
+    ----------
+    on : (c,) int64
+        The points (rows of T).
+    body : (P,) int64
+        Each point's body (its row in p_eq).
+    p_eq : (n, 4) float64
+    phi : (c, 3, nm) float64 [m per unit modal coordinate]
+    idx : (nm,) int64
+    T : (P, 3, nz) float64
+        Written in those entries.
+    """
+    R = np.empty((3, 3))
+    for i in range(on.size):
+        row = on[i]
+        _rotation(p_eq[body[row]], R)
+        for k in range(3):
+            for j in range(idx.size):
+                T[row, k, idx[j]] = (R[k, 0] * phi[i, 0, j] + R[k, 1] * phi[i, 1, j]
+                                     + R[k, 2] * phi[i, 2, j])
+
+
+@jit
+def _rotation(p, R):
+    """The rotation matrix of unit Euler parameters p (4,) (scalar first)
+    into R (3, 3) (:func:`flexbed.dynamics.rotation.A`)."""
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    R[0, 0] = 2.0 * (e0 * e0 + e1 * e1) - 1.0
+    R[0, 1] = 2.0 * (e1 * e2 - e0 * e3)
+    R[0, 2] = 2.0 * (e1 * e3 + e0 * e2)
+    R[1, 0] = 2.0 * (e1 * e2 + e0 * e3)
+    R[1, 1] = 2.0 * (e0 * e0 + e2 * e2) - 1.0
+    R[1, 2] = 2.0 * (e2 * e3 - e0 * e1)
+    R[2, 0] = 2.0 * (e1 * e3 - e0 * e2)
+    R[2, 1] = 2.0 * (e2 * e3 + e0 * e1)
+    R[2, 2] = 2.0 * (e0 * e0 + e3 * e3) - 1.0
