@@ -45,19 +45,17 @@ their largest value of those with the powers on every sample).
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg.lapack import get_lapack_funcs
 
 from .linear_model import Coordinates, Linearisation, per_system
 from .linear_propagation import _lengths
 from .steppers.defect import (cubic_misses, cubic_pieces, defect_rows, hermite_peak,
                               largest_point, modal_point_rows, pieces_at, pieces_integral_at,
                               point_rows)
-from .steppers.phi import SERIES_NORM, phi_double, phi_functions
+from .steppers.phi import SERIES_NORM, balanced, doubling_tables, phi_double, phi_functions
 from .steppers.propagate import linear_sweep
 from .system import System
 
@@ -304,16 +302,6 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     return nodes, V[:, :nz], V[:, nz:]
 
 
-@functools.lru_cache(maxsize=4)
-def _doubling_tables(degree: int) -> tuple:
-    """The doublings' mixing 1/(p − i)! (i ≤ p) and 2^−p:
-    P_p ← 2^−p (Φ P_p + Σ_i P_i mix[i, p])."""
-    q = degree + 1
-    mix = np.array([[1.0 / math.factorial(p - i) if i <= p else 0.0 for p in range(q)]
-                    for i in range(q)])
-    return mix, 2.0 ** -np.arange(q)
-
-
 def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
                        cols: np.ndarray | None = None) -> tuple:
     """Φ (m, nz, nz) and P (m, nz, degree + 1, c) of ė = A e + d over each
@@ -329,7 +317,7 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
     are :func:`_balanced_propagators`', and S · S⁻¹ is put back."""
     nz = A.shape[0]
     cols = np.arange(nz) if cols is None else np.asarray(cols, dtype=np.int64)
-    Ab, scale = _balanced(A)
+    Ab, scale = balanced(A)
     Phis, Ps = _balanced_propagators(Ab, lengths, degree, cols)
     Phis *= scale[:, None] / scale[None, :]
     Ps *= (scale[:, None] / scale[None, cols])[:, None, :]
@@ -354,7 +342,7 @@ def _balanced_propagators(Ab: np.ndarray, lengths: np.ndarray, degree: int,
     norm = float(np.linalg.norm(Ab, 1))
     Phis = np.empty((lengths.size, nz, nz))
     Ps = np.empty((lengths.size, nz, q, c))
-    mix, halves = _doubling_tables(degree)
+    mix, halves = doubling_tables(degree)
     F = np.empty((q + 1, nz, nz))
     Ls = [float(v) for v in lengths]                # a few lengths: plain floats
     done = [False] * len(Ls)
@@ -386,24 +374,8 @@ def _balanced_propagators(Ab: np.ndarray, lengths: np.ndarray, degree: int,
     return Phis, Ps
 
 
-def _balanced(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A' = S⁻¹ A S (C-contiguous) and the diagonal of S: LAPACK's
-    balancing by powers of 2, scaling only (``gebal``, as SciPy's
-    ``matrix_balance(permute=False)``)."""
-    Ab, _, _, scale, info = _gebal()(A, scale=1, permute=0)
-    if info != 0:
-        raise np.linalg.LinAlgError(f"gebal failed (info {info})")
-    return np.ascontiguousarray(Ab), scale
-
-
-@functools.lru_cache(maxsize=1)
-def _gebal():
-    """LAPACK's dgebal (SciPy's wrapper)."""
-    return get_lapack_funcs("gebal", (np.zeros((1, 1)),))
-
-
 def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray,
-                      cols: np.ndarray | None = None) -> np.ndarray:
+                      cols: np.ndarray | None = None, balance: tuple | None = None) -> np.ndarray:
     """e (n, nz) at the times tn (n,) of ė = A e + d, e(0) = 0, d on each
     interval the cubic of C (n − 1, 4, c) (ascending powers of σ) in its
     columns ``cols`` (c,) and zero in the others (all columns by default;
@@ -414,11 +386,12 @@ def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray,
     propagators are used as computed); the sums Σ_p P_p w_p as one matrix
     product per distinct interval length on the intervals sorted by length,
     the recursion compiled
-    (:func:`flexbed.dynamics.steppers.propagate.linear_sweep`)."""
+    (:func:`flexbed.dynamics.steppers.propagate.linear_sweep`). ``balance``
+    is (A', S) when already made (:attr:`Linearisation.balanced`)."""
     nz = A.shape[0]
     cols = np.arange(nz) if cols is None else cols
     lengths, which = _lengths(np.diff(tn))
-    Ab, scale = _balanced(A)
+    Ab, scale = balanced(A) if balance is None else balance
     Phis, Ps = _balanced_propagators(Ab, lengths, 3, cols)
     W = (C * (_FACT4[:, None] / scale[None, cols])).reshape(C.shape[0], -1)  # (n − 1, 4 c)
     Pcat = Ps.reshape(lengths.size, nz, -1)                             # [P0 P1 P2 P3]
@@ -440,7 +413,8 @@ def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray,
 
 
 def _error_on_every_sample(A: np.ndarray, t: np.ndarray, nodes: np.ndarray,
-                           C: np.ndarray, cols: np.ndarray | None = None) -> np.ndarray:
+                           C: np.ndarray, cols: np.ndarray | None = None,
+                           balance: tuple | None = None) -> np.ndarray:
     """e (k, nz) on every sample from e(0) = 0: the defect's local cubics
     C (n − 1, 4, c) between the nodes (its columns ``cols``, all by
     default), each restricted to the samples' intervals and propagated
@@ -456,7 +430,7 @@ def _error_on_every_sample(A: np.ndarray, t: np.ndarray, nodes: np.ndarray,
     C_samples = np.stack([c0 + s * (c1 + s * (c2 + s * c3)),
                           r * (c1 + s * (2.0 * c2 + 3.0 * s * c3)),
                           r * r * (c2 + 3.0 * s * c3), r ** 3 * c3], axis=1)
-    return _propagate_defect(A, t, C_samples, cols)
+    return _propagate_defect(A, t, C_samples, cols, balance)
 
 
 _ROWS = 128     # samples per block of the motion scan: 128 × 3P doubles stay
@@ -518,7 +492,7 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndar
     pieces_at(ts, tn, CW, powers)
     pieces_integral_at(ts, tn, CW, works)
     # ė = A e + d, d the local cubics: Φ, P0 … P3 per distinct interval
-    En = _propagate_defect(A, tn, C, cols)
+    En = _propagate_defect(A, tn, C, cols, lin.balanced)
     # the points' errors between the nodes: cubic Hermite with ė = A e + d there
     Ed = En @ A.T + D
     pos = hermite_peak(t, nodes, En[:, :npos] @ T.T, Ed[:, :npos] @ T.T) if T.shape[0] else 0.0
@@ -530,4 +504,4 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndar
         rot = hermite_peak(t, nodes, V, Vd)
     reliable = pos <= 0.1 * motion or pos < 1e-12
     return ErrorEstimate(pos, rot, motion, reliable, system.nfev - nfev0, powers, nodes, En,
-                         works, lambda: _error_on_every_sample(A, t, nodes, C, cols)[samples])
+                         works, lambda: _error_on_every_sample(A, t, nodes, C, cols, lin.balanced)[samples])

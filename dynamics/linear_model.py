@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .piecewise import PiecewisePolynomial
+from .steppers.phi import balanced
 from .system import System
 
 __all__ = ["Coordinates", "Linearisation", "linearise", "difference_steps"]
@@ -304,6 +305,13 @@ class Linearisation:
     channels: tuple
     u0: np.ndarray
     evaluations: int
+
+    @functools.cached_property
+    def balanced(self) -> tuple[np.ndarray, np.ndarray]:
+        """A' = S⁻¹ A S and the diagonal of S (nz,): A balanced by powers of 2
+        (:func:`flexbed.dynamics.steppers.phi.balanced`), once, for the
+        propagation's exponentials and the error estimate's φ-functions."""
+        return balanced(np.ascontiguousarray(self.A))
 
     def f(self, system: System, t: float, z: np.ndarray) -> np.ndarray:
         """The nonlinear ż = f(z, t) (nz,), through the system's right-hand side."""

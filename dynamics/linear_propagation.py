@@ -37,6 +37,7 @@ from scipy.linalg import expm
 from .integrate import output_grid
 from .linear_model import Linearisation
 from .piecewise import PiecewisePolynomial
+from .steppers.phi import SERIES_NORM, doubling_tables, exp_and_phi_columns, phi_double
 from .steppers.propagate import few_distinct, linear_sweep, merge_cuts, poly_derivatives
 
 __all__ = ["propagate", "propagate_pieces"]
@@ -99,13 +100,13 @@ def _propagators(lin: Linearisation, lengths: np.ndarray, terms: list) -> tuple:
         d/dσ [z; w] = [[h A, h G], [0, S]] [z; w],
 
     w = (each channel's polynomial σ-derivatives, degree ≤ 5; 1 for b0;
-    each sinusoid's (x_s, x_c) rotating at ωh). A length k times the
-    shortest (k ≤ 16) is the shortest's exponential to the k-th power (in
-    t-derivatives: binary powers, a few products instead of an exponential)."""
+    each sinusoid's (x_s, x_c) rotating at ωh) (:func:`_exponential`). A
+    length k times the shortest (k ≤ 16) is the shortest's exponential to
+    the k-th power (in t-derivatives: binary powers, a few products
+    instead of an exponential)."""
     nz, nu = lin.B.shape
     d1 = _DEG + 1
-    ns = len(terms)
-    nw = nu * d1 + 1 + 2 * ns
+    nw = nu * d1 + 1 + 2 * len(terms)
     Phis = np.empty((lengths.size, nz, nz))
     Psis = np.empty((lengths.size, nz, nw))
     # the σ-derivatives are h^m times the t-derivatives: E(h) = T_h E_t(h) T_h⁻¹
@@ -118,6 +119,7 @@ def _propagators(lin: Linearisation, lengths: np.ndarray, terms: list) -> tuple:
         return s
 
     base = None
+    exponential = _Exponential(lin, terms)
     for i in np.argsort(lengths, kind="stable"):
         h = float(lengths[i])
         k = round(h / base[0]) if base is not None else 0
@@ -125,25 +127,91 @@ def _propagators(lin: Linearisation, lengths: np.ndarray, terms: list) -> tuple:
             s = scaling(h)
             E = np.linalg.matrix_power(base[1], k) * (s[:, None] / s[None, :])
         else:
-            M = np.zeros((nz + nw, nz + nw))
-            M[:nz, :nz] = h * lin.A
-            for j in range(nu):
-                c0 = nz + j * d1
-                M[:nz, c0] = h * lin.B[:, j]
-                for m in range(_DEG):
-                    M[c0 + m, c0 + m + 1] = 1.0
-            M[:nz, nz + nu * d1] = h * lin.b0
-            for q, (j, (w, *_)) in enumerate(terms):
-                cs = nz + nu * d1 + 1 + 2 * q
-                M[:nz, cs] = h * lin.B[:, j]
-                M[cs, cs + 1] = w * h
-                M[cs + 1, cs] = -w * h
-            E = expm(M)
+            E = exponential(h)
             if base is None:
                 s = scaling(h)
                 base = (h, E * (s[None, :] / s[:, None]))
         Phis[i], Psis[i] = E[:nz, :nz], E[:nz, nz:]
     return Phis, Psis
+
+
+class _Exponential:
+    """The exponential E(h) ((nz + nw)², see :func:`_propagators`) of the
+    augmented matrix of a piece of length h.
+
+    Without sinusoids the inputs' block is the shift of each channel's
+    σ-derivatives (and b0's constant): its exponential is known
+    (1/(m' − m)! above the diagonal), and the rest is Φ = e^{hA} and
+    Ψ = [h φ_{m+1}(hA) B_j … | h φ_1(hA) b0] (Van Loan's blocks): by
+    their series in compiled code on the balanced A' = S⁻¹ A S
+    (:func:`flexbed.dynamics.steppers.phi.exp_and_phi_columns`, matrix–
+    vector products for the columns; A' is :attr:`Linearisation.balanced`,
+    shared with the error estimate), h halved s times to ‖hA'‖₁ ≤ 2
+    and doubled back exactly (:func:`flexbed.dynamics.steppers.phi.phi_double`).
+    With sinusoids (their rotating pairs in the block): SciPy's ``expm`` of
+    the whole augmented matrix."""
+
+    def __init__(self, lin: Linearisation, terms: list):
+        self.lin, self.terms = lin, terms
+        nz, nu = lin.B.shape
+        self.nz, self.nu = nz, nu
+        self.nw = nu * (_DEG + 1) + 1 + 2 * len(terms)
+        if not terms:
+            self.Ab, self.scale = lin.balanced
+            self.norm = float(np.linalg.norm(self.Ab, 1))
+            G = np.column_stack([lin.B, lin.b0])
+            self.G = np.ascontiguousarray(G / self.scale[:, None])        # S⁻¹ [B b0]
+            self.tail = np.zeros((self.nw, self.nw))                      # the inputs' block
+            for j in range(nu):
+                c0 = j * (_DEG + 1)
+                for m in range(_DEG + 1):
+                    for m2 in range(m, _DEG + 1):
+                        self.tail[c0 + m, c0 + m2] = 1.0 / _FACT[m2 - m]
+            self.tail[-1, -1] = 1.0
+
+    def __call__(self, h: float) -> np.ndarray:
+        nz, nu, nw = self.nz, self.nu, self.nw
+        if self.terms:
+            return expm(self._matrix(h))
+        x = self.norm * h
+        s = max(0, math.ceil(math.log2(x / SERIES_NORM))) if x > SERIES_NORM else 0
+        hs = h / 2.0 ** s
+        Phi = np.empty((nz, nz))
+        P = np.empty((_DEG + 1, nz, nu + 1))
+        exp_and_phi_columns(self.Ab * hs, self.G, hs, Phi, P)
+        if s:
+            mix, halves = doubling_tables(_DEG)
+            for _ in range(s):
+                phi_double(Phi, P, mix, halves)
+        E = np.empty((nz + nw, nz + nw))
+        E[nz:, :nz] = 0.0
+        E[nz:, nz:] = self.tail
+        sc = self.scale
+        E[:nz, :nz] = Phi * (sc[:, None] / sc[None, :])
+        # Ψ: channel j's σ-derivative m takes P_m B_j; b0 takes P_0 b0
+        E[:nz, nz:nz + nu * (_DEG + 1)] = (P[:, :, :nu].transpose(1, 2, 0)
+                                            .reshape(nz, -1) * sc[:, None])
+        E[:nz, nz + nu * (_DEG + 1)] = P[0, :, nu] * sc
+        return E
+
+    def _matrix(self, h: float) -> np.ndarray:
+        """The augmented matrix of a piece of length h (with sinusoids)."""
+        lin, nz, nu = self.lin, self.nz, self.nu
+        d1 = _DEG + 1
+        M = np.zeros((nz + self.nw, nz + self.nw))
+        M[:nz, :nz] = h * lin.A
+        for j in range(nu):
+            c0 = nz + j * d1
+            M[:nz, c0] = h * lin.B[:, j]
+            for m in range(_DEG):
+                M[c0 + m, c0 + m + 1] = 1.0
+        M[:nz, nz + nu * d1] = h * lin.b0
+        for q, (j, (w, *_)) in enumerate(self.terms):
+            cs = nz + nu * d1 + 1 + 2 * q
+            M[:nz, cs] = h * lin.B[:, j]
+            M[cs, cs + 1] = w * h
+            M[cs + 1, cs] = -w * h
+        return M
 
 
 def _poly_derivatives(f: PiecewisePolynomial, t0: np.ndarray, h: np.ndarray,

@@ -243,3 +243,22 @@ def test_a_multiple_of_the_shortest_piece_is_its_power():
         for col in range(Psi.shape[2]):
             ref = Psi[0][:, col]
             assert np.max(np.abs(Psis[i][:, col] - ref)) <= 1e-12 * np.max(np.abs(ref)) + 1e-300
+
+
+def test_polynomial_inputs_exponential_by_series_is_scipys():
+    """Without sinusoids the augmented exponential is built from Φ = e^{hA}
+    and the columns h φ_{m+1}(hA) [B b0] by their series on the balanced A
+    (halved and doubled back where ‖hA'‖₁ > 2: 0.01 and 0.1 s here): it
+    equals SciPy's expm of the whole augmented matrix to 1e-12 of each
+    block's largest entry (the reference scene, rigid bed)."""
+    from flexbed.dynamics.linear_propagation import _Exponential
+
+    system = compile_scene(load_scene(None))
+    lin = linearise(system, solve_statics(system, tol=1e-11).y)
+    exponential = _Exponential(lin, [])
+    nz = lin.A.shape[0]
+    for h in (1e-3, 1e-2, 1e-1):
+        E, ref = exponential(h), expm(exponential._matrix(h))
+        assert E.shape == ref.shape
+        for block in (np.s_[:nz, :nz], np.s_[:nz, nz:], np.s_[nz:, :]):
+            assert np.max(np.abs(E[block] - ref[block])) <= 1e-12 * np.max(np.abs(ref[block]))
