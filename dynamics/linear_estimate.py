@@ -238,8 +238,9 @@ def _first_nodes(t: np.ndarray) -> np.ndarray:
         steps = span // whole
     else:
         steps = np.maximum(1, np.minimum(m, np.round(m / ratio).astype(np.int64)))
+    # the runs in order, each from its first end: ascending, the last end after them
     out = [np.arange(a, b, steps[which[a]]) for a, b in zip(starts, ends)]
-    return np.unique(np.concatenate(out + [np.array([k - 1])]))
+    return np.concatenate(out + [np.array([k - 1])])
 
 
 def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,

@@ -179,8 +179,17 @@ class Coordinates:
         return y
 
     def to_z(self, y: np.ndarray) -> np.ndarray:
-        """Deviations of states y (..., ny) → (..., nz); the inverse of :meth:`to_y`."""
+        """Deviations of states y (..., ny) → (..., nz); the inverse of :meth:`to_y`
+        (one or many states: compiled,
+        :func:`flexbed.dynamics.steppers.propagate.states_to_deviations`)."""
         y = np.asarray(y, dtype=float)
+        if y.ndim <= 2:
+            from .steppers.propagate import states_to_deviations
+            rows = np.ascontiguousarray(y.reshape(-1, y.shape[-1]))
+            z = np.empty((rows.shape[0], self.nz))
+            states_to_deviations(rows, self.y_eq, self._add, self._put, self._th, self._yp,
+                                 self.p_eq_conj, z)
+            return z.reshape(y.shape[:-1] + (self.nz,))
         z = np.empty(y.shape[:-1] + (self.nz,))
         z[..., self.base_index] = y[..., self.y_base] - self.y_eq[self.y_base]
         z[..., self.base_v_index] = y[..., self.y_base_v]

@@ -29,6 +29,7 @@ recursion runs in compiled code
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -135,6 +136,23 @@ def _propagators(lin: Linearisation, lengths: np.ndarray, terms: list) -> tuple:
     return Phis, Psis
 
 
+@functools.lru_cache(maxsize=8)
+def _shift_exponential(nu: int) -> np.ndarray:
+    """The exponential of the inputs' block without sinusoids (nu (deg + 1)
+    + 1 square): each channel's shift of its σ-derivatives, 1/(m' − m)! at
+    (m, m' ≥ m), and 1 for b0's constant (read-only)."""
+    n = nu * (_DEG + 1) + 1
+    E = np.zeros((n, n))
+    for j in range(nu):
+        c0 = j * (_DEG + 1)
+        for m in range(_DEG + 1):
+            for m2 in range(m, _DEG + 1):
+                E[c0 + m, c0 + m2] = 1.0 / _FACT[m2 - m]
+    E[-1, -1] = 1.0
+    E.setflags(write=False)
+    return E
+
+
 class _Exponential:
     """The exponential E(h) ((nz + nw)², see :func:`_propagators`) of the
     augmented matrix of a piece of length h.
@@ -161,13 +179,7 @@ class _Exponential:
             self.norm = float(np.linalg.norm(self.Ab, 1))
             G = np.column_stack([lin.B, lin.b0])
             self.G = np.ascontiguousarray(G / self.scale[:, None])        # S⁻¹ [B b0]
-            self.tail = np.zeros((self.nw, self.nw))                      # the inputs' block
-            for j in range(nu):
-                c0 = j * (_DEG + 1)
-                for m in range(_DEG + 1):
-                    for m2 in range(m, _DEG + 1):
-                        self.tail[c0 + m, c0 + m2] = 1.0 / _FACT[m2 - m]
-            self.tail[-1, -1] = 1.0
+            self.tail = _shift_exponential(nu)                            # the inputs' block
 
     def __call__(self, h: float) -> np.ndarray:
         nz, nu, nw = self.nz, self.nu, self.nw

@@ -202,6 +202,13 @@ def test_compiled_states_and_rates_of_many_rows_equal_the_numpy_maps(reference_s
     ref = np.concatenate([c.to_y(Z[i:i + 4]) for i in range(0, 40, 4)])   # NumPy
     assert np.max(np.abs(Y - ref)) < 1e-15 * np.max(np.abs(ref))
     assert np.max(np.abs(c.to_z(Y) - Z)) < 1e-13
+    # to_z compiled (one or many rows) as the NumPy map (three axes), also
+    # with Euler parameters of the other sign (the same rotations)
+    Yf = Y.copy()
+    Yf[::2, c.y_p[0]] *= -1.0
+    ref = c.to_z(Yf.reshape(4, 10, -1)).reshape(40, -1)                 # NumPy
+    assert np.max(np.abs(c.to_z(Yf) - ref)) < 1e-15
+    assert np.max(np.abs(c.to_z(Yf[3]) - ref[3])) < 1e-15
     # and the rates of many state derivatives (compiled) as the NumPy map's
     dY = np.random.default_rng(12).standard_normal((40, Y.shape[1]))
     Zd = c.rate(dY)

@@ -20,7 +20,8 @@ import numpy as np
 #: their meaning
 jit = numba.njit(cache=True, error_model="numpy", fastmath={"reassoc", "contract"})
 
-__all__ = ["linear_sweep", "poly_derivatives", "deviations_to_states", "rates_of_states",
+__all__ = ["linear_sweep", "poly_derivatives", "deviations_to_states", "states_to_deviations",
+           "rates_of_states",
            "few_distinct"]
 
 
@@ -120,6 +121,36 @@ def deviations_to_states(Z, y_eq, add, put, th_index, p_index, p_eq, Y):
             Y[i, p_index[b, 1]] = a0 * s1 + s0 * a1 + a2 * s3 - a3 * s2
             Y[i, p_index[b, 2]] = a0 * s2 + s0 * a2 + a3 * s1 - a1 * s3
             Y[i, p_index[b, 3]] = a0 * s3 + s0 * a3 + a1 * s2 - a2 * s1
+
+
+@jit
+def states_to_deviations(Y, y_eq, add, put, th_index, p_index, p_conj, Z):
+    """Deviations Z (k, nz) of states Y (k, ny), the inverse of
+    :func:`deviations_to_states` (see
+    :meth:`flexbed.dynamics.linear_model.Coordinates.to_z`):
+    ``Y[:, add[:, 1]] − y_eq[add[:, 1]]`` at ``add[:, 0]``,
+    ``Y[:, put[:, 1]]`` at ``put[:, 0]``, and each body's
+    θ = 2 vec(p_eq* ⊗ p/|p|) (the sign of the scalar part made positive),
+    p at ``p_index`` (n, 4), p_eq* = ``p_conj`` (n, 4), θ written at
+    ``th_index`` (n, 3)."""
+    k = Y.shape[0]
+    for i in range(k):
+        for j in range(add.shape[0]):
+            Z[i, add[j, 0]] = Y[i, add[j, 1]] - y_eq[add[j, 1]]
+        for j in range(put.shape[0]):
+            Z[i, put[j, 0]] = Y[i, put[j, 1]]
+        for b in range(th_index.shape[0]):
+            b0 = Y[i, p_index[b, 0]]
+            b1 = Y[i, p_index[b, 1]]
+            b2 = Y[i, p_index[b, 2]]
+            b3 = Y[i, p_index[b, 3]]
+            norm = math.sqrt(b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3)
+            a0, a1, a2, a3 = p_conj[b, 0], p_conj[b, 1], p_conj[b, 2], p_conj[b, 3]
+            r0 = a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3
+            f = (-2.0 if r0 < 0.0 else 2.0) / norm
+            Z[i, th_index[b, 0]] = f * (a0 * b1 + b0 * a1 + a2 * b3 - a3 * b2)
+            Z[i, th_index[b, 1]] = f * (a0 * b2 + b0 * a2 + a3 * b1 - a1 * b3)
+            Z[i, th_index[b, 2]] = f * (a0 * b3 + b0 * a3 + a1 * b2 - a2 * b1)
 
 
 @jit
