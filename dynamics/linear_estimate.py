@@ -52,9 +52,9 @@ import numpy as np
 
 from .linear_model import Coordinates, Linearisation, per_system
 from .linear_propagation import _lengths
-from .steppers.defect import (cubic_misses, cubic_pieces, defect_rows, hermite_peak,
+from .steppers.defect import (cubic_pieces, hermite_peak,
                               largest_point, modal_point_rows, pieces_at, pieces_integral_at,
-                              point_rows)
+                              point_rows, refine_nodes)
 from .steppers.phi import SERIES_NORM, balanced, doubling_tables, phi_double, phi_functions
 from .steppers.propagate import linear_sweep
 from .system import System
@@ -193,18 +193,6 @@ def _cubics(tn: np.ndarray, V: np.ndarray) -> np.ndarray:
     return C
 
 
-def _halve_next_to(nodes: np.ndarray, at: np.ndarray) -> np.ndarray:
-    """The midpoints (sample indices) of the intervals of ``nodes`` on either
-    side of the nodes at the positions ``at``, those at least two samples
-    long."""
-    side = np.zeros(nodes.size, dtype=bool)          # interval j: nodes j … j + 1
-    side[at] = True
-    side[at - 1] = True
-    side[-1] = False
-    a, b = nodes[:-1][side[:-1]], nodes[1:][side[:-1]]
-    return ((a + b) // 2)[b - a >= 2]
-
-
 def _first_nodes(t: np.ndarray) -> np.ndarray:
     """The first nodes among the piece ends t (k,): every :data:`_START`-th
     (fewer when that leaves under 9 nodes). Where the pieces are longer in
@@ -253,54 +241,22 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     interval next to a node where the local cubics through the nodes it
     was added to (at first every other node) miss d or a power by more
     than 16 × :data:`_CUBIC_SHARE` of its largest value (d's scale at least
-    :data:`_NOISE` times the largest R), one compiled pass a round, until
-    no node misses or the intervals are single pieces. A quiet stretch of
-    the run keeps long intervals."""
+    :data:`_NOISE` times the largest R), round by round, until no node
+    misses or the intervals are single pieces: one compiled pass
+    (:func:`flexbed.dynamics.steppers.defect.refine_nodes`). A quiet
+    stretch of the run keeps long intervals."""
     coords = lin.coords
     work = system.layout.work
-    AT = lin.A.T
-    nz = AT.shape[0]
+    nz = lin.A.shape[0]
     conv = (coords.y_eq, coords._add, coords._put, coords._th, coords._yp, coords.p_eq,
             coords._take, coords.p_eq_conj)
-    kernel = system.kernel
-
-    def evaluate(idx):
-        """[d | powers] (q, nz + 4) at the samples idx, and the largest |R|
-        (:func:`flexbed.dynamics.steppers.defect.defect_rows`, then A z off)."""
-        V = np.empty((idx.size, nz + work.stop - work.start))
-        r = defect_rows(kernel, system.seg_end, t, Z, idx, conv, lin.b0, lin.B,
-                        lin.inputs(t[idx]), work.start, V)
-        V[:, :nz] -= Z[idx] @ AT
-        system.nfev += idx.size
-        return V, r
-
     system.set_segment(None)
-    nodes = _first_nodes(t)
-    V, r_max = evaluate(nodes)
-    vmax = np.max(np.abs(V), axis=0)
-    is_new = np.ones(nodes.size, dtype=bool)              # every other node, the last kept
-    is_new[::2] = False
-    is_new[-1] = False
-    tol = 16.0 * _CUBIC_SHARE
-    while np.any(is_new):
-        old, new = np.flatnonzero(~is_new), np.flatnonzero(is_new)
-        scale = np.maximum(vmax, 1e-300)
-        scale[:nz] = max(float(np.max(vmax[:nz])), _NOISE * r_max, 1e-300)
-        miss = np.full(new.size, math.inf)
-        if old.size >= 4:
-            cubic_misses(t[nodes[old]], V[old], t[nodes[new]], V[new], scale, miss)
-        mids = _halve_next_to(nodes, new[miss > tol])
-        if not mids.size:
-            break
-        V2, r2 = evaluate(mids)
-        r_max = max(r_max, r2)
-        vmax = np.maximum(vmax, np.max(np.abs(V2), axis=0))
-        merged = np.concatenate([nodes, mids])
-        order = np.argsort(merged, kind="stable")
-        nodes = merged[order]
-        V = np.concatenate([V, V2])[order]
-        is_new = order >= merged.size - mids.size
-    return nodes, V[:, :nz], V[:, nz:]
+    V = np.empty((t.size, nz + work.stop - work.start))
+    nodes = refine_nodes(system.kernel, system.seg_end, t, Z, lin.inputs(t), conv, lin.b0,
+                         lin.B, np.ascontiguousarray(lin.A.T), work.start, _first_nodes(t),
+                         16.0 * _CUBIC_SHARE, _NOISE, V)
+    system.nfev += nodes.size
+    return nodes, V[:nodes.size, :nz], V[:nodes.size, nz:]
 
 
 def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,

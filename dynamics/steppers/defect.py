@@ -18,7 +18,7 @@ import numpy as np
 from .propagate import deviations_to_states, jit, rates_of_states
 
 __all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak", "largest_point",
-           "defect_rows", "cubic_misses", "point_rows", "modal_point_rows"]
+           "defect_rows", "cubic_misses", "refine_nodes", "point_rows", "modal_point_rows"]
 
 
 @jit
@@ -284,6 +284,137 @@ def cubic_misses(t_old, V_old, t_new, V_new, scale, miss):
             if m > best:
                 best = m
         miss[r] = best
+
+
+@jit
+def _defect_at(kernel, seg_end, t, Z, idx, coords, b0, B, du, w0, AT, V):
+    """V (q, nz + c) = [d | powers] at the piece ends idx (q,):
+    :func:`defect_rows`, then A z off; returns the largest |R|."""
+    nz = b0.size
+    r = defect_rows(kernel, seg_end, t, Z, idx, coords, b0, B, du[idx], w0, V)
+    Az = np.dot(Z[idx], AT)
+    for i in range(idx.size):
+        for a in range(nz):
+            V[i, a] -= Az[i, a]
+    return r
+
+
+@jit
+def refine_nodes(kernel, seg_end, t, Z, du, coords, b0, B, AT, w0, first, tol, noise, V):
+    """The error estimate's node refinement in one compiled pass (see
+    :func:`flexbed.dynamics.linear_estimate._defect_nodes`): the defect and
+    the powers at the first nodes; then, round by round, every node
+    interval next to a node (at first every other node, the last kept)
+    where the local cubics through the nodes it was added to miss d or a
+    power by more than ``tol`` of its largest value (d's scale at least
+    ``noise`` times the largest rate) is halved, the right-hand side
+    evaluated midway, until no node misses or the intervals are single
+    pieces.
+
+    Parameters
+    ----------
+    kernel, seg_end, t, Z, coords, b0, B, w0
+        As :func:`defect_rows`; Z (k, nz) the linear solution at the
+        piece ends t (k,).
+    du : (k, nu) float64
+        The inputs u − u(0) at every piece end.
+    AT : (nz, nz) float64
+        Aᵀ, C-contiguous.
+    first : (n0,) int64
+        The first nodes (ascending, first 0, last k − 1).
+    tol, noise : float
+    V : (k, nz + c) float64
+        Written: [d | powers] at the nodes in its first n rows.
+
+    Returns
+    -------
+    nodes : (n,) int64
+        The nodes.
+    """
+    k = t.size
+    nz = b0.size
+    nv = V.shape[1]
+    n = first.size
+    nodes = first.copy()
+    r_max = _defect_at(kernel, seg_end, t, Z, nodes, coords, b0, B, du, w0, AT, V[:n])
+    vmax = np.zeros(nv)
+    for i in range(n):
+        for a in range(nv):
+            vmax[a] = max(vmax[a], abs(V[i, a]))
+    is_new = np.zeros(n, dtype=np.bool_)                  # every other node, the last kept
+    for i in range(1, n - 1, 2):
+        is_new[i] = True
+    W = np.empty((k, nv))                                  # the merge's other buffer
+    scale = np.empty(nv)
+    while True:
+        n_new = 0
+        for i in range(n):
+            if is_new[i]:
+                n_new += 1
+        if n_new == 0:
+            break
+        old = np.empty(n - n_new, dtype=np.int64)
+        new = np.empty(n_new, dtype=np.int64)
+        a = 0
+        b = 0
+        for i in range(n):
+            if is_new[i]:
+                new[b] = i
+                b += 1
+            else:
+                old[a] = i
+                a += 1
+        dmax = 0.0
+        for c in range(nz):
+            dmax = max(dmax, vmax[c])
+        for c in range(nv):
+            scale[c] = max(vmax[c], 1e-300)
+        for c in range(nz):
+            scale[c] = max(dmax, noise * r_max, 1e-300)
+        miss = np.full(n_new, np.inf)
+        if old.size >= 4:
+            cubic_misses(t[nodes[old]], V[old], t[nodes[new]], V[new], scale, miss)
+        # the intervals on either side of each node that misses, two pieces or longer
+        side = np.zeros(n, dtype=np.bool_)
+        for r in range(n_new):
+            if miss[r] > tol:
+                side[new[r]] = True
+                side[new[r] - 1] = True
+        mids = np.empty(n, dtype=np.int64)
+        m = 0
+        for j in range(n - 1):
+            if side[j] and nodes[j + 1] - nodes[j] >= 2:
+                mids[m] = (nodes[j] + nodes[j + 1]) // 2
+                m += 1
+        if m == 0:
+            break
+        mids = mids[:m]
+        V2 = np.empty((m, nv))
+        r_max = max(r_max, _defect_at(kernel, seg_end, t, Z, mids, coords, b0, B, du, w0,
+                                      AT, V2))
+        for i in range(m):
+            for c in range(nv):
+                vmax[c] = max(vmax[c], abs(V2[i, c]))
+        # merge the two ascending lists (a midpoint lies strictly inside its interval)
+        merged = np.empty(n + m, dtype=np.int64)
+        is_new = np.zeros(n + m, dtype=np.bool_)
+        i = 0
+        j = 0
+        for r in range(n + m):
+            if j < m and (i >= n or mids[j] < nodes[i]):
+                merged[r] = mids[j]
+                W[r] = V2[j]
+                is_new[r] = True
+                j += 1
+            else:
+                merged[r] = nodes[i]
+                W[r] = V[i]
+                i += 1
+        n += m
+        nodes = merged
+        for r in range(n):
+            V[r] = W[r]
+    return nodes
 
 
 @jit
