@@ -55,7 +55,8 @@ from .linear_propagation import _lengths
 from .steppers.defect import (cubic_pieces, hermite_peak,
                               largest_point, modal_point_rows, pieces_at, pieces_integral_at,
                               point_rows, refine_nodes)
-from .steppers.phi import SERIES_NORM, balanced, doubling_tables, phi_double, phi_functions
+from .steppers.phi import (SERIES_NORM, balanced, doubling_tables, norm1, phi_double,
+                           phi_functions)
 from .steppers.propagate import linear_sweep
 from .system import System
 
@@ -267,10 +268,11 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
     ``P[:, :, p]`` (its columns ``cols`` (c,) only, d being zero in the
     others; all by default),
     φ_j(X) = Σ_k X^k/(k + j)! (the blocks of Van Loan's exponential).
-    A is balanced first (LAPACK's diagonal scaling by powers of 2, exact:
-    ``A = S A' S⁻¹``, ``φ_j(A) = S φ_j(A') S⁻¹``; ‖A'‖₁ is near the
-    spectral radius where ‖A‖₁ counts stiffness over mass: 217 against
-    7.3e4 1/s on the reference scene's rigid bed), the φ-functions of A'
+    A is balanced first (a diagonal scaling by powers of 2 as LAPACK's
+    ``dgebal``, exact: ``A = S A' S⁻¹``, ``φ_j(A) = S φ_j(A') S⁻¹``; ‖A'‖₁
+    is near the spectral radius where ‖A‖₁ counts stiffness over mass: 217
+    against 7.3e4 1/s on the reference scene's rigid bed;
+    :func:`flexbed.dynamics.steppers.phi.balance`), the φ-functions of A'
     are :func:`_balanced_propagators`', and S · S⁻¹ is put back."""
     nz = A.shape[0]
     cols = np.arange(nz) if cols is None else np.asarray(cols, dtype=np.int64)
@@ -296,7 +298,7 @@ def _balanced_propagators(Ab: np.ndarray, lengths: np.ndarray, degree: int,
     nz = Ab.shape[0]
     q = degree + 1
     c = cols.size
-    norm = float(np.linalg.norm(Ab, 1))
+    norm = norm1(Ab)
     Phis = np.empty((lengths.size, nz, nz))
     Ps = np.empty((lengths.size, nz, q, c))
     mix, halves = doubling_tables(degree)

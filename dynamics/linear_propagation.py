@@ -38,7 +38,7 @@ from scipy.linalg import expm
 from .integrate import output_grid
 from .linear_model import Linearisation
 from .piecewise import PiecewisePolynomial
-from .steppers.phi import SERIES_NORM, doubling_tables, exp_and_phi_columns, phi_double
+from .steppers.phi import SERIES_NORM, doubling_tables, exp_and_phi_columns, norm1, phi_double
 from .steppers.propagate import few_distinct, linear_sweep, merge_cuts, poly_derivatives
 
 __all__ = ["propagate", "propagate_pieces"]
@@ -176,7 +176,7 @@ class _Exponential:
         self.nw = nu * (_DEG + 1) + 1 + 2 * len(terms)
         if not terms:
             self.Ab, self.scale = lin.balanced
-            self.norm = float(np.linalg.norm(self.Ab, 1))
+            self.norm = norm1(self.Ab)
             G = np.column_stack([lin.B, lin.b0])
             self.G = np.ascontiguousarray(G / self.scale[:, None])        # S⁻¹ [B b0]
             self.tail = _shift_exponential(nu)                            # the inputs' block
