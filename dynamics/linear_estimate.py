@@ -52,12 +52,11 @@ import numpy as np
 
 from .linear_model import Coordinates, Linearisation, per_system
 from .linear_propagation import _lengths
-from .steppers.defect import (cubic_pieces, hermite_peak,
+from .steppers.defect import (cubic_pieces, defect_sweep, error_peaks,
                               largest_point, modal_point_rows, pieces_at, pieces_integral_at,
                               point_rows, refine_nodes)
 from .steppers.phi import (SERIES_NORM, balanced, doubling_tables, norm1, phi_double,
                            phi_functions)
-from .steppers.propagate import linear_sweep
 from .system import System
 
 __all__ = ["ErrorEstimate", "estimate_error", "defect_propagators"]
@@ -343,31 +342,18 @@ def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray,
     at the interval's start. In the balanced coordinates e' = S⁻¹ e of
     :func:`defect_propagators` (d' = S⁻¹ d, e = S e' at the end: the
     propagators are used as computed); the sums Σ_p P_p w_p as one matrix
-    product per distinct interval length on the intervals sorted by length,
-    the recursion compiled
-    (:func:`flexbed.dynamics.steppers.propagate.linear_sweep`). ``balance``
-    is (A', S) when already made (:attr:`Linearisation.balanced`)."""
+    product per distinct interval length, and the recursion, in one
+    compiled pass (:func:`flexbed.dynamics.steppers.defect.defect_sweep`).
+    ``balance`` is (A', S) when already made
+    (:attr:`Linearisation.balanced`)."""
     nz = A.shape[0]
     cols = np.arange(nz) if cols is None else cols
     lengths, which = _lengths(np.diff(tn))
     Ab, scale = balanced(A) if balance is None else balance
     Phis, Ps = _balanced_propagators(Ab, lengths, 3, cols)
-    W = (C * (_FACT4[:, None] / scale[None, cols])).reshape(C.shape[0], -1)  # (n − 1, 4 c)
-    Pcat = Ps.reshape(lengths.size, nz, -1)                             # [P0 P1 P2 P3]
-    Q = np.empty((W.shape[0], nz))
-    if lengths.size == 1:
-        np.matmul(W, Pcat[0].T, out=Q)
-    else:
-        order = np.argsort(which, kind="stable")
-        ends = np.cumsum(np.bincount(which, minlength=lengths.size))
-        Ws, Qs = W[order], np.empty_like(Q)
-        for i, (a, b) in enumerate(zip(np.concatenate([[0], ends[:-1]]), ends)):
-            if b > a:
-                np.matmul(Ws[a:b], Pcat[i].T, out=Qs[a:b])
-        Q[order] = Qs
     E = np.empty((tn.size, nz))
-    linear_sweep(Phis, which, Q, np.zeros(nz), E)
-    E *= scale
+    defect_sweep(Phis, Ps.reshape(lengths.size, nz, -1), which, np.ascontiguousarray(C),
+                 scale[cols], scale, E)
     return E
 
 
@@ -452,15 +438,10 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndar
     pieces_integral_at(ts, tn, CW, works)
     # ė = A e + d, d the local cubics: Φ, P0 … P3 per distinct interval
     En = _propagate_defect(A, tn, C, cols, lin.balanced)
-    # the points' errors between the nodes: cubic Hermite with ė = A e + d there
-    Ed = En @ A.T + D
-    pos = hermite_peak(t, nodes, En[:, :npos] @ T.T, Ed[:, :npos] @ T.T) if T.shape[0] else 0.0
-    rot = 0.0
-    if coords.n_rigid:                         # each rotation alone: (θ_i, 0, 0)
-        th = coords.th_index.reshape(-1)
-        V, Vd = np.zeros((nodes.size, 3 * th.size)), np.zeros((nodes.size, 3 * th.size))
-        V[:, ::3], Vd[:, ::3] = En[:, th], Ed[:, th]
-        rot = hermite_peak(t, nodes, V, Vd)
+    # the points' errors between the nodes: cubic Hermite with ė = A e + d
+    # there; each rotation alone likewise, as (θ_i, 0, 0)
+    pos, rot = error_peaks(t, nodes, En, np.ascontiguousarray(D), A, np.ascontiguousarray(T),
+                           coords._th.reshape(-1))
     reliable = pos <= 0.1 * motion or pos < 1e-12
     return ErrorEstimate(pos, rot, motion, reliable, system.nfev - nfev0, powers, nodes, En,
                          works, lambda: _error_on_every_sample(A, t, nodes, C, cols, lin.balanced)[samples])

@@ -15,10 +15,11 @@ import math
 
 import numpy as np
 
-from .propagate import deviations_to_states, jit, rates_of_states
+from .propagate import deviations_to_states, jit, linear_sweep, rates_of_states
 
 __all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak", "largest_point",
-           "defect_rows", "cubic_misses", "refine_nodes", "point_rows", "modal_point_rows"]
+           "defect_rows", "cubic_misses", "refine_nodes", "defect_sweep", "error_peaks",
+           "point_rows", "modal_point_rows"]
 
 
 @jit
@@ -415,6 +416,115 @@ def refine_nodes(kernel, seg_end, t, Z, du, coords, b0, B, AT, w0, first, tol, n
         for r in range(n):
             V[r] = W[r]
     return nodes
+
+
+@jit
+def defect_sweep(Phis, Ps, which, C, col_scale, scale, E):
+    """The error e (n, nz) at the nodes from e_0 = 0 (see
+    :func:`flexbed.dynamics.linear_estimate._propagate_defect`), in the
+    balanced coordinates e' = S⁻¹ e of the propagators:
+    ``e'_{j+1} = Φ e'_j + Σ_p P_p w_p``, w_p = p! C[j, p] / S_cols (d's
+    σ-derivatives at the interval's start, its columns only); the sums as
+    one matrix product per distinct length over the intervals of that
+    length (gathered), the recursion by :func:`linear_sweep`; then
+    e = S e'.
+
+    Parameters
+    ----------
+    Phis : (m, nz, nz) float64
+    Ps : (m, nz, 4 c) float64
+        [P_0 … P_3] of each length (their columns ``cols``).
+    which : (n − 1,) int64
+        Each interval's length.
+    C : (n − 1, 4, c) float64
+        The defect's local cubics (ascending powers of σ).
+    col_scale : (c,) float64
+        S at d's columns.
+    scale : (nz,) float64
+        S.
+    E : (n, nz) float64
+        Written.
+    """
+    n1, q, c = C.shape
+    m, nz = Phis.shape[0], Phis.shape[1]
+    W = np.empty((n1, q * c))
+    for j in range(n1):
+        f = 1.0
+        for p in range(q):
+            if p > 1:
+                f *= p
+            for a in range(c):
+                W[j, p * c + a] = C[j, p, a] * f / col_scale[a]
+    Q = np.empty((n1, nz))
+    if m == 1:
+        Q[:] = np.dot(W, Ps[0].T)
+    else:
+        counts = np.zeros(m, dtype=np.int64)
+        for j in range(n1):
+            counts[which[j]] += 1
+        for i in range(m):
+            if counts[i] == 0:
+                continue
+            sel = np.empty(counts[i], dtype=np.int64)
+            r = 0
+            for j in range(n1):
+                if which[j] == i:
+                    sel[r] = j
+                    r += 1
+            Qi = np.dot(W[sel], Ps[i].T)
+            for r in range(sel.size):
+                Q[sel[r]] = Qi[r]
+    linear_sweep(Phis, which, Q, np.zeros(nz), E)
+    for j in range(E.shape[0]):
+        for a in range(nz):
+            E[j, a] *= scale[a]
+
+
+@jit
+def error_peaks(t, nodes, E, D, A, T, th):
+    """The largest error of a point and of a rotation over every piece end
+    (see :func:`flexbed.dynamics.linear_estimate.estimate_error`): the
+    points' errors T e and rates T ė, ė = A e + d, at the nodes, between
+    them their cubic Hermite interpolant (:func:`hermite_peak`); each
+    rotation coordinate alone likewise.
+
+    Parameters
+    ----------
+    t : (k,) float64 [s]
+    nodes : (n,) int64
+    E, D : (n, nz) float64
+        The error e and the defect d at the nodes.
+    A : (nz, nz) float64
+    T : (3P, n_pos) float64
+        The points' map (position columns: the first n_pos of z).
+    th : (r,) int64
+        The rotation coordinates (among the first n_pos).
+
+    Returns
+    -------
+    (float, float)
+        The largest point error [m] and rotation error [rad].
+    """
+    n = E.shape[0]
+    npos = T.shape[1]
+    Ep = np.ascontiguousarray(E[:, :npos])
+    Ed = np.dot(E, A[:npos].T)
+    for i in range(n):
+        for a in range(npos):
+            Ed[i, a] += D[i, a]
+    pos = 0.0
+    if T.shape[0]:
+        pos = hermite_peak(t, nodes, np.dot(Ep, T.T), np.dot(Ed, T.T))
+    rot = 0.0
+    if th.size:
+        V = np.zeros((n, 3 * th.size))
+        Vd = np.zeros((n, 3 * th.size))
+        for i in range(n):
+            for r in range(th.size):
+                V[i, 3 * r] = E[i, th[r]]
+                Vd[i, 3 * r] = Ed[i, th[r]]
+        rot = hermite_peak(t, nodes, V, Vd)
+    return pos, rot
 
 
 @jit
