@@ -9,7 +9,8 @@ Exact propagation
 By :mod:`flexbed.dynamics.linear_propagation`: one matrix exponential of
 the state augmented with the inputs (polynomial pieces, analytic
 sinusoids as rotating pairs) per distinct piece length (a small multiple
-of the shortest takes the shortest's power), the recursion in compiled
+of the shortest takes the shortest's power; without sinusoids by the
+φ-functions' series on the balanced A), the recursion in compiled
 code.
 
 Error estimate against the nonlinear model

@@ -6,8 +6,8 @@ Error estimate against the nonlinear model
 Along the linear solution the nonlinear model leaves the defect
 ``d(t) = f(z(t), t) − (A z + b0 + B Δu)``. The nonlinear solution differs
 from the linear one by ``e`` with ``ė = A e + d + O(e²)``. ``d`` is
-evaluated (the right-hand side in one compiled batch a round) at some of
-the propagation's piece ends (the output samples and the inputs' knots
+evaluated (the right-hand side and the whole refinement below in one
+compiled pass) at some of the propagation's piece ends (the output samples and the inputs' knots
 between them), the nodes, and taken between them as the local cubic
 through the two nodes on each side. Every 16th piece end first (runs of
 longer pieces, where the knots stop, every few, so that the intervals
@@ -20,7 +20,8 @@ nodes kept then follow them to about 0.5 % (their miss is O(H⁴)), and a
 quiet stretch keeps its long intervals. ``e`` is propagated exactly from
 node to node (the φ-functions of the interval's ``A L``, one series and
 its doublings per family of lengths, compiled, on the defect's non-zero
-columns only; the recursion compiled); on every output sample only when
+columns only; the products and the recursion in one compiled pass; the
+points' peaks in another); on every output sample only when
 asked for (:attr:`ErrorEstimate.e`, e.g. for the first-order correction:
 the same cubics, propagated piece by piece, the same e at the nodes). The
 largest error of a point that matters (the centres of mass of bodies 2…
@@ -53,7 +54,7 @@ import numpy as np
 from .linear_model import Coordinates, Linearisation, per_system
 from .linear_propagation import _lengths
 from .steppers.defect import (cubic_pieces, defect_sweep, error_peaks,
-                              largest_point, modal_point_rows, pieces_at, pieces_integral_at,
+                              largest_motion, modal_point_rows, pieces_at, pieces_integral_at,
                               point_rows, refine_nodes)
 from .steppers.phi import (SERIES_NORM, balanced, doubling_tables, norm1, phi_double,
                            phi_functions)
@@ -378,25 +379,6 @@ def _error_on_every_sample(A: np.ndarray, t: np.ndarray, nodes: np.ndarray,
     return _propagate_defect(A, t, C_samples, cols, balance)
 
 
-_ROWS = 128     # samples per block of the motion scan: 128 × 3P doubles stay
-                # below glibc's mmap threshold, so the block reuses heap pages
-
-
-def _largest_motion(Zp: np.ndarray, T: np.ndarray) -> float:
-    """The largest |point| [m] of T z over the rows of Zp (k, n_pos), T
-    (3P, n_pos): the product a block of samples at a time into one
-    buffer, never the whole (k, 3P) array (fresh pages of a 1–2 MB array
-    cost more than the product on them)."""
-    k = Zp.shape[0]
-    buf = np.empty((min(k, _ROWS), T.shape[0]))
-    best = 0.0
-    for a in range(0, k, _ROWS):
-        out = buf[:min(_ROWS, k - a)]
-        np.matmul(Zp[a:a + _ROWS], T.T, out=out)
-        best = max(best, largest_point(out))
-    return best
-
-
 def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndarray,
                    samples: np.ndarray | None = None) -> ErrorEstimate:
     """Defect of the linear solution in the nonlinear equations, propagated
@@ -421,8 +403,7 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndar
     A = np.ascontiguousarray(lin.A)
     samples = np.arange(t.size) if samples is None else samples
     ts = t[samples]
-    motion = (_largest_motion(Z[:, :npos] if samples.size == t.size else Z[samples, :npos], T)
-              if T.shape[0] else 0.0)
+    motion = largest_motion(Z, samples, np.ascontiguousarray(T)) if T.shape[0] else 0.0
     k = t.size
     if k < 2:                                  # the start only: e(0) = 0
         none = np.zeros((ts.size, system.layout.work.stop - system.layout.work.start))

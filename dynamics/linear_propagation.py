@@ -21,7 +21,10 @@ and the sinusoids' pairs together obey a constant linear system,
 
 so one matrix exponential per distinct piece length gives
 ``z(t_k + h) = Φ z(t_k) + Ψ w_k`` without any truncation error (Van Loan's
-block method); a uniform output grid has one or a few lengths. The
+block method); a uniform output grid has one or a few lengths. Without
+sinusoids the blocks are ``Φ = e^{hA}`` and ``Ψ = [h φ_{m+1}(hA) B_j … |
+h φ_1(hA) b0]``, summed by their series to round-off on A balanced by
+powers of 2 (:class:`_Exponential`). The
 recursion runs in compiled code
 (:func:`flexbed.dynamics.steppers.propagate.linear_sweep`), the products
 ``Ψ w_k`` as one matrix product per length.
@@ -101,7 +104,7 @@ def _propagators(lin: Linearisation, lengths: np.ndarray, terms: list) -> tuple:
         d/dσ [z; w] = [[h A, h G], [0, S]] [z; w],
 
     w = (each channel's polynomial σ-derivatives, degree ≤ 5; 1 for b0;
-    each sinusoid's (x_s, x_c) rotating at ωh) (:func:`_exponential`). A
+    each sinusoid's (x_s, x_c) rotating at ωh) (:class:`_Exponential`). A
     length k times the shortest (k ≤ 16) is the shortest's exponential to
     the k-th power (in t-derivatives: binary powers, a few products
     instead of an exponential)."""

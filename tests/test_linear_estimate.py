@@ -14,8 +14,8 @@ import flexbed.dynamics.linear as linear
 import flexbed.dynamics.linear_estimate as linear_estimate
 from flexbed.dynamics.linear_estimate import (_cubics, _error_on_every_sample,
                                               _propagate_defect, defect_propagators)
-from flexbed.dynamics.steppers.defect import (hermite_peak, largest_point, pieces_at,
-                                              pieces_integral_at)
+from flexbed.dynamics.steppers.defect import (hermite_peak, largest_motion,
+                                              pieces_at, pieces_integral_at)
 
 
 def _system_matrix(rng):
@@ -136,10 +136,10 @@ def test_e_over_the_nodes_is_exact_and_equals_e_sample_by_sample():
     assert np.max(np.abs(full[nodes] - E)) < 1e-10 * scale
 
 
-def test_hermite_peak_and_largest_point():
+def test_hermite_peak_and_largest_motion():
     """Points moving on cubics in t: the Hermite interpolant through their
     values and rates at the nodes is the motion itself, so its largest
-    length over the samples is the motion's; largest_point is NumPy's."""
+    length over the samples is the motion's; largest_motion is NumPy's."""
     rng = np.random.default_rng(4)
     t = np.linspace(0.0, 1.0, 97)
     nodes = np.append(np.arange(0, t.size, 8), t.size - 1)
@@ -151,13 +151,16 @@ def test_hermite_peak_and_largest_point():
     ref = np.sqrt(np.max(np.sum(every.reshape(t.size, 4, 3) ** 2, axis=2)))
     got = hermite_peak(t, nodes, V(t[nodes]), Vd(t[nodes]))
     assert abs(got - ref) < 1e-12 * ref
-    assert abs(largest_point(every) - ref) < 1e-14 * ref
+    assert abs(largest_motion(every, np.arange(t.size), np.eye(12)) - ref) < 1e-14 * ref
     assert got > 1.001 * np.sqrt(np.max(np.sum(V(t[nodes]).reshape(-1, 4, 3) ** 2, axis=2)))
-    # the motion scan a block of samples at a time: the largest over all of
-    # them, with a last block shorter than the others
-    Zp, T = rng.standard_normal((2 * linear_estimate._ROWS + 37, 5)), rng.standard_normal((12, 5))
-    full = np.sqrt(np.max(np.sum((Zp @ T.T).reshape(-1, 4, 3) ** 2, axis=2)))
-    assert abs(linear_estimate._largest_motion(Zp, T) - full) < 1e-14 * full
+    # the motion over some rows, each point on its non-zero columns only:
+    # NumPy's dense product's
+    Zp, T = rng.standard_normal((300, 7)), rng.standard_normal((12, 5))
+    T[3:6, [0, 2]] = 0.0
+    T[6:9, 1] = 0.0
+    rows = np.arange(0, 300, 3)
+    full = np.sqrt(np.max(np.sum((Zp[rows, :5] @ T.T).reshape(-1, 4, 3) ** 2, axis=2)))
+    assert abs(largest_motion(Zp, rows, T) - full) < 1e-14 * full
 
 
 @pytest.fixture(scope="module")

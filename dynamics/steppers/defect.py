@@ -17,9 +17,9 @@ import numpy as np
 
 from .propagate import deviations_to_states, jit, linear_sweep, rates_of_states
 
-__all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak", "largest_point",
+__all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak",
            "defect_rows", "cubic_misses", "refine_nodes", "defect_sweep", "error_peaks",
-           "point_rows", "modal_point_rows"]
+           "largest_motion", "point_rows", "modal_point_rows"]
 
 
 @jit
@@ -186,16 +186,44 @@ def hermite_peak(t, nodes, V, Vd):
 
 
 @jit
-def largest_point(dP):
-    """The largest |point| [m] over the rows of dP (k, 3P): x, y, z of P points."""
-    k, c = dP.shape
+def largest_motion(Z, rows, T):
+    """The largest |point| [m] of T z over the rows ``rows`` of Z: each
+    point's three rows of T on its non-zero columns only (a rigid body's
+    point: its translation and rotation, 6 of them).
+
+    Parameters
+    ----------
+    Z : (k, nz) float64
+    rows : (s,) int64
+    T : (3P, c) float64
+        x, y, z of P points against the first c columns of Z.
+    """
+    P = T.shape[0] // 3
+    c = T.shape[1]
+    count = np.zeros(P, dtype=np.int64)
+    cols = np.empty((P, c), dtype=np.int64)
+    vals = np.empty((P, c, 3))
+    for p in range(P):
+        for j in range(c):
+            if T[3 * p, j] != 0.0 or T[3 * p + 1, j] != 0.0 or T[3 * p + 2, j] != 0.0:
+                m = count[p]
+                cols[p, m] = j
+                for q in range(3):
+                    vals[p, m, q] = T[3 * p + q, j]
+                count[p] = m + 1
     best = 0.0
-    for i in range(k):
-        for p in range(c // 3):
-            s = 0.0
-            for q in range(3):
-                v = dP[i, 3 * p + q]
-                s += v * v
+    for r in range(rows.size):
+        z = Z[rows[r]]
+        for p in range(P):
+            x = 0.0
+            y = 0.0
+            w = 0.0
+            for m in range(count[p]):
+                zc = z[cols[p, m]]
+                x += vals[p, m, 0] * zc
+                y += vals[p, m, 1] * zc
+                w += vals[p, m, 2] * zc
+            s = x * x + y * y + w * w
             if s > best:
                 best = s
     return math.sqrt(best)
