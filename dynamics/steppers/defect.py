@@ -187,9 +187,14 @@ def hermite_peak(t, nodes, V, Vd):
 
 @jit
 def largest_motion(Z, rows, T):
-    """The largest |point| [m] of T z over the rows ``rows`` of Z: each
-    point's three rows of T on its non-zero columns only (a rigid body's
-    point: its translation and rotation, 6 of them).
+    """The largest |point| [m] of T z over the rows ``rows`` of Z.
+
+    Each point on its non-zero columns of T only (a rigid body's point:
+    its translation and rotation, 6 of them); the points with the same
+    columns (those of one body) form a group, and at each row a group is
+    skipped when the bound Σ_j w_j |z_j| (w_j the largest |T_p e_j| of
+    its points) is no larger than the largest length so far, which starts
+    from each group's row of the largest bound.
 
     Parameters
     ----------
@@ -211,22 +216,84 @@ def largest_motion(Z, rows, T):
                 for q in range(3):
                     vals[p, m, q] = T[3 * p + q, j]
                 count[p] = m + 1
-    best = 0.0
+    # the groups: points with the same columns; each group's bound weights
+    group = np.empty(P, dtype=np.int64)
+    lead = np.empty(P, dtype=np.int64)              # a group's first point
+    weight = np.zeros((P, c))
+    ng = 0
+    for p in range(P):
+        g = -1
+        for h in range(ng):
+            q = lead[h]
+            if count[q] == count[p]:
+                same = True
+                for m in range(count[p]):
+                    if cols[q, m] != cols[p, m]:
+                        same = False
+                        break
+                if same:
+                    g = h
+                    break
+        if g < 0:
+            g = ng
+            lead[g] = p
+            ng += 1
+        group[p] = g
+        for m in range(count[p]):
+            w = math.sqrt(vals[p, m, 0] ** 2 + vals[p, m, 1] ** 2 + vals[p, m, 2] ** 2)
+            weight[g, m] = max(weight[g, m], w)
+    members = np.empty(P, dtype=np.int64)           # the points, group by group
+    start = np.zeros(ng + 1, dtype=np.int64)
+    for p in range(P):
+        start[group[p] + 1] += 1
+    for g in range(ng):
+        start[g + 1] += start[g]
+    fill = start[:ng].copy()
+    for p in range(P):
+        members[fill[group[p]]] = p
+        fill[group[p]] += 1
+    # every row's bounds; the rows of the largest bounds first, so that the
+    # others are mostly skipped
+    bounds = np.empty((rows.size, ng))
+    top = np.zeros(ng, dtype=np.int64)
     for r in range(rows.size):
         z = Z[rows[r]]
-        for p in range(P):
-            x = 0.0
-            y = 0.0
-            w = 0.0
-            for m in range(count[p]):
-                zc = z[cols[p, m]]
-                x += vals[p, m, 0] * zc
-                y += vals[p, m, 1] * zc
-                w += vals[p, m, 2] * zc
-            s = x * x + y * y + w * w
-            if s > best:
-                best = s
+        for g in range(ng):
+            q = lead[g]
+            bound = 0.0
+            for m in range(count[q]):
+                bound += weight[g, m] * abs(z[cols[q, m]])
+            bounds[r, g] = bound
+            if bound > bounds[top[g], g]:
+                top[g] = r
+    best = 0.0                                      # squared
+    for g in range(ng):
+        best = _group_peak(Z[rows[top[g]]], members[start[g]:start[g + 1]], count, cols, vals,
+                           best)
+    for r in range(rows.size):
+        for g in range(ng):
+            if bounds[r, g] ** 2 > best:
+                best = _group_peak(Z[rows[r]], members[start[g]:start[g + 1]], count, cols,
+                                   vals, best)
     return math.sqrt(best)
+
+
+@jit
+def _group_peak(z, points, count, cols, vals, best):
+    """max(best, the largest |T_p z|² of the points) (:func:`largest_motion`)."""
+    for p in points:
+        x = 0.0
+        y = 0.0
+        w = 0.0
+        for m in range(count[p]):
+            zc = z[cols[p, m]]
+            x += vals[p, m, 0] * zc
+            y += vals[p, m, 1] * zc
+            w += vals[p, m, 2] * zc
+        s = x * x + y * y + w * w
+        if s > best:
+            best = s
+    return best
 
 
 @jit
