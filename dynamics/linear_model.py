@@ -149,9 +149,8 @@ class Coordinates:
         self.layout = lay
         self.y_eq = np.array(y_eq, dtype=float)
         self.__dict__.update(_index_arrays(system))
-        parts = lay.split(self.y_eq)
-        p_eq = np.array(parts["p"], dtype=float)
-        self.p_eq = p_eq / np.linalg.norm(p_eq, axis=1, keepdims=True)
+        p_eq = self.y_eq[self.y_p]                                      # (n, 4)
+        self.p_eq = p_eq / np.sqrt(np.sum(p_eq * p_eq, axis=1))[:, None]
         self.p_eq_conj = self.p_eq * np.array([1.0, -1.0, -1.0, -1.0])
 
     def to_y(self, z: np.ndarray) -> np.ndarray:
@@ -377,7 +376,9 @@ def linearise(system: System, y_eq: np.ndarray, rate_step: float = 1e-6,
     step = difference_steps(system, coords, rate_step, translation_step)
 
     system.set_segment(None)
-    Zp = np.vstack([np.zeros(nz), np.diag(step), -np.diag(step)])      # (2 nz + 1, nz)
+    Zp = np.zeros((2 * nz + 1, nz))                                     # 0, +steps, −steps
+    Zp[1:nz + 1].flat[::nz + 1] = step
+    Zp[nz + 1:].flat[::nz + 1] = -step
     Yp = coords.to_y(Zp)
     F = coords.rate(system.rhs_batch(np.zeros(Yp.shape[0]), Yp)[0])
     b0 = F[0]
