@@ -49,9 +49,28 @@ def linear_sweep(Phis, which, P, x0, X):
     for i in range(which.size):
         Phi = Phis[which[i]]
         x = X[i]
-        # four rows at a time: four independent sums over x (1.3–1.4 times
-        # faster than one row at a time at n = 42 … 54)
+        # eight rows at a time: eight independent sums over x (1.3–1.4 times
+        # faster than one row at a time at n = 42 … 54, four rows at a time;
+        # eight 1.14 times faster than four at n = 42), then four, then one
         r = 0
+        while r + 8 <= n:
+            f0, f1, f2, f3 = Phi[r], Phi[r + 1], Phi[r + 2], Phi[r + 3]
+            f4, f5, f6, f7 = Phi[r + 4], Phi[r + 5], Phi[r + 6], Phi[r + 7]
+            s0, s1, s2, s3 = P[i, r], P[i, r + 1], P[i, r + 2], P[i, r + 3]
+            s4, s5, s6, s7 = P[i, r + 4], P[i, r + 5], P[i, r + 6], P[i, r + 7]
+            for c in range(n):
+                xc = x[c]
+                s0 += f0[c] * xc
+                s1 += f1[c] * xc
+                s2 += f2[c] * xc
+                s3 += f3[c] * xc
+                s4 += f4[c] * xc
+                s5 += f5[c] * xc
+                s6 += f6[c] * xc
+                s7 += f7[c] * xc
+            X[i + 1, r], X[i + 1, r + 1], X[i + 1, r + 2], X[i + 1, r + 3] = s0, s1, s2, s3
+            X[i + 1, r + 4], X[i + 1, r + 5], X[i + 1, r + 6], X[i + 1, r + 7] = s4, s5, s6, s7
+            r += 8
         while r + 4 <= n:
             f0, f1, f2, f3 = Phi[r], Phi[r + 1], Phi[r + 2], Phi[r + 3]
             s0, s1, s2, s3 = P[i, r], P[i, r + 1], P[i, r + 2], P[i, r + 3]
