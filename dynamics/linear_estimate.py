@@ -177,7 +177,6 @@ _START = 16
 _CUBIC_SHARE = 5e-3
 #: a defect below this share of the rates is the linearisation's round-off
 _NOISE = 1e-8
-_FACT4 = np.array([1.0, 1.0, 2.0, 6.0])
 
 
 def _sample_nodes(k: int, m: int) -> np.ndarray:
@@ -195,18 +194,18 @@ def _cubics(tn: np.ndarray, V: np.ndarray) -> np.ndarray:
 
 
 def _first_nodes(t: np.ndarray) -> np.ndarray:
-    """The first nodes among the piece ends t (k,): every :data:`_START`-th
-    (fewer when that leaves under 9 nodes). Where the pieces are longer in
-    long runs (an input's knots closer than the output samples elsewhere,
-    e.g. once the load's samples stop), each run of equal pieces starts at
-    a node and takes every m-th end: when the runs' lengths are whole
-    multiples of the shortest, one node interval H for all of them, the
-    least common multiple of their lengths at or above :data:`_START` of
-    the shortest (at most 4 × :data:`_START`), so that the intervals have
-    one length and its halves (one family of the error's propagators);
-    else m pieces the nearest to :data:`_START` of the shortest (at least
-    one). Pieces of changing lengths that do not form long runs (knots
-    between the samples) keep every :data:`_START`-th end."""
+    """The first nodes among the piece ends t (k,): every m-th, m =
+    :data:`_START` (less when that would leave under 9 nodes). Where the
+    pieces are longer in long runs (an input's knots closer than the
+    output samples elsewhere, e.g. once the load's samples stop), each run
+    of equal pieces starts at a node and takes every few ends: when the
+    runs' lengths are whole multiples of the shortest, one node interval
+    for all of them, the least common multiple of their lengths at or
+    above m of the shortest (at most 4 m), so that the intervals have one
+    length and its halves (one family of the error's propagators); else
+    the number of pieces nearest to m of the shortest (at least one).
+    Pieces of changing lengths that do not form long runs (knots between
+    the samples) keep every m-th end."""
     k = t.size
     m = max(1, min(_START, (k - 1) // 8))
     if k < 3:
@@ -272,8 +271,8 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
     ``dgebal``, exact: ``A = S A' S⁻¹``, ``φ_j(A) = S φ_j(A') S⁻¹``; ‖A'‖₁
     is near the spectral radius where ‖A‖₁ counts stiffness over mass: 217
     against 7.3e4 1/s on the reference scene's rigid bed;
-    :func:`flexbed.dynamics.steppers.phi.balance`), the φ-functions of A'
-    are :func:`_balanced_propagators`', and S · S⁻¹ is put back."""
+    :func:`flexbed.dynamics.steppers.phi.balance`); the φ-functions of A'
+    are those of :func:`_balanced_propagators`, and S · S⁻¹ is put back."""
     nz = A.shape[0]
     cols = np.arange(nz) if cols is None else np.asarray(cols, dtype=np.int64)
     Ab, scale = balanced(A)
@@ -424,5 +423,9 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndar
     pos, rot = error_peaks(t, nodes, En, np.ascontiguousarray(D), A, np.ascontiguousarray(T),
                            coords._th.reshape(-1))
     reliable = pos <= 0.1 * motion or pos < 1e-12
+
+    def every_sample():
+        return _error_on_every_sample(A, t, nodes, C, cols, lin.balanced)[samples]
+
     return ErrorEstimate(pos, rot, motion, reliable, system.nfev - nfev0, powers, nodes, En,
-                         works, lambda: _error_on_every_sample(A, t, nodes, C, cols, lin.balanced)[samples])
+                         works, every_sample)

@@ -80,6 +80,9 @@ def test_balancing_is_exact_and_as_lapacks():
         ref, (ref_scale, _) = matrix_balance(A, permute=False, separate=True)
         assert np.array_equal(scale, ref_scale)
         assert np.linalg.norm(Ab, 1) * fall < np.linalg.norm(A, 1)
+    for entry in (np.nan, np.inf):                         # reported, not balanced
+        with pytest.raises(np.linalg.LinAlgError, match="NaN or infinite"):
+            balanced(np.array([[1.0, entry], [1.0, 2.0]]))
 
 
 def test_local_cubics_reproduce_cubics_and_integrate_them_exactly():
@@ -161,6 +164,7 @@ def test_hermite_peak_and_largest_motion():
     rows = np.arange(0, 300, 3)
     full = np.sqrt(np.max(np.sum((Zp[rows, :5] @ T.T).reshape(-1, 4, 3) ** 2, axis=2)))
     assert abs(largest_motion(Zp, rows, T) - full) < 1e-14 * full
+    assert largest_motion(Zp, rows[:0], T) == 0.0                     # no rows
 
 
 @pytest.fixture(scope="module")

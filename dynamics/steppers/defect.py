@@ -1,7 +1,9 @@
 """The linear fast path's error estimate in compiled loops (see
-:mod:`flexbed.dynamics.linear`): local cubics through the defect's nodes
-(and the powers'), the largest point error between the nodes, and the
-largest point displacement over the samples.
+:mod:`flexbed.dynamics.linear_estimate`): the defect at the nodes and
+their refinement (one pass), local cubics through the defect's nodes (and
+the powers'), the defect's propagation over the nodes, the points'
+first-order map, the largest point and rotation error between the nodes,
+and the largest point displacement over the samples.
 
 A node interval ``[t_j, t_{j+1}]`` carries the cubic through the four
 nodes ``j0 … j0 + 3``, ``j0 = min(max(j − 1, 0), n − 4)`` (the two
@@ -205,6 +207,8 @@ def largest_motion(Z, rows, T):
     """
     P = T.shape[0] // 3
     c = T.shape[1]
+    if rows.size == 0 or P == 0:
+        return 0.0
     count = np.zeros(P, dtype=np.int64)
     cols = np.empty((P, c), dtype=np.int64)
     vals = np.empty((P, c, 3))
