@@ -7,8 +7,9 @@ Along the linear solution the nonlinear model leaves the defect
 ``d(t) = f(z(t), t) − (A z + b0 + B Δu)``. The nonlinear solution differs
 from the linear one by ``e`` with ``ė = A e + d + O(e²)``. ``d`` is
 evaluated (the right-hand side and the whole refinement below in one
-compiled pass) at some of the propagation's piece ends (the output samples and the inputs' knots
-between them), the nodes, and taken between them as the local cubic
+compiled pass) at some of the propagation's piece ends (the output
+samples and the inputs' knots between them), the nodes, and taken
+between them as the local cubic
 through the two nodes on each side. Every 16th piece end first (runs of
 longer pieces, where the knots stop, every few, so that the intervals
 have one length near 16 of the shortest pieces where the runs' lengths
