@@ -57,7 +57,7 @@ from .linear_propagation import _lengths
 from .steppers.defect import (cubic_pieces, defect_sweep, error_peaks,
                               largest_motion, modal_point_rows, pieces_at, pieces_integral_at,
                               point_rows, refine_nodes)
-from .steppers.phi import (SERIES_NORM, balanced, doubling_tables, norm1, phi_double,
+from .steppers.phi import (balanced, doubling_tables, halvings, norm1, phi_double,
                            phi_functions)
 from .system import System
 
@@ -310,7 +310,7 @@ def _balanced_propagators(Ab: np.ndarray, lengths: np.ndarray, degree: int,
             continue
         L = Ls[i]
         x = norm * L
-        s = max(0, math.ceil(math.log2(x / SERIES_NORM))) if x > SERIES_NORM else 0
+        s = halvings(x)
         # deep enough to pass through every shorter length that is L / 2^j
         for j, other in enumerate(Ls):
             if not done[j] and 0.0 < other < L:

@@ -41,7 +41,7 @@ from scipy.linalg import expm
 from .integrate import output_grid
 from .linear_model import Linearisation
 from .piecewise import PiecewisePolynomial
-from .steppers.phi import SERIES_NORM, doubling_tables, exp_and_phi_columns, norm1, phi_double
+from .steppers.phi import doubling_tables, exp_and_phi_columns, halvings, norm1, phi_double
 from .steppers.propagate import few_distinct, linear_sweep, merge_cuts, poly_derivatives
 
 __all__ = ["propagate", "propagate_pieces"]
@@ -189,7 +189,7 @@ class _Exponential:
         if self.terms:
             return expm(self._matrix(h))
         x = self.norm * h
-        s = max(0, math.ceil(math.log2(x / SERIES_NORM))) if x > SERIES_NORM else 0
+        s = halvings(x)
         hs = h / 2.0 ** s
         Phi = np.empty((nz, nz))
         P = np.empty((_DEG + 1, nz, nu + 1))

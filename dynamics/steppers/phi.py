@@ -22,7 +22,7 @@ import numpy as np
 from .propagate import jit
 
 __all__ = ["phi_functions", "phi_double", "exp_and_phi_columns", "series_terms", "balanced",
-           "balance", "norm1", "doubling_tables", "SERIES_NORM"]
+           "balance", "norm1", "halvings", "doubling_tables", "SERIES_NORM"]
 
 
 #: the series are summed for ‖X‖₁ at most this ...
@@ -156,6 +156,12 @@ def balance(A, scale):
                 A[i, j] /= f
                 A[j, i] *= f
     return True
+
+
+def halvings(x: float) -> int:
+    """The least s ≥ 0 with x / 2^s ≤ :data:`SERIES_NORM`: the halvings of an
+    interval whose ‖hA‖₁ is x before its series (and the doublings after)."""
+    return max(0, math.ceil(math.log2(x / SERIES_NORM))) if x > SERIES_NORM else 0
 
 
 @functools.lru_cache(maxsize=8)
@@ -304,11 +310,7 @@ def exp_and_phi_columns(X, V, h, Phi, P):
     """
     n, c = V.shape
     q = P.shape[0]
-    F = np.empty((1, n, n))
-    phi_functions(X, F)
-    for i in range(n):
-        for j in range(n):
-            Phi[i, j] = F[0, i, j]
+    phi_functions(X, Phi.reshape((1, n, n)))
     K = series_terms(X, 0)
     inv = np.empty(K + q + 1)                          # inv[i] = 1/i!
     inv[0] = 1.0
