@@ -10,10 +10,11 @@ hold numba functions), beside the cache, and when it differs from the
 sources at hand it flushes the cache of all of them (their index and data
 files are removed; numba compiles afresh and writes new ones).
 
-:func:`refresh` runs once per process, when :mod:`flexbed.dynamics.kernel`
-or :mod:`flexbed.dynamics.steppers` is first imported, before any compiled
-function is called (numba reads a function's cache at its first call).
-It reads files only: no compiled module needs to be imported for it.
+:func:`refresh` runs once per process, when :mod:`flexbed.dynamics.kernel`,
+:mod:`flexbed.dynamics.steppers` or :mod:`flexbed.dynamics.linear` is first
+imported, before any compiled function is called (numba reads a
+function's cache at its first call). It reads files only: no compiled
+module needs to be imported for it.
 
 Where no cache location numba knows is writable (``NUMBA_CACHE_DIR``
 unwritable and the package's ``__pycache__`` read-only and no writable
@@ -42,7 +43,7 @@ COMPILED = (
     "kernel.storage", "kernel.inputs", "kernel.mount_laws", "kernel.flexible_body",
     "kernel.rhs", "kernel.batch",
     "steppers.common", "steppers.rk4", "steppers.dop853", "steppers.radau",
-    "steppers.propagate", "steppers.defect", "steppers.phi",
+    "linear.sweep", "linear.defect", "linear.phi",
 )
 
 _ROOT = Path(__file__).resolve().parent

@@ -2,7 +2,7 @@
 
 About the static equilibrium, with the base held (the ground the mounts
 attach to; a free base is held too), the linearisation of
-:mod:`dynamics.linear_model` gives ``ż = A z`` in the deviations
+:mod:`flexbed.dynamics.linear.model` gives ``ż = A z`` in the deviations
 ``z = [q; q̇]``, ``q`` = δr (3), θ (3) of every body 2… and the modal
 deviations δa. Its kinematic rows are exactly ``q̇ = v`` at rest
 (θ̇ = ω̄ + O(θ ω̄)), so the dynamic rows are ``v̇ = A_qv q + A_vv v`` and, with
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .linear_model import Coordinates, difference_steps, linearise
+from .linear.model import Coordinates, difference_steps, linearise
 from .rotation import A as rotation_matrix
 from .system import System
 
@@ -155,7 +155,7 @@ def _labels(system: System, coords: Coordinates) -> tuple[tuple, np.ndarray]:
 def mounted_system(system: System, y_eq: np.ndarray) -> MountedSystem:
     """The mounted system about the equilibrium ``y_eq`` (ny,), base held.
 
-    One linearisation (:func:`dynamics.linear_model.linearise`) and one
+    One linearisation (:func:`flexbed.dynamics.linear.model.linearise`) and one
     batch of the right-hand side at ±1e-6 in each rotation and modal
     coordinate and ±1e-4 in each translation and rate (modal ones scaled as the linearisation scales them) for the mounts'
     outputs; central differences, exact for linear mounts up to round-off

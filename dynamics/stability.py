@@ -1,5 +1,5 @@
 """Is a static equilibrium stable? The stiffness at rest, from the one
-linearisation (:func:`flexbed.dynamics.linear_model.linearise`).
+linearisation (:func:`flexbed.dynamics.linear.model.linearise`).
 
 About the equilibrium the linearised motion of the free coordinates
 (bodies' translations and small rotations, modal coordinates; the base is
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .linear_model import linearise
+from .linear.model import linearise
 from .system import System
 
 __all__ = ["Instability", "instability", "DIRECTIONS"]

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from flexbed.dynamics.integrate import Settings, integrate
-from flexbed.dynamics.linear import _largest_displacement, _point_map, run_linear
+from flexbed.dynamics.linear import run_linear
+from flexbed.dynamics.linear.estimate import _largest_displacement, _point_map
 from flexbed.dynamics.statics import solve_statics
 from flexbed.stages.modes import ensure_modes
 from flexbed.stages.system import compile_scene

@@ -11,11 +11,11 @@ import pytest
 from scipy.linalg import expm
 
 import flexbed.dynamics.linear as linear
-import flexbed.dynamics.linear_estimate as linear_estimate
-from flexbed.dynamics.linear_estimate import (_cubics, _error_on_every_sample,
+import flexbed.dynamics.linear.estimate as linear_estimate
+from flexbed.dynamics.linear.defect import (hermite_peak, largest_motion,
+                                            pieces_at, pieces_integral_at)
+from flexbed.dynamics.linear.estimate import (_cubics, _error_on_every_sample,
                                               _propagate_defect, defect_propagators)
-from flexbed.dynamics.steppers.defect import (hermite_peak, largest_motion,
-                                              pieces_at, pieces_integral_at)
 
 
 def _system_matrix(rng):
@@ -62,14 +62,14 @@ def test_defect_propagators_are_the_block_exponential():
 
 
 def test_balancing_is_exact_and_as_lapacks():
-    """The balancing by powers of 2 (steppers.phi.balance): A' = S⁻¹ A S
+    """The balancing by powers of 2 (linear.phi.balance): A' = S⁻¹ A S
     exactly (every entry times a power of 2), and the scaling that of
     LAPACK's dgebal (SciPy's matrix_balance, scaling only) — on a mounted
     system's matrix (stiffness over mass far above the spectral radius:
     its 1-norm falls 2300-fold) and on a badly scaled random one."""
     from scipy.linalg import matrix_balance
 
-    from flexbed.dynamics.steppers.phi import balanced
+    from flexbed.dynamics.linear.phi import balanced
 
     rng = np.random.default_rng(7)
     bad = rng.standard_normal((30, 30)) * np.exp2(rng.integers(-20, 20, 30))[:, None]
@@ -221,7 +221,7 @@ def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(reference_s
 
 
 def test_compiled_states_and_rates_of_many_rows_equal_the_numpy_maps(reference_scene):
-    from flexbed.dynamics.linear_model import Coordinates
+    from flexbed.dynamics.linear.model import Coordinates
 
     system, y_eq = reference_scene
     c = Coordinates(system, y_eq)

@@ -10,8 +10,8 @@ import numpy as np
 from scipy.linalg import expm
 
 from flexbed.dynamics.integrate import output_grid
-from flexbed.dynamics.linear_propagation import _pieces, propagate
-from flexbed.dynamics.linear_model import linearise
+from flexbed.dynamics.linear.propagation import _pieces, propagate
+from flexbed.dynamics.linear.model import linearise
 from flexbed.dynamics.statics import solve_statics
 from flexbed.files.scene import load_scene
 from flexbed.stages.system import compile_scene
@@ -137,7 +137,7 @@ def test_inputs_from_the_splines_own_coefficients_equal_the_chebyshev_fit():
     round-off."""
     from dataclasses import replace
 
-    from flexbed.dynamics.linear_propagation import _inputs_on_pieces
+    from flexbed.dynamics.linear.propagation import _inputs_on_pieces
 
     system = compile_scene(load_scene(None))
     lin = linearise(system, solve_statics(system, tol=1e-9).y)
@@ -160,7 +160,7 @@ def test_compiled_sweep_equals_the_recursion():
     """linear_sweep (four rows at a time, the rest one by one) equals the
     recursion X[i + 1] = Φ_j X[i] + P[i] in NumPy to round-off, for sizes
     with and without a remainder and two alternating propagators."""
-    from flexbed.dynamics.steppers.propagate import linear_sweep
+    from flexbed.dynamics.linear.sweep import linear_sweep
 
     rng = np.random.default_rng(5)
     for n in (3, 7, 42):
@@ -189,7 +189,7 @@ def test_compiled_poly_derivatives_are_the_exact_derivatives():
     from numpy.polynomial import polynomial as npp
 
     from flexbed.dynamics.piecewise import PiecewisePolynomial
-    from flexbed.dynamics.steppers.propagate import poly_derivatives
+    from flexbed.dynamics.linear.sweep import poly_derivatives
 
     rng = np.random.default_rng(6)
     coeffs = rng.standard_normal((3, 6))
@@ -211,8 +211,8 @@ def test_pieces_merge_knots_into_the_grid():
     """The pieces' ends: every grid time exactly, a knot within 1e-9 of the
     spacing of a grid time or of the cut before it left out, the others kept
     in order; the piece lengths grouped without sorting when few."""
-    from flexbed.dynamics.linear_propagation import _lengths
-    from flexbed.dynamics.steppers.propagate import merge_cuts
+    from flexbed.dynamics.linear.propagation import _lengths
+    from flexbed.dynamics.linear.sweep import merge_cuts
 
     grid = np.linspace(0.0, 0.1, 11)
     tol = 1e-9 * 0.01
@@ -231,7 +231,7 @@ def test_a_multiple_of_the_shortest_piece_is_its_power():
     """The propagators of a piece k times the shortest (binary powers of the
     shortest's exponential in t-derivatives) equal the exponential of its own
     augmented matrix to round-off (the reference scene: a sampled load)."""
-    from flexbed.dynamics.linear_propagation import _propagators, _sine_terms
+    from flexbed.dynamics.linear.propagation import _propagators, _sine_terms
 
     system = compile_scene(load_scene(None))
     lin = linearise(system, solve_statics(system, tol=1e-11).y)
@@ -251,7 +251,7 @@ def test_polynomial_inputs_exponential_by_series_is_scipys():
     (halved and doubled back where ‖hA'‖₁ > 2: 0.01 and 0.1 s here): it
     equals SciPy's expm of the whole augmented matrix to 1e-12 of each
     block's largest entry (the reference scene, rigid bed)."""
-    from flexbed.dynamics.linear_propagation import _Exponential
+    from flexbed.dynamics.linear.propagation import _Exponential
 
     system = compile_scene(load_scene(None))
     lin = linearise(system, solve_statics(system, tol=1e-11).y)

@@ -114,7 +114,10 @@ compiled with ``error_model="numpy"``: a division by zero gives inf or nan
 Modules
 -------
 :mod:`.common` (what the steppers share), :mod:`.rk4`, :mod:`.dop853`,
-:mod:`.radau` with :mod:`.lapack` (its LAPACK entry points). :mod:`.radau`
+:mod:`.radau` with :mod:`.lapack` (its LAPACK entry points). The linear
+fast path's compiled loops (the recursion over its pieces, the
+φ-functions, the error estimate's defect) are in a room of their own,
+:mod:`flexbed.dynamics.linear`, which this one does not import. :mod:`.radau`
 is imported when one of its names is first asked for (``radau_segment``
 etc. from this package), not with the package: it takes SciPy's Radau
 constants from ``scipy.integrate._ivp.radau``, and importing that runs

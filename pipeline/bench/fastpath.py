@@ -126,16 +126,16 @@ def section_linear(ctx: BenchContext) -> str:
                         f"side by side — **{met}**.")
     return "\n".join([
         "## The linear fast path against the nonlinear model", "",
-        "`model = \"linear\"` (`dynamics/linear.py`, `dynamics/linear_propagation.py`): "
+        "`model = \"linear\"` (`dynamics/linear/run.py`, `dynamics/linear/propagation.py`): "
         "linearised about the static equilibrium, propagated exactly over the output samples "
         f"({ctx.output_dt:g} s, the integrators' own) and the inputs' knots (the load's samples): "
         "one exponential of the state "
         "augmented with the inputs (polynomial pieces, analytic sinusoids as rotating "
         "pairs) per distinct piece length, then the recursion z ← Φ z + Ψ w in compiled "
-        "code (`dynamics/steppers/propagate.py`). Solve time: linearisation "
+        "code (`dynamics/linear/sweep.py`). Solve time: linearisation "
         "(central differences of the right-hand side, one compiled batch) and propagation, "
         f"median of {1 if ctx.quick else 5} (wall; \"CPU\": the whole call, median). "
-        "Estimate (`dynamics/linear_estimate.py`): the nonlinear right-hand side along the "
+        "Estimate (`dynamics/linear/estimate.py`): the nonlinear right-hand side along the "
         "linear solution (the whole refinement in one compiled pass) on every 16th piece end "
         "first (runs of longer pieces every few), then "
         "midway in the intervals next to every node where the local cubics through the "

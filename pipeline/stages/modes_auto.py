@@ -23,7 +23,7 @@ and every elastic mode below ``f_cut`` is kept (at least one), where
   before t_end is seen as it is;
 - ``f_suspension`` [Hz] is the highest natural frequency of the scene with a
   rigid bed, linearised about its static equilibrium
-  (:mod:`flexbed.dynamics.linear_model`): the modes of the bodies on their mounts.
+  (:mod:`flexbed.dynamics.linear.model`): the modes of the bodies on their mounts.
 
 ``auto_factor`` (default 2) is a scene key; the report of ``flexbed bench``
 shows the error of this choice against keeping many more modes.
@@ -80,7 +80,7 @@ def input_frequency(scene: Scene, t_end: float) -> float:
 
 def suspension_frequency(system: System, y_eq: np.ndarray) -> float:
     """Highest natural frequency of the linearised scene [Hz]."""
-    from flexbed.dynamics.linear_model import linearise
+    from flexbed.dynamics.linear.model import linearise
     lam = np.linalg.eigvals(linearise(system, y_eq).A)
     return float(np.max(np.abs(lam.imag), initial=0.0)) / (2 * math.pi)
 

@@ -8,7 +8,7 @@ other body δr (3) and a small rotation θ (3, body frame, defined by
 ``p = p_eq ⊗ [√(1 − |θ/2|²), θ/2]``); the modal deviations δa; then the
 same blocks' rates ṙ, ω̄, ȧ. In these coordinates the equations of motion
 are ``ż = f(z, t)``, built from the one right-hand side
-:meth:`dynamics.system.System.rhs`; the kinematics ``θ̇ = ω̄ + O(θ ω̄)``
+:meth:`flexbed.dynamics.system.System.rhs`; the kinematics ``θ̇ = ω̄ + O(θ ω̄)``
 come out of it exactly.
 
 Linearisation
@@ -27,7 +27,8 @@ the statics' tolerance) and the inputs ``u`` of the base:
   see the base).
 
 Propagated exactly, with an estimate of its error, by
-:mod:`flexbed.dynamics.linear`.
+:mod:`flexbed.dynamics.linear.propagation` and
+:mod:`flexbed.dynamics.linear.estimate`.
 """
 
 from __future__ import annotations
@@ -39,9 +40,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .piecewise import PiecewisePolynomial
-from .steppers.phi import balanced
-from .system import System
+from ..piecewise import PiecewisePolynomial
+from ..system import System
+from .phi import balanced
 
 __all__ = ["Coordinates", "Linearisation", "linearise", "difference_steps"]
 
@@ -157,7 +158,7 @@ class Coordinates:
         """States for deviations z (..., nz) → (..., ny); work entries from y_eq."""
         z = np.asarray(z, dtype=float)
         if z.ndim == 2 and z.shape[0] > 8:         # many rows: one compiled pass
-            from .steppers.propagate import deviations_to_states
+            from .sweep import deviations_to_states
             y = np.empty((z.shape[0], self.y_eq.size))
             deviations_to_states(np.ascontiguousarray(z), self.y_eq, self._add, self._put,
                                  self._th, self._yp, self.p_eq, y)
@@ -180,10 +181,10 @@ class Coordinates:
     def to_z(self, y: np.ndarray) -> np.ndarray:
         """Deviations of states y (..., ny) → (..., nz); the inverse of :meth:`to_y`
         (one or many states: compiled,
-        :func:`flexbed.dynamics.steppers.propagate.states_to_deviations`)."""
+        :func:`flexbed.dynamics.linear.sweep.states_to_deviations`)."""
         y = np.asarray(y, dtype=float)
         if y.ndim <= 2:
-            from .steppers.propagate import states_to_deviations
+            from .sweep import states_to_deviations
             rows = np.ascontiguousarray(y.reshape(-1, y.shape[-1]))
             z = np.empty((rows.shape[0], self.nz))
             states_to_deviations(rows, self.y_eq, self._add, self._put, self._th, self._yp,
@@ -208,7 +209,7 @@ class Coordinates:
         """ż (..., nz) for state derivatives dydt (..., ny) (ṗ → θ̇ = 2 vec(p_eq* ⊗ ṗ))."""
         dydt = np.asarray(dydt, dtype=float)
         if dydt.ndim == 2 and dydt.shape[0] > 8:   # many rows: one compiled pass
-            from .steppers.propagate import rates_of_states
+            from .sweep import rates_of_states
             zd = np.empty((dydt.shape[0], self.nz))
             rates_of_states(np.ascontiguousarray(dydt), self._take, self._th, self._yp,
                             self.p_eq_conj, zd)
@@ -317,7 +318,7 @@ class Linearisation:
     @functools.cached_property
     def balanced(self) -> tuple[np.ndarray, np.ndarray]:
         """A' = S⁻¹ A S and the diagonal of S (nz,): A balanced by powers of 2
-        (:func:`flexbed.dynamics.steppers.phi.balanced`), once, for the
+        (:func:`flexbed.dynamics.linear.phi.balanced`), once, for the
         propagation's exponentials and the error estimate's φ-functions."""
         return balanced(np.ascontiguousarray(self.A))
 

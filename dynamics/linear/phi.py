@@ -1,8 +1,8 @@
 """The φ-functions of the linear fast path in compiled loops: those of the
 error estimate's propagators (see
-:func:`flexbed.dynamics.linear_estimate.defect_propagators`) and the
+:func:`flexbed.dynamics.linear.estimate.defect_propagators`) and the
 exponential of the propagation's augmented matrix (see
-:class:`flexbed.dynamics.linear_propagation._Exponential`): their Taylor
+:class:`flexbed.dynamics.linear.propagation._Exponential`): their Taylor
 series on a short interval and the exact doubling of the interval; and
 the balancing by powers of 2 they work on.
 
@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from .propagate import jit
+from .sweep import jit
 
 __all__ = ["phi_functions", "phi_double", "exp_and_phi_columns", "series_terms", "balanced",
            "balance", "norm1", "halvings", "doubling_tables", "SERIES_NORM"]

@@ -3,9 +3,9 @@ x_{i+1} = Φ_{j(i)} x_i + p_i over every piece with precomputed propagators
 (the propagation, and the error estimate's over its nodes: see
 :mod:`flexbed.dynamics.linear`), the states of the linear model's
 deviations and the deviations' rates of state derivatives
-(:meth:`flexbed.dynamics.linear_model.Coordinates.to_y` and ``rate``).
+(:meth:`flexbed.dynamics.linear.model.Coordinates.to_y` and ``rate``).
 The error estimate's own loops are in
-:mod:`flexbed.dynamics.steppers.defect`."""
+:mod:`flexbed.dynamics.linear.defect`."""
 
 from __future__ import annotations
 
@@ -115,7 +115,7 @@ def poly_derivatives(coeffs, origins, idx, t0, h, out):
 @jit
 def deviations_to_states(Z, y_eq, add, put, th_index, p_index, p_eq, Y):
     """States Y (k, ny) of deviations Z (k, nz) (see
-    :meth:`flexbed.dynamics.linear_model.Coordinates.to_y`): y_eq, plus
+    :meth:`flexbed.dynamics.linear.model.Coordinates.to_y`): y_eq, plus
     ``Z[:, add[:, 0]]`` at ``add[:, 1]``, ``Z[:, put[:, 0]]`` put at
     ``put[:, 1]``, and each body's Euler parameters p_eq ⊗ (√(1 − |θ/2|²), θ/2),
     θ at ``th_index`` (n, 3), written at ``p_index`` (n, 4)."""
@@ -143,7 +143,7 @@ def deviations_to_states(Z, y_eq, add, put, th_index, p_index, p_eq, Y):
 def states_to_deviations(Y, y_eq, add, put, th_index, p_index, p_conj, Z):
     """Deviations Z (k, nz) of states Y (k, ny), the inverse of
     :func:`deviations_to_states` (see
-    :meth:`flexbed.dynamics.linear_model.Coordinates.to_z`):
+    :meth:`flexbed.dynamics.linear.model.Coordinates.to_z`):
     ``Y[:, add[:, 1]] − y_eq[add[:, 1]]`` at ``add[:, 0]``,
     ``Y[:, put[:, 1]]`` at ``put[:, 0]``, and each body's
     θ = 2 vec(p_eq* ⊗ p/|p|) (the sign of the scalar part made positive),
@@ -172,7 +172,7 @@ def states_to_deviations(Y, y_eq, add, put, th_index, p_index, p_conj, Z):
 @jit
 def rates_of_states(dY, take, th_index, p_index, p_conj, Zd):
     """Rates Zd (k, nz) of state derivatives dY (k, ny) (see
-    :meth:`flexbed.dynamics.linear_model.Coordinates.rate`):
+    :meth:`flexbed.dynamics.linear.model.Coordinates.rate`):
     ``dY[:, take[:, 1]]`` at ``take[:, 0]``, and each body's
     θ̇ = 2 vec(p_eq* ⊗ ṗ), ṗ at ``p_index`` (n, 4), p_eq* = ``p_conj``
     (n, 4), θ̇ written at ``th_index`` (n, 3)."""

@@ -1,5 +1,5 @@
 """The linear fast path's exact propagation of the linear model
-(:mod:`flexbed.dynamics.linear_model`) over the output samples.
+(:mod:`flexbed.dynamics.linear.model`) over the output samples.
 
 Exact propagation
 -----------------
@@ -26,7 +26,7 @@ sinusoids the blocks are ``Φ = e^{hA}`` and ``Ψ = [h φ_{m+1}(hA) B_j … |
 h φ_1(hA) b0]``, summed by their series to round-off on A balanced by
 powers of 2 (:class:`_Exponential`). The
 recursion runs in compiled code
-(:func:`flexbed.dynamics.steppers.propagate.linear_sweep`), the products
+(:func:`flexbed.dynamics.linear.sweep.linear_sweep`), the products
 ``Ψ w_k`` as one matrix product per length.
 """
 
@@ -38,11 +38,11 @@ import math
 import numpy as np
 from scipy.linalg import expm
 
-from .integrate import output_grid
-from .linear_model import Linearisation
-from .piecewise import PiecewisePolynomial
-from .steppers.phi import doubling_tables, exp_and_phi_columns, halvings, norm1, phi_double
-from .steppers.propagate import few_distinct, linear_sweep, merge_cuts, poly_derivatives
+from ..integrate import output_grid
+from ..piecewise import PiecewisePolynomial
+from .model import Linearisation
+from .phi import doubling_tables, exp_and_phi_columns, halvings, norm1, phi_double
+from .sweep import few_distinct, linear_sweep, merge_cuts, poly_derivatives
 
 __all__ = ["propagate", "propagate_pieces"]
 
@@ -59,7 +59,7 @@ def _pieces(lin: Linearisation, grid: np.ndarray) -> np.ndarray:
     extra cuts where a channel needs shorter pieces (none for analytic
     sinusoids: they are propagated exactly); a cut within 1e-9 of the
     output spacing of another time, or of a grid time, left out (compiled
-    merge, :func:`flexbed.dynamics.steppers.propagate.merge_cuts`)."""
+    merge, :func:`flexbed.dynamics.linear.sweep.merge_cuts`)."""
     t_end = float(grid[-1])
     cuts = [grid]
     for c in lin.channels:
@@ -165,10 +165,10 @@ class _Exponential:
     (1/(m' − m)! above the diagonal), and the rest is Φ = e^{hA} and
     Ψ = [h φ_{m+1}(hA) B_j … | h φ_1(hA) b0] (Van Loan's blocks): by
     their series in compiled code on the balanced A' = S⁻¹ A S
-    (:func:`flexbed.dynamics.steppers.phi.exp_and_phi_columns`, matrix–
+    (:func:`flexbed.dynamics.linear.phi.exp_and_phi_columns`, matrix–
     vector products for the columns; A' is :attr:`Linearisation.balanced`,
     shared with the error estimate), h halved s times to ‖hA'‖₁ ≤ 2
-    and doubled back exactly (:func:`flexbed.dynamics.steppers.phi.phi_double`).
+    and doubled back exactly (:func:`flexbed.dynamics.linear.phi.phi_double`).
     With sinusoids (their rotating pairs in the block): SciPy's ``expm`` of
     the whole augmented matrix."""
 
@@ -234,7 +234,7 @@ def _poly_derivatives(f: PiecewisePolynomial, t0: np.ndarray, h: np.ndarray,
     """Adds to out (k, 6) the σ-derivatives at σ = 0 of f on the pieces
     [t0, t0 + h] (each inside one of f's pieces, degree ≤ 5): h^m f^(m)(t0),
     by Horner from f's own coefficients (compiled:
-    :func:`flexbed.dynamics.steppers.propagate.poly_derivatives`)."""
+    :func:`flexbed.dynamics.linear.sweep.poly_derivatives`)."""
     idx = np.searchsorted(f.breaks, t0 + 0.5 * h, side="right")
     poly_derivatives(f.coeffs, f.origins, idx, t0, h, out)
 

@@ -52,14 +52,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .linear_model import Coordinates, Linearisation, per_system
-from .linear_propagation import _lengths
-from .steppers.defect import (cubic_pieces, defect_sweep, error_peaks,
-                              largest_motion, modal_point_rows, pieces_at, pieces_integral_at,
-                              point_rows, refine_nodes)
-from .steppers.phi import (balanced, doubling_tables, halvings, norm1, phi_double,
-                           phi_functions)
-from .system import System
+from ..system import System
+from .defect import (cubic_pieces, defect_sweep, error_peaks, largest_motion, modal_point_rows,
+                     pieces_at, pieces_integral_at, point_rows, refine_nodes)
+from .model import Coordinates, Linearisation, per_system
+from .phi import balanced, doubling_tables, halvings, norm1, phi_double, phi_functions
+from .propagation import _lengths
 
 __all__ = ["ErrorEstimate", "estimate_error", "defect_propagators"]
 
@@ -139,7 +137,7 @@ def _point_map(system: System, coords: Coordinates) -> np.ndarray:
     displacements of every point that matters: the centres of mass of
     bodies 2… and both ends of every mount on them,
     δP = δr + A_eq (δθ × (s̄ + Φ_e a_eq) + Φ_e δa) (the rigid part
-    compiled: :func:`flexbed.dynamics.steppers.defect.point_rows` and
+    compiled: :func:`flexbed.dynamics.linear.defect.point_rows` and
     ``modal_point_rows``). Only
     the position columns of z are non-zero."""
     body, arms, modal = _point_structure(system)
@@ -188,7 +186,7 @@ def _sample_nodes(k: int, m: int) -> np.ndarray:
 
 def _cubics(tn: np.ndarray, V: np.ndarray) -> np.ndarray:
     """The local cubics (n − 1, 4, c) of V (n, c) at the nodes tn (n ≥ 2):
-    :func:`flexbed.dynamics.steppers.defect.cubic_pieces`."""
+    :func:`flexbed.dynamics.linear.defect.cubic_pieces`."""
     C = np.empty((tn.size - 1, 4, V.shape[1]))
     cubic_pieces(tn, np.ascontiguousarray(V), C)
     return C
@@ -244,7 +242,7 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     than 16 × :data:`_CUBIC_SHARE` of its largest value (d's scale at least
     :data:`_NOISE` times the largest R), round by round, until no node
     misses or the intervals are single pieces: one compiled pass
-    (:func:`flexbed.dynamics.steppers.defect.refine_nodes`). A quiet
+    (:func:`flexbed.dynamics.linear.defect.refine_nodes`). A quiet
     stretch of the run keeps long intervals."""
     coords = lin.coords
     work = system.layout.work
@@ -272,7 +270,7 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
     ``dgebal``, exact: ``A = S A' S⁻¹``, ``φ_j(A) = S φ_j(A') S⁻¹``; ‖A'‖₁
     is near the spectral radius where ‖A‖₁ counts stiffness over mass: 217
     against 7.3e4 1/s on the reference scene's rigid bed;
-    :func:`flexbed.dynamics.steppers.phi.balance`); the φ-functions of A'
+    :func:`flexbed.dynamics.linear.phi.balance`); the φ-functions of A'
     are those of :func:`_balanced_propagators`, and S · S⁻¹ is put back."""
     nz = A.shape[0]
     cols = np.arange(nz) if cols is None else np.asarray(cols, dtype=np.int64)
@@ -288,7 +286,7 @@ def _balanced_propagators(Ab: np.ndarray, lengths: np.ndarray, degree: int,
     """:func:`defect_propagators` of the balanced A' (nz, nz), without the
     scaling put back. Scaling and squaring on the nz × nz blocks: the
     φ-functions of h A', h = L / 2^s
-    (:func:`flexbed.dynamics.steppers.phi.phi_functions`: φ_4 by its
+    (:func:`flexbed.dynamics.linear.phi.phi_functions`: φ_4 by its
     series, the others by φ_j = X φ_{j+1} + I/j!), then s exact doublings
     Φ ← Φ², P_p ← 2^−p (Φ P_p + Σ_{i ≤ p} P_i/(p − i)!) (one product
     Φ [P_0 … P_degree Φ] each); a length that is another's half, quarter
@@ -344,7 +342,7 @@ def _propagate_defect(A: np.ndarray, tn: np.ndarray, C: np.ndarray,
     :func:`defect_propagators` (d' = S⁻¹ d, e = S e' at the end: the
     propagators are used as computed); the sums Σ_p P_p w_p as one matrix
     product per distinct interval length, and the recursion, in one
-    compiled pass (:func:`flexbed.dynamics.steppers.defect.defect_sweep`).
+    compiled pass (:func:`flexbed.dynamics.linear.defect.defect_sweep`).
     ``balance`` is (A', S) when already made
     (:attr:`Linearisation.balanced`)."""
     nz = A.shape[0]
@@ -388,7 +386,7 @@ def estimate_error(system: System, lin: Linearisation, t: np.ndarray, Z: np.ndar
     ----------
     t : (k,) [s], Z : (k, nz)
         The linear solution at the piece ends of its propagation
-        (:func:`flexbed.dynamics.linear_propagation.propagate_pieces`):
+        (:func:`flexbed.dynamics.linear.propagation.propagate_pieces`):
         the nodes are among them, and the largest errors are taken over
         all of them.
     samples : (s,) int, optional

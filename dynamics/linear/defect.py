@@ -1,5 +1,5 @@
 """The linear fast path's error estimate in compiled loops (see
-:mod:`flexbed.dynamics.linear_estimate`): the defect at the nodes and
+:mod:`flexbed.dynamics.linear.estimate`): the defect at the nodes and
 their refinement (one pass), local cubics through the defect's nodes (and
 the powers'), the defect's propagation over the nodes, the points'
 first-order map, the largest point and rotation error between the nodes,
@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .propagate import deviations_to_states, jit, linear_sweep, rates_of_states
+from .sweep import deviations_to_states, jit, linear_sweep, rates_of_states
 
 __all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak",
            "defect_rows", "cubic_misses", "refine_nodes", "defect_sweep", "error_peaks",
@@ -317,8 +317,8 @@ def defect_rows(kernel, seg_end, t, Z, idx, coords, b0, B, du, w0, V):
     idx : (q,) int64
     coords : tuple
         (y_eq, add, put, th_index, p_index, p_eq, take, p_conj) of
-        :func:`flexbed.dynamics.steppers.propagate.deviations_to_states` and
-        :func:`~flexbed.dynamics.steppers.propagate.rates_of_states`.
+        :func:`flexbed.dynamics.linear.sweep.deviations_to_states` and
+        :func:`~flexbed.dynamics.linear.sweep.rates_of_states`.
     b0 : (nz,); B : (nz, nu); du : (q, nu) float64
     w0 : int
         Where the powers start in ẏ.
@@ -402,7 +402,7 @@ def _defect_at(kernel, seg_end, t, Z, idx, coords, b0, B, du, w0, AT, V):
 @jit
 def refine_nodes(kernel, seg_end, t, Z, du, coords, b0, B, AT, w0, first, tol, noise, V):
     """The error estimate's node refinement in one compiled pass (see
-    :func:`flexbed.dynamics.linear_estimate._defect_nodes`): the defect and
+    :func:`flexbed.dynamics.linear.estimate._defect_nodes`): the defect and
     the powers at the first nodes; then, round by round, every node
     interval next to a node (at first every other node, the last kept)
     where the local cubics through the nodes it was added to miss d or a
@@ -520,7 +520,7 @@ def refine_nodes(kernel, seg_end, t, Z, du, coords, b0, B, AT, w0, first, tol, n
 @jit
 def defect_sweep(Phis, Ps, which, C, col_scale, scale, E):
     """The error e (n, nz) at the nodes from e_0 = 0 (see
-    :func:`flexbed.dynamics.linear_estimate._propagate_defect`), in the
+    :func:`flexbed.dynamics.linear.estimate._propagate_defect`), in the
     balanced coordinates e' = S⁻¹ e of the propagators:
     ``e'_{j+1} = Φ e'_j + Σ_p P_p w_p``, w_p = p! C[j, p] / S_cols (d's
     σ-derivatives at the interval's start, its columns only); the sums as
@@ -582,7 +582,7 @@ def defect_sweep(Phis, Ps, which, C, col_scale, scale, E):
 @jit
 def error_peaks(t, nodes, E, D, A, T, th):
     """The largest error of a point and of a rotation over every piece end
-    (see :func:`flexbed.dynamics.linear_estimate.estimate_error`): the
+    (see :func:`flexbed.dynamics.linear.estimate.estimate_error`): the
     points' errors T e and rates T ė, ė = A e + d, at the nodes, between
     them their cubic Hermite interpolant (:func:`hermite_peak`); each
     rotation coordinate alone likewise.

@@ -1,24 +1,12 @@
-"""The linear fast path: motion linearised about the static equilibrium and
-propagated exactly, with an estimate of its error against the nonlinear model.
-
-The model itself (coordinates, linearisation, the base's inputs) is in
-:mod:`flexbed.dynamics.linear_model`.
-
-Exact propagation
------------------
-By :mod:`flexbed.dynamics.linear_propagation`: one matrix exponential of
-the state augmented with the inputs (polynomial pieces, analytic
-sinusoids as rotating pairs) per distinct piece length (a small multiple
-of the shortest takes the shortest's power; without sinusoids by the
-φ-functions' series on the balanced A), the recursion in compiled
-code.
-
-Error estimate against the nonlinear model
-------------------------------------------
-By :mod:`flexbed.dynamics.linear_estimate`: the defect of the linear
-solution in the nonlinear right-hand side at nodes among the pieces' ends,
-refined where its local cubics need it, propagated exactly through the
-linear model; also the energy quadratures' works.
+"""One run of the linear fast path: linearise about the static equilibrium
+(:func:`flexbed.dynamics.linear.model.linearise`), propagate exactly over
+the output samples and the inputs' knots
+(:func:`flexbed.dynamics.linear.propagation.propagate_pieces`), estimate
+the error against the nonlinear model and integrate the energy
+quadratures (:func:`flexbed.dynamics.linear.estimate.estimate_error`),
+and hand back the states as an integrator's
+:class:`flexbed.dynamics.integrate.Run` with the timings of each part. An
+unstable equilibrium is reported, not propagated.
 """
 
 from __future__ import annotations
@@ -29,22 +17,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .integrate import Run, Settings, Stats
-from .linear_estimate import (ErrorEstimate, _largest_displacement, _point_map,  # noqa: F401
-                              estimate_error)
-from .linear_model import Coordinates, Linearisation, linearise
-from .linear_propagation import propagate, propagate_pieces
-from .system import System
+from ..integrate import Run, Settings, Stats
+from ..system import System
+from .estimate import ErrorEstimate, estimate_error
+from .model import Linearisation, linearise
+from .propagation import propagate_pieces
 
-__all__ = ["Coordinates", "Linearisation", "LinearRun", "linearise", "propagate",
-           "run_linear", "estimate_error", "unstable_rate"]
+__all__ = ["LinearRun", "run_linear", "unstable_rate"]
 
 
 @dataclass(frozen=True)
 class LinearRun:
-    """What :func:`run_linear` returns: ``run`` (a :class:`dynamics.integrate.Run`
-    whose states are the linear solution), the estimate, and the timings [s]
-    of the linearisation, the propagation and the estimate."""
+    """What :func:`run_linear` returns: ``run`` (a
+    :class:`flexbed.dynamics.integrate.Run` whose states are the linear
+    solution), the estimate, and the timings [s] of the linearisation, the
+    propagation and the estimate."""
 
     run: Run
     estimate: ErrorEstimate
