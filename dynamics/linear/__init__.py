@@ -11,8 +11,8 @@ What the room holds
     differences of the one right-hand side; also used by
     :mod:`flexbed.dynamics.mounted`, :mod:`flexbed.dynamics.stability` and
     through them the modal and frequency analyses), the base's inputs as
-    channels, and A balanced by powers of 2 (once per
-    :class:`Linearisation`).
+    channels, and A balanced by powers of 2 (LAPACK's ``dgebal`` through
+    :func:`scipy.linalg.matrix_balance`, once per :class:`Linearisation`).
 :mod:`.propagation`
     The exact propagation over the output samples and the inputs' knots:
     one matrix exponential of the state augmented with the inputs

@@ -55,8 +55,8 @@ import numpy as np
 from ..system import System
 from .defect import (cubic_pieces, defect_sweep, error_peaks, largest_motion, modal_point_rows,
                      pieces_at, pieces_integral_at, point_rows, refine_nodes)
-from .model import Coordinates, Linearisation, per_system
-from .phi import balanced, doubling_tables, halvings, norm1, phi_double, phi_functions
+from .model import Coordinates, Linearisation, balanced, per_system
+from .phi import doubling_tables, halvings, norm1, phi_double, phi_functions
 from .propagation import _lengths
 
 __all__ = ["ErrorEstimate", "estimate_error", "defect_propagators"]
@@ -270,7 +270,7 @@ def defect_propagators(A: np.ndarray, lengths: np.ndarray, degree: int = 3,
     ``dgebal``, exact: ``A = S A' S⁻¹``, ``φ_j(A) = S φ_j(A') S⁻¹``; ‖A'‖₁
     is near the spectral radius where ‖A‖₁ counts stiffness over mass: 217
     against 7.3e4 1/s on the reference scene's rigid bed;
-    :func:`flexbed.dynamics.linear.phi.balance`); the φ-functions of A'
+    :func:`flexbed.dynamics.linear.model.balanced`); the φ-functions of A'
     are those of :func:`_balanced_propagators`, and S · S⁻¹ is put back."""
     nz = A.shape[0]
     cols = np.arange(nz) if cols is None else np.asarray(cols, dtype=np.int64)

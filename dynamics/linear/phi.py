@@ -3,8 +3,9 @@ error estimate's propagators (see
 :func:`flexbed.dynamics.linear.estimate.defect_propagators`) and the
 exponential of the propagation's augmented matrix (see
 :class:`flexbed.dynamics.linear.propagation._Exponential`): their Taylor
-series on a short interval and the exact doubling of the interval; and
-the balancing by powers of 2 they work on.
+series on a short interval and the exact doubling of the interval. Both
+work on A balanced by powers of 2
+(:attr:`flexbed.dynamics.linear.model.Linearisation.balanced`).
 
 ``φ_0(X) = e^X`` and ``φ_j(X) = Σ_k X^k / (k + j)!``; over an interval of
 length L, ``Φ = φ_0(L A)`` and ``P_p = L φ_{p+1}(L A)`` carry
@@ -21,8 +22,8 @@ import numpy as np
 
 from .sweep import jit
 
-__all__ = ["phi_functions", "phi_double", "exp_and_phi_columns", "series_terms", "balanced",
-           "balance", "norm1", "halvings", "doubling_tables", "SERIES_NORM"]
+__all__ = ["phi_functions", "phi_double", "exp_and_phi_columns", "series_terms", "norm1",
+           "halvings", "doubling_tables", "SERIES_NORM"]
 
 
 #: the series are summed for ‖X‖₁ at most this ...
@@ -39,20 +40,6 @@ SERIES_TERMS = 30
 _BLOCK = 5
 
 
-def balanced(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A' = S⁻¹ A S (C-contiguous) and the diagonal of S (n,): A balanced by
-    powers of 2 (:func:`balance`); exact, and φ_j(A) = S φ_j(A') S⁻¹.
-    ‖A'‖₁ is near the spectral radius where ‖A‖₁ of a mounted system
-    counts stiffness over mass (the reference scene's rigid bed: about 200
-    against 7.3e4 1/s), so that far fewer doublings are needed. Raises
-    ``numpy.linalg.LinAlgError`` when A has NaN or infinite entries."""
-    Ab = np.array(A, dtype=float, order="C")
-    scale = np.ones(Ab.shape[0])
-    if not balance(Ab, scale):
-        raise np.linalg.LinAlgError("balancing: the matrix has NaN or infinite entries")
-    return Ab, scale
-
-
 @jit
 def norm1(A):
     """‖A‖₁ (n, n): the largest column sum of |A|."""
@@ -64,98 +51,6 @@ def norm1(A):
             col += abs(A[i, j])
         best = max(best, col)
     return best
-
-
-#: LAPACK's dgebal bounds on the scaled norms: dlamch('S') / dlamch('P')
-#: and its inverse, and the same times and over the radix 2
-_SFMIN1 = 2.2250738585072014e-308 / 1.1102230246251565e-16
-_SFMAX1 = 1.0 / _SFMIN1
-_SFMIN2 = _SFMIN1 * 2.0
-_SFMAX2 = 1.0 / _SFMIN2
-
-
-@jit
-def _norms(A, i):
-    """The 2-norms of column i and row i of A and their largest |entries|
-    (c, ca, r, ra); where a sum of squares would underflow or overflow,
-    summed scaled by the largest entry, as dnrm2 (NaN propagates)."""
-    n = A.shape[0]
-    c2 = 0.0
-    r2 = 0.0
-    ca = 0.0
-    ra = 0.0
-    for j in range(n):
-        u = A[j, i]
-        v = A[i, j]
-        c2 += u * u
-        r2 += v * v
-        ca = max(ca, abs(u))
-        ra = max(ra, abs(v))
-    return _scaled(A, i, True, c2, ca), ca, _scaled(A, i, False, r2, ra), ra
-
-
-@jit
-def _scaled(A, i, column, sum2, big):
-    """√sum2, or where sum2 has underflowed or overflowed (or is NaN) the
-    norm summed again scaled by ``big`` (column or row i of A)."""
-    if 1e-290 < sum2 < 1e290 or big == 0.0 or not big < np.inf:
-        return math.sqrt(sum2)
-    s = 0.0
-    for j in range(A.shape[0]):
-        v = (A[j, i] if column else A[i, j]) / big
-        s += v * v
-    return big * math.sqrt(s)
-
-
-@jit
-def balance(A, scale):
-    """Balances A (n, n) in place by a diagonal scaling of powers of 2,
-    A ← S⁻¹ A S, S = diag(scale) (scale (n,) ones on entry, written):
-    Parlett and Reinsch's iteration as LAPACK's ``dgebal`` (3.5 and later)
-    does it, scaling only, with its bounds: row and column i are scaled by
-    2^∓k while that brings their 2-norms closer, until a sweep reduces no
-    c + r below 0.95 of it. Every entry changes by a power of 2: exact.
-    Returns False (A left part-scaled) when a norm is NaN or infinite."""
-    n = A.shape[0]
-    again = True
-    while again:
-        again = False
-        for i in range(n):
-            c, ca, r, ra = _norms(A, i)
-            if not (c < np.inf and r < np.inf):            # also NaN
-                return False
-            if c == 0.0 or r == 0.0:
-                continue
-            total = c + r
-            f = 1.0
-            g = r / 2.0
-            while c < g and max(f, c, ca) < _SFMAX2 and min(r, g, ra) > _SFMIN2:
-                f *= 2.0
-                c *= 2.0
-                ca *= 2.0
-                r /= 2.0
-                g /= 2.0
-                ra /= 2.0
-            g = c / 2.0
-            while g >= r and max(r, ra) < _SFMAX2 and min(f, c, g, ca) > _SFMIN2:
-                f /= 2.0
-                c /= 2.0
-                g /= 2.0
-                ca /= 2.0
-                r *= 2.0
-                ra *= 2.0
-            if c + r >= 0.95 * total:
-                continue
-            if f < 1.0 and scale[i] < 1.0 and f * scale[i] <= _SFMIN1:
-                continue
-            if f > 1.0 and scale[i] > 1.0 and scale[i] >= _SFMAX1 / f:
-                continue
-            scale[i] *= f
-            again = True
-            for j in range(n):
-                A[i, j] /= f
-                A[j, i] *= f
-    return True
 
 
 def halvings(x: float) -> int:
