@@ -32,7 +32,7 @@ from flexbed.fem.export import write_modes_vtu
 from flexbed.files.results import write_equilibrium
 from flexbed.files.scene import load_scene
 from flexbed.files.xdmf import write_bed_motion
-from flexbed.plots import plot_mount_forces
+from flexbed.plots.runs import plot_mount_forces
 from flexbed.stages.modes import ensure_modes
 from flexbed.stages.simulation import checked
 from flexbed.stages.system import compile_scene

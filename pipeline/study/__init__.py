@@ -10,7 +10,7 @@
 - :mod:`~flexbed.study.point` is what a Dask worker runs;
 - :mod:`~flexbed.study.engine` starts or joins the Dask cluster;
 - :mod:`~flexbed.study.runner` submits the points and gathers the rows;
-- :mod:`~flexbed.study.table` and :mod:`~flexbed.study.plots` are the outputs.
+- :mod:`~flexbed.study.table` is the output (its plots: :mod:`flexbed.plots.study`).
 
 Only ``flexbed sweep`` and :func:`flexbed.sweep` import this package (and
 through it ``dask.distributed``).
