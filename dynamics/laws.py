@@ -20,7 +20,7 @@ import numpy as np
 
 from .errors import SceneError
 from .piecewise import PiecewisePolynomial
-from .shapes import MIN_CURVE_POINTS, SplineEnds
+from .time_functions import MIN_CURVE_POINTS, SplineEnds
 
 __all__ = ["LinearLaw", "PolynomialLaw", "CurveLaw", "LawBank", "MAX_DEGREE"]
 

@@ -15,7 +15,7 @@ import numpy as np
 from .errors import SceneError
 from .flexible import FlexibleBody
 from .laws import CurveLaw, LinearLaw, PolynomialLaw
-from .shapes import Curve, Sawtooth, Sinusoid, Trapezoid, Triangle
+from .time_functions import Curve, Sawtooth, Sinusoid, Trapezoid, Triangle
 
 __all__ = ["Body", "Drive", "Load", "Base", "Mount", "Scene", "DIRECTIONS"]
 

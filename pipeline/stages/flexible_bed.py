@@ -12,7 +12,7 @@ from flexbed.dynamics.errors import SceneError
 from flexbed.dynamics.flexible import FlexibleBody, modal_damping, rayleigh_damping
 from flexbed.dynamics.scene import Scene
 from flexbed.fem.quad_shapes import mode_shapes
-from flexbed.fem.shapes import OutsidePlateError
+from flexbed.fem.grid_shapes import OutsidePlateError
 
 from flexbed.errors import InputError
 from flexbed.files.bed_section import plate_mismatch
