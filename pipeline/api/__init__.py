@@ -54,4 +54,5 @@ from flexbed.files.scene import load_scene
 from flexbed.files.variants import vary
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-           "modal", "frf", "srs", "sweep", "Statics", "Results", "Comparison", "Modal", "Transmissibility"]
+           "modal", "frf", "srs", "sweep", "Statics", "Results", "Comparison", "Modal",
+           "Transmissibility"]
