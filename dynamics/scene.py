@@ -1,7 +1,7 @@
 """The scene: bodies, base motion, mounts and gravity as frozen dataclasses.
 
 Everything is validated once, in ``__post_init__``; a broken rule raises
-:class:`~dynamics.errors.SceneError` with a message naming the entry and the
+:class:`~flexbed.dynamics.errors.SceneError` with a message naming the entry and the
 value. NumPy arrays inside are read-only copies. Units are SI.
 """
 
