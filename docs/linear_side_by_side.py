@@ -6,8 +6,7 @@ rtol = 1e-8, atol = 1e-11 (8.6e-10 m; rtol 1e-7 misses 3.4e-9 m), both on
 output samples DT apart, in N interleaved pairs in one process, so that
 both see the same load on a shared machine. Prints the medians of the CPU
 seconds (time.process_time) of whole calls and the median of the pairwise
-ratios (the issue's aim: at most 1/3). flexbed's heap setting is made as
-the command line makes it (flexbed.heap).
+ratios (the issue's aim: at most 1/3).
 
     OPENBLAS_NUM_THREADS=1 python docs/linear_side_by_side.py DT [N]
 """
@@ -25,15 +24,8 @@ from flexbed.dynamics.statics import solve_statics
 from flexbed.files.scene import load_scene
 from flexbed.stages.system import compile_scene
 
-try:
-    from flexbed.heap import keep_freed_memory
-except ImportError:                    # a tree from before the setting
-    keep_freed_memory = None
-
 
 def main(dt: float, n: int) -> str:
-    if keep_freed_memory is not None:
-        keep_freed_memory()
     system = compile_scene(load_scene(None))
     y = solve_statics(system, tol=1e-11).y
     linear = Settings("rk4", t_end=3.0, output_dt=dt)

@@ -9,7 +9,7 @@ L = [I, -A ũ, A Φ], the virtual power of the inertia forces gives
 
     M(p, a) v̇ = Q_v + Q_g + Q_e + Σ Q_F
 
-with (~ the cross-product matrix; invariants as in :mod:`fem.invariants`:
+with (~ the cross-product matrix; invariants as in :mod:`flexbed.fem.invariants`:
 I2 first moment, I3 = ∫ρΦ, I4 = ∫ρũ0Φ, I5[k] = ∫ρΦ̃_kΦ, I6 = ∫ρΦᵀΦ,
 I7 = J0, I8[k] = ∫ρũ0ᵀΦ̃_k, I9[k, l] = ∫ρΦ̃_kᵀΦ̃_l):
 
@@ -28,6 +28,11 @@ I7 = J0, I8[k] = ∫ρũ0ᵀΦ̃_k, I9[k, l] = ∫ρΦ̃_kᵀΦ̃_l):
 
 The first-order set (``full = False``) keeps the terms linear in a in J and
 drops the I5 and I9 terms: enough for small deformations, and cheaper.
+
+:class:`FlexibleBody`'s invariants are those of the modes file, defined
+once in :data:`flexbed.files.modes.INVARIANTS` (names, shapes, units),
+which the pipeline maps onto this class and onto :mod:`flexbed.fem`'s;
+a test checks both against it.
 """
 
 from __future__ import annotations
@@ -197,7 +202,7 @@ class FlexibleEOM:
 
     does not depend on A; the inertial forms of the module docstring are
     ``M = T M̄ Tᵀ``, ``Q = T Q̄`` with ``T = diag(A, I, I)``. M̄ and Q̄ come
-    from the compiled functions of :mod:`dynamics.kernel` (the right-hand
+    from the compiled functions of :mod:`flexbed.dynamics.kernel` (the right-hand
     side's own), so this class is the Python view of the same physics.
 
     Shapes: n modes; A (3, 3) rotation; w (3,) body angular velocity

@@ -20,7 +20,7 @@ import numpy as np
 
 from .errors import SceneError
 from .piecewise import PiecewisePolynomial
-from .shapes import MIN_CURVE_POINTS, SplineEnds
+from .time_functions import MIN_CURVE_POINTS, SplineEnds
 
 __all__ = ["LinearLaw", "PolynomialLaw", "CurveLaw", "LawBank", "MAX_DEGREE"]
 
@@ -177,7 +177,7 @@ class LawBank:
     Per kind, the entries' indices (``lin``, ``poly``, ``curve``) and their
     tables: ``k``, ``c`` [N/m, N s/m]; ``pk``, ``pc`` ascending polynomial
     coefficients; ``curve_springs``, ``curve_dampers`` piecewise cubics. The
-    right-hand side (:mod:`dynamics.kernel`) evaluates the forces from these;
+    right-hand side (:mod:`flexbed.dynamics.kernel`) evaluates the forces from these;
     ``spring_potential(dx)`` gives V(Δx) [J] per entry (vectorised over
     leading axes of dx).
     """

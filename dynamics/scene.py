@@ -1,7 +1,7 @@
 """The scene: bodies, base motion, mounts and gravity as frozen dataclasses.
 
 Everything is validated once, in ``__post_init__``; a broken rule raises
-:class:`~dynamics.errors.SceneError` with a message naming the entry and the
+:class:`~flexbed.dynamics.errors.SceneError` with a message naming the entry and the
 value. NumPy arrays inside are read-only copies. Units are SI.
 """
 
@@ -15,7 +15,7 @@ import numpy as np
 from .errors import SceneError
 from .flexible import FlexibleBody
 from .laws import CurveLaw, LinearLaw, PolynomialLaw
-from .shapes import Curve, Sawtooth, Sinusoid, Trapezoid, Triangle
+from .time_functions import Curve, Sawtooth, Sinusoid, Trapezoid, Triangle
 
 __all__ = ["Body", "Drive", "Load", "Base", "Mount", "Scene", "DIRECTIONS"]
 

@@ -31,7 +31,7 @@ from .layout import Layout
 from .laws import LawBank
 from .rotation import A as rotation_matrix
 from .scene import Scene
-from .shapes import Sinusoid
+from .time_functions import Sinusoid
 
 __all__ = ["System", "Observation"]
 

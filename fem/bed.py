@@ -11,7 +11,7 @@ import numpy as np
 from .invariants import Invariants, modal_invariants, shell_invariants
 from .modes import ModeSet, free_free_modes
 from .plate import PlateModel, assemble_plate
-from .shapes import nodal_motions
+from .grid_shapes import nodal_motions
 from .shell import ShellModel, assemble_shell
 from .spec import PlateSpec
 

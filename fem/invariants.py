@@ -35,6 +35,12 @@ inertia). Every term with Φ is integrated exactly over the discrete
 Kirchhoff field through the thickness, with the same mass forms as the FE
 mass matrix (the rotary-inertia part only if the model has it), so that
 free–free modes make I3 and I4 vanish to round-off.
+
+The names, shapes and units are the modes file's, defined once in
+:data:`flexbed.files.modes.INVARIANTS`: the contract with
+:mod:`flexbed.dynamics` (which takes them as
+:class:`~flexbed.dynamics.flexible.FlexibleBody`), checked against both
+sides by a test.
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ U = (u + z θy, v − z θx, w), the shell's own kinematics
 (:mod:`flexbed.fem.mitc4`), with u, v, w, θx, θy and the in-plane rotation
 interpolated from the cell's corners (:mod:`flexbed.fem.cells`). Pure NumPy: usable from
 the modes file alone. :func:`mode_shapes` picks this or the Kirchhoff
-:class:`~flexbed.fem.shapes.GridShapes` by the file's theory.
+:class:`~flexbed.fem.grid_shapes.GridShapes` by the file's theory.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .cells import is_triangle, locate, point_shape
-from .shapes import GridShapes, OutsidePlateError
+from .grid_shapes import GridShapes, OutsidePlateError
 
 
 

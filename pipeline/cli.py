@@ -24,7 +24,6 @@ import os
 import sys
 
 from flexbed.console import run_command
-from flexbed.heap import keep_freed_memory
 from flexbed.errors import EXIT_INPUT, FlexbedError
 from flexbed.interrupts import exit_code, handlers, message
 from flexbed.threads import limited, pin_environment
@@ -140,7 +139,6 @@ def _main(argv: list[str] | None) -> int:
             parser.print_help()
             return EXIT_INPUT
         module = importlib.import_module(f"flexbed.commands.{args.command}")
-        keep_freed_memory()
         try:
             with limited():
                 code = run_command(module, args)

@@ -49,7 +49,8 @@ def pin_environment() -> None:
 @contextmanager
 def limited() -> Iterator[None]:
     """Limit every loaded BLAS and OpenMP pool to :func:`thread_count`
-    threads inside the ``with`` block."""
+    threads inside the ``with`` block (or, as the decorator ``@limited()``,
+    inside each call of the function)."""
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=thread_count()):

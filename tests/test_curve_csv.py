@@ -7,15 +7,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import flexbed.files.shapes as shapes
+import flexbed.files.drives as drives
 from flexbed.errors import InputError
-from flexbed.files.shapes import ShapeReader, _two_columns
+from flexbed.files.drives import ShapeReader, _two_columns
 
 
 def _line_by_line(text: str, monkeypatch):
     """What the line-by-line reader alone makes of ``text``."""
     with monkeypatch.context() as m:
-        m.setattr(shapes, "_two_columns", lambda _text: None)
+        m.setattr(drives, "_two_columns", lambda _text: None)
         Path("c.csv").write_text(text, newline="")
         return ShapeReader("s.toml", Path(".")).csv_file("base.force 1", "c.csv")
 

@@ -11,7 +11,7 @@ from flexbed.dynamics.integrate import Settings, integrate
 from flexbed.dynamics.laws import CurveLaw, LinearLaw, PolynomialLaw
 from flexbed.dynamics.rotation import A, p_from_angles
 from flexbed.dynamics.scene import Base, Body, Drive, Load, Mount, Scene
-from flexbed.dynamics.shapes import Curve, Sinusoid, Trapezoid, Triangle, sampled
+from flexbed.dynamics.time_functions import Curve, Sinusoid, Trapezoid, Triangle, sampled
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
 

@@ -10,7 +10,7 @@ from flexbed.dynamics.laws import CurveLaw, LinearLaw, PolynomialLaw
 from flexbed.dynamics.piecewise import spline_with_tails
 from flexbed.dynamics.rotation import A, G, angles_from_p, p_from_A, p_from_angles, skew
 from flexbed.dynamics.scene import Base, Body, Drive, Load, Mount, Scene
-from flexbed.dynamics.shapes import Curve, Sinusoid, Trapezoid, Triangle, sampled
+from flexbed.dynamics.time_functions import Curve, Sinusoid, Trapezoid, Triangle, sampled
 
 
 def test_euler_parameters_roll_pitch_yaw_round_trip():

@@ -9,7 +9,7 @@ import pytest
 from flexbed.dynamics.integrate import Settings, integrate
 from flexbed.dynamics.laws import LinearLaw
 from flexbed.dynamics.scene import Base, Body, Drive, Mount, Scene
-from flexbed.dynamics.shapes import Sinusoid
+from flexbed.dynamics.time_functions import Sinusoid
 from flexbed.dynamics.system import System
 
 M_BODY = 50.0

@@ -8,7 +8,7 @@ import pytest
 from flexbed.fem.bed import compute_bed_modes
 from flexbed.fem.invariants import second_moments
 from flexbed.fem.plate import assemble_plate
-from flexbed.fem.shapes import GridShapes
+from flexbed.fem.grid_shapes import GridShapes
 from flexbed.fem.spec import PlateSpec
 
 N_MODES = 5

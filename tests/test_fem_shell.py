@@ -11,7 +11,7 @@ from flexbed.fem.bed import compute_bed_modes
 from flexbed.fem.invariants import shell_mass_properties
 from flexbed.fem.mitc4 import GAUSS, shape
 from flexbed.fem.quad_shapes import QuadShapes
-from flexbed.fem.shapes import OutsidePlateError
+from flexbed.fem.grid_shapes import OutsidePlateError
 from flexbed.fem.shell import assemble_shell
 from flexbed.fem.spec import PlateSpec, PlateSpecError
 

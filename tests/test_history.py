@@ -13,7 +13,7 @@ from flexbed.dynamics.history import history
 from flexbed.dynamics.integrate import Settings, integrate
 from flexbed.dynamics.laws import CurveLaw, LinearLaw
 from flexbed.dynamics.scene import Base, Drive
-from flexbed.dynamics.shapes import Curve, Triangle
+from flexbed.dynamics.time_functions import Curve, Triangle
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
 from flexbed.files.scene import load_scene

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from flexbed.dynamics.scene import Base, Drive, Scene
-from flexbed.dynamics.shapes import Sinusoid, Triangle
+from flexbed.dynamics.time_functions import Sinusoid, Triangle
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
 from flexbed.errors import InputError

@@ -138,3 +138,32 @@ def test_write_replaces_an_existing_file_atomically(tmp_path, bed):
 def test_store_refuses_missing_file(tmp_path):
     with pytest.raises(InputError, match="no such file"):
         store.read_file(tmp_path / "none.h5", schema="x", major=1)
+
+
+def test_the_invariants_contract_is_written_once(bed):
+    """fem's Invariants and dynamics' FlexibleBody hold exactly the modes
+    file's INVARIANTS: the same names, the shapes fem makes, the shapes
+    dynamics accepts (and no other)."""
+    from dataclasses import fields as dataclass_fields
+
+    from flexbed.dynamics.errors import SceneError
+    from flexbed.dynamics.flexible import FlexibleBody
+    from flexbed.fem.invariants import Invariants
+    from flexbed.files.modes import INVARIANTS
+
+    names = {v.name for v in INVARIANTS}
+    assert {f.name for f in dataclass_fields(Invariants)} - {"model_mass"} == names
+    assert set(Invariants.SOURCES) == names
+    assert names <= {f.name for f in dataclass_fields(FlexibleBody)}
+    n = bed.modes.omega.size
+    for v in INVARIANTS:
+        assert np.shape(getattr(bed.invariants, v.name)) == v.shape_for(n), v.name
+    given = {v.name: getattr(bed.invariants, v.name) for v in INVARIANTS}
+    rest = dict(modal_damping=np.zeros((n, n)), points=np.zeros((0, 3)),
+                point_shapes=np.zeros((0, 3, n)))
+    body = FlexibleBody(**given, **rest)            # what fem makes, dynamics takes
+    assert body.n_modes == n
+    for v in INVARIANTS:
+        if v.shape:
+            with pytest.raises(SceneError):
+                FlexibleBody(**{**given, v.name: np.zeros(v.shape_for(n) + (2,))}, **rest)

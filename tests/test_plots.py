@@ -11,8 +11,8 @@ import pytest
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from flexbed.bench.plots import Panel, Series, loglog_figure  # noqa: E402
-from flexbed.plots import mount_forces_figure, mount_groups, mount_style  # noqa: E402
+from flexbed.plots.bench import Panel, Series, loglog_figure  # noqa: E402
+from flexbed.plots.runs import mount_forces_figure, mount_groups, mount_style  # noqa: E402
 
 
 def reference_like_forces():

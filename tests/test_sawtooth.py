@@ -14,7 +14,7 @@ from flexbed.cli import main as flexbed
 from flexbed.dynamics.errors import SceneError
 from flexbed.dynamics.integrate import Settings, integrate
 from flexbed.dynamics.linear import run_linear
-from flexbed.dynamics.shapes import Sawtooth
+from flexbed.dynamics.time_functions import Sawtooth
 from flexbed.dynamics.statics import solve_statics
 from flexbed.errors import InputError
 from flexbed.files.results import read_results

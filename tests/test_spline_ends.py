@@ -11,7 +11,7 @@ from scipy.interpolate import CubicSpline
 from flexbed.cli import main as flexbed
 from flexbed.dynamics.errors import SceneError
 from flexbed.dynamics.laws import CurveLaw, LawBank
-from flexbed.dynamics.shapes import Curve, SplineEnds
+from flexbed.dynamics.time_functions import Curve, SplineEnds
 from flexbed.errors import InputError
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene

@@ -28,7 +28,7 @@ import numpy as np
 
 from flexbed.dynamics.rotation import A as rotation_matrix
 from flexbed.fem.quad_shapes import mode_shapes
-from flexbed.fem.shapes import OutsidePlateError
+from flexbed.fem.grid_shapes import OutsidePlateError
 
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file

@@ -25,9 +25,9 @@ from flexbed.bench.context import BenchContext
 from flexbed.bench.markdown import md_table
 from flexbed.dynamics.integrate import Settings, integrate
 from flexbed.dynamics.scene import Base, Load
-from flexbed.dynamics.shapes import Curve
+from flexbed.dynamics.time_functions import Curve
 from flexbed.dynamics.system import System
-from flexbed.files.shapes import ShapeReader
+from flexbed.files.drives import ShapeReader
 
 __all__ = ["section_inputs", "SAMPLES", "QUICK_SAMPLES", "T_END"]
 

@@ -42,7 +42,7 @@ from flexbed.bench.modelling import (MODE_COUNTS, MODE_REFERENCE, QUICK_MODE_COU
                               QUICK_MODE_REFERENCE, highest_frequency, invariants_runs,
                               modes_count_runs)
 from flexbed.bench.modes import MESHES, N_MODES, QUICK_MESHES, mesh_rows, mesh_table
-from flexbed.bench.plots import Panel, Series, plot_loglog
+from flexbed.plots.bench import Panel, Series, plot_loglog
 from flexbed.files.scene import load_scene
 from flexbed.files.store import package_version
 

@@ -17,7 +17,7 @@ from flexbed.analyses.compare import (CASES, LABELS, comparison_rows, csv_table,
 from flexbed.files.destination import make_folder, write_text
 from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile, load_scene
-from flexbed.plots import plot_responses, plot_series
+from flexbed.plots.runs import plot_responses, plot_series
 from flexbed.stages.modes import ensure_modes
 
 

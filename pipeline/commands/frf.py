@@ -114,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
     write_frf(out["h5"], sf, r)
     write_text(out["csv"], frf_csv(r))
     if "bode" in out:
-        from flexbed.frequency_plots import plot_bode
+        from flexbed.plots.frequency import plot_bode
         # along the input's axis (the cross-axis responses are in the CSV and HDF5)
         acc = [j for j, (u, n) in enumerate(zip(r.units, r.names))
                if u in ("1", "m/s^2/N") and n.endswith(f" a{'xyz'[axis]}")]

@@ -90,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     from flexbed.files.mode_shapes import write_mode_shapes
     write_mode_shapes(out["xdmf"], mode_shape_meshes(sf, mt), md.frequency, md.damping_ratio)
     if "png" in out:
-        from flexbed.frequency_plots import plot_energy
+        from flexbed.plots.frequency import plot_energy
         plot_energy(out["png"], f"{sf.scene.name}: kinetic energy per mode", ms.labels,
                     md.frequency, md.energy)
     print("wrote " + ", ".join(str(p) for p in out.values()))

@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
             write_text(f, mount_csv(r))
             print(f"wrote {f}")
     if args.plot and (motions or args.mounts):
-        from flexbed.plots import plot_mount_forces, plot_responses   # matplotlib
+        from flexbed.plots.runs import plot_mount_forces, plot_responses  # matplotlib
         out = Path(args.plot)
         for m in motions:
             d = 1e3 * (m.position - m.position[0])

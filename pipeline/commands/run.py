@@ -22,6 +22,7 @@ import numpy as np
 from flexbed.commands.arguments import add_scene_arg
 from flexbed.analyses.compare import LABELS
 from flexbed.analyses.points import Run, bed_motion, motion_csv, motion_table, mount_peaks_csv
+from flexbed.analyses.summary import modes_csv, summary_markdown
 from flexbed.commands.compare import add_solver_args, compare_scene, with_solver_options
 from flexbed.commands.modes import auto_line, modes_table
 from flexbed.commands.static import equilibrium_csv, equilibrium_table
@@ -29,10 +30,11 @@ from flexbed.dynamics.statics import solve_statics
 from flexbed.files.destination import make_folder, write_text
 from flexbed.errors import NumericalError
 from flexbed.fem.export import write_modes_vtu
+from flexbed.files.modes import ModesData
 from flexbed.files.results import write_equilibrium
 from flexbed.files.scene import load_scene
 from flexbed.files.xdmf import write_bed_motion
-from flexbed.plots import plot_mount_forces
+from flexbed.plots.runs import plot_mount_forces
 from flexbed.stages.modes import ensure_modes
 from flexbed.stages.simulation import checked
 from flexbed.stages.system import compile_scene
@@ -96,72 +98,70 @@ def run(args: argparse.Namespace) -> int:
     print(f"[3/{STAGES}] simulations done ({time.perf_counter() - t0:.2f} s)")
     print(res["table"])
 
-    # the bed's motion for ParaView, the mount forces, CSV of every table
-    data_rows = ["mode,frequency_Hz,shape,symmetry"] + [
-        f"{k + 1},{f:.10g},{lab},{sym}" for k, (f, lab, sym)
-        in enumerate(zip(data.frequency, data.labels, data.symmetry))]
-    write_text(out / f"{name}-modes.csv", "\n".join(data_rows) + "\n")
+    # CSV of the stages' tables; per run the mount forces and the bed's motion for ParaView
+    write_text(out / f"{name}-modes.csv", modes_csv(data))
     write_text(out / f"{name}-equilibrium.csv", equilibrium_csv(system, eq.y))
     res["files"] += [out / f"{name}-modes.csv", out / f"{name}-equilibrium.csv"]
     for case, cr in res["runs"].items():
-        r = Run(cr.path)
-        if r.mount_names:
-            f = out / f"{name}-{case}-mounts.csv"
-            write_text(f, mount_peaks_csv(r))
-            res["files"] += [f, plot_mount_forces(
-                out / f"{name}-{case}-mount-forces.png", f"mount forces ({LABELS[case]})",
-                r.t, r.mounts["force"], r.mount_names, r.mount_body_i, r.mount_body_j)]
-        if case != "rigid":
-            pos, defl = bed_motion(r, data.nodes, r.translation)
-            stride = max(1, int(round(FRAME_DT / float(np.mean(np.diff(r.t))))))
-            frames = slice(None, None, stride)
-            res["files"].append(write_bed_motion(
-                out / f"{name}-{case}-bed.xdmf", pos[0], data.cells, r.t[frames],
-                (pos - pos[0])[frames], defl[frames]))
+        res["files"] += _run_files(out, name, case, Run(cr.path), data)
 
     t0 = time.perf_counter()
     point_tables = []
     if sf.points:
         for case, cr in res["runs"].items():
-            r = Run(cr.path)
-            motions = []
-            for p in r.scene_points:
-                motions.append(r.absolute(p))
-                if p.relative_to:
-                    motions.append(r.relative(p, p.relative_to))
-            for m in motions:
-                suffix = "" if m.frame == "inertial" else f"-rel-{m.frame.replace(' ', '_')}"
-                f = out / f"{name}-{case}-point-{m.point.name.replace(' ', '_')}{suffix}.csv"
-                write_text(f, motion_csv(r.t, m))
-                res["files"].append(f)
-            point_tables.append((case, motion_table(motions)))
+            files, table = _point_files(out, name, case, Run(cr.path))
+            res["files"] += files
+            point_tables.append((case, table))
         print(f"[4/{STAGES}] points of interest: {count(len(sf.points), 'point')} x "
               f"{count(len(res['runs']), 'run')} ({time.perf_counter() - t0:.2f} s) -> CSV")
     else:
         print(f"[4/{STAGES}] points of interest: none in the scene")
 
     summary = out / f"{name}-summary.md"
-    lines = [f"# {name}: summary", "", f"Scene: `{sf.source}`.", "", "## Bed modes", "",
-             "```", modes_table(data), "```", "",
-             "## Static equilibrium (rigid bed, the paper's Table 2)", "", "```", table2, "```",
-             "", "## Rigid, flexible and damped flexible bed", "",
-             f"0-{sf.solver.t_end:g} s, {sf.solver.integrator}. "
-             "d = vertical motion of the equipment relative to the base, from its static "
-             "position; delay from the cross-correlation with the rigid case, searched over "
-             "± half the period of the rigid response (\"beyond\" when the best shift is at "
-             "that edge); decay = peak |d| over the second half of the free vibration / over "
-             "its first half.", "", res["table"], ""]
-    if point_tables:
-        lines += ["## Points of interest", "",
-                  "Peak displacement from t = 0, speed and acceleration; absolute (inertial) "
-                  "and relative to the scene's reference body (in its frame).", ""]
-        for case, table in point_tables:
-            lines += [f"### {case}", "", table, ""]
-    lines += ["## Files", ""]
     files = [data.path, vtu, Path(eq_path)] + [r.path for r in res["runs"].values()] + \
         res["files"]
-    lines += [f"- `{Path(f).name}`" for f in files]
-    write_text(summary, "\n".join(lines) + "\n")
+    write_text(summary, summary_markdown(
+        name, sf.source, modes_table=modes_table(data), equilibrium_table=table2,
+        t_end=sf.solver.t_end, integrator=sf.solver.integrator, comparison_table=res["table"],
+        point_tables=point_tables, files=files))
     print(f"[5/{STAGES}] summary -> {summary.name}")
     print(f"done in {time.perf_counter() - t_start:.1f} s; outputs in {out}/")
     return 0
+
+
+def _run_files(out: Path, name: str, case: str, r: Run, data: ModesData) -> list[Path]:
+    """One compared run's mount forces (peaks as CSV, a plot) and, with the
+    bed flexible, the bed's motion for ParaView; returns the paths."""
+    files = []
+    if r.mount_names:
+        f = out / f"{name}-{case}-mounts.csv"
+        write_text(f, mount_peaks_csv(r))
+        files += [f, plot_mount_forces(
+            out / f"{name}-{case}-mount-forces.png", f"mount forces ({LABELS[case]})",
+            r.t, r.mounts["force"], r.mount_names, r.mount_body_i, r.mount_body_j)]
+    if case != "rigid":
+        pos, defl = bed_motion(r, data.nodes, r.translation)
+        stride = max(1, int(round(FRAME_DT / float(np.mean(np.diff(r.t))))))
+        frames = slice(None, None, stride)
+        files.append(write_bed_motion(
+            out / f"{name}-{case}-bed.xdmf", pos[0], data.cells, r.t[frames],
+            (pos - pos[0])[frames], defl[frames]))
+    return files
+
+
+def _point_files(out: Path, name: str, case: str, r: Run) -> tuple[list[Path], str]:
+    """The scene's points of interest in one compared run, absolute and
+    relative to their ``relative_to`` body: a CSV each; returns the paths and
+    the table of their peaks."""
+    motions = []
+    for p in r.scene_points:
+        motions.append(r.absolute(p))
+        if p.relative_to:
+            motions.append(r.relative(p, p.relative_to))
+    files = []
+    for m in motions:
+        suffix = "" if m.frame == "inertial" else f"-rel-{m.frame.replace(' ', '_')}"
+        f = out / f"{name}-{case}-point-{m.point.name.replace(' ', '_')}{suffix}.csv"
+        write_text(f, motion_csv(r.t, m))
+        files.append(f)
+    return files, motion_table(motions)

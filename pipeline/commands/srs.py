@@ -83,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
         f = write_file(Path(args.hdf5), schema=SCHEMA, version=VERSION, datasets=ds, attrs=attrs)
         print(f"wrote {f}")
     if args.plot:
-        from flexbed.plots import plot_shock_spectrum          # matplotlib
+        from flexbed.plots.frequency import plot_shock_spectrum  # matplotlib
         out = Path(args.plot)
         ref = {} if s.input is None else {c: s.input.maximax[:, i] for i, c in enumerate("xyz")}
         for p in s.points:

@@ -29,6 +29,11 @@ dataset                            shape           units                  from
 ``invariants/modal_stiffness``     (n, n)          s^-2                   FE
 =================================  ==============  =====================  =========
 
+The ``invariants/`` rows are :data:`INVARIANTS`: the one definition of
+the modal invariants that :mod:`flexbed.fem` computes and
+:mod:`flexbed.dynamics` takes (tests/test_modes_file.py checks both sides
+against it).
+
 Group ``mesh`` attribute ``origin_in_drawing_frame`` (2,) [m]: where the
 bed frame's origin (the centre of mass) is in the frame the scene gives the
 bed's geometry and points in (its z is minus the nodes' z).
@@ -93,25 +98,58 @@ def _plate_attrs(spec: PlateSpec) -> dict:
             d[key] = json.dumps(d[key], sort_keys=True)
     return d
 
-_INVARIANT_UNITS = {
-    "mass": "kg", "first_moment": "kg m", "inertia": "kg m^2",
-    "phi_integral": "kg^1/2", "u_cross_phi": "kg^1/2 m", "phi_cross_phi": "1",
-    "modal_mass": "1", "inertia_first_order": "kg^1/2 m", "inertia_second_order": "1",
-    "modal_stiffness": "s^-2",
-}
-_INVARIANT_DESCRIPTIONS = {
-    "mass": "I1 = integral of rho dV", "first_moment": "I2 = integral of rho u0 dV",
-    "inertia": "I7 = integral of rho u0~T u0~ dV (inertia tensor about the centre of mass)",
-    "phi_integral": "I3 = integral of rho Phi dV, (3, n)",
-    "u_cross_phi": "I4 = integral of rho u0~ Phi dV, (3, n)",
-    "phi_cross_phi": "I5[k, :, l] = integral of rho Phi_k~ Phi_l dV",
-    "modal_mass": "I6 = integral of rho Phi^T Phi dV (generalized mass)",
-    "inertia_first_order": "I8[k] = integral of rho u0~T Phi_k~ dV",
-    "inertia_second_order": "I9[k, l] = integral of rho Phi_k~T Phi_l~ dV",
-    "modal_stiffness": "Phi^T K Phi (generalized stiffness)",
-}
+@dataclass(frozen=True)
+class Invariant:
+    """One modal invariant: a field of :class:`flexbed.fem.invariants.Invariants`
+    (what fem computes), of :class:`flexbed.dynamics.flexible.FlexibleBody`
+    (what the dynamics takes) and the dataset ``invariants/<name>``.
+
+    Attributes
+    ----------
+    name : str
+    symbol : str
+        Shabana's number ("I1" … "I9"; "K" the modal stiffness).
+    shape : tuple of int or "n"
+        "n": the number of modes.
+    unit : str
+    description : str
+    """
+
+    name: str
+    symbol: str
+    shape: tuple
+    unit: str
+    description: str
+
+    def shape_for(self, n: int) -> tuple[int, ...]:
+        """The shape with ``n`` modes."""
+        return tuple(n if d == "n" else d for d in self.shape)
+
+
+#: The modal invariants, in the file's order: the contract between flexbed.fem
+#: and flexbed.dynamics (which never import each other), written once here;
+#: the modes file's reader maps it onto the first, the flexible bed's stage
+#: (:mod:`flexbed.stages.flexible_bed`) onto the second.
+INVARIANTS = (
+    Invariant("mass", "I1", (), "kg", "I1 = integral of rho dV"),
+    Invariant("first_moment", "I2", (3,), "kg m", "I2 = integral of rho u0 dV"),
+    Invariant("inertia", "I7", (3, 3), "kg m^2",
+              "I7 = integral of rho u0~T u0~ dV (inertia tensor about the centre of mass)"),
+    Invariant("phi_integral", "I3", (3, "n"), "kg^1/2", "I3 = integral of rho Phi dV, (3, n)"),
+    Invariant("u_cross_phi", "I4", (3, "n"), "kg^1/2 m",
+              "I4 = integral of rho u0~ Phi dV, (3, n)"),
+    Invariant("phi_cross_phi", "I5", ("n", 3, "n"), "1",
+              "I5[k, :, l] = integral of rho Phi_k~ Phi_l dV"),
+    Invariant("modal_mass", "I6", ("n", "n"), "1",
+              "I6 = integral of rho Phi^T Phi dV (generalized mass)"),
+    Invariant("inertia_first_order", "I8", ("n", 3, 3), "kg^1/2 m",
+              "I8[k] = integral of rho u0~T Phi_k~ dV"),
+    Invariant("inertia_second_order", "I9", ("n", "n", 3, 3), "1",
+              "I9[k, l] = integral of rho Phi_k~T Phi_l~ dV"),
+    Invariant("modal_stiffness", "K", ("n", "n"), "s^-2", "Phi^T K Phi (generalized stiffness)"),
+)
 REQUIRED = ("mesh/nodes", "mesh/cells", "modes/frequency", "modes/omega", "modes/translation",
-            "modes/rotation", "modes/twist") + tuple(f"invariants/{k}" for k in _INVARIANT_UNITS)
+            "modes/rotation", "modes/twist") + tuple(f"invariants/{v.name}" for v in INVARIANTS)
 
 
 @dataclass(frozen=True)
@@ -208,10 +246,9 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
                                      "solver frequencies of the vectors identified as rigid"),
     }
     inv = bed.invariants
-    for key, unit in _INVARIANT_UNITS.items():
-        d[f"invariants/{key}"] = Dataset(np.asarray(getattr(inv, key), dtype=float), unit,
-                                         _INVARIANT_DESCRIPTIONS[key],
-                                         attrs={"source": inv.source(key)})
+    for v in INVARIANTS:
+        d[f"invariants/{v.name}"] = Dataset(np.asarray(getattr(inv, v.name), dtype=float), v.unit,
+                                            v.description, attrs={"source": inv.source(v.name)})
     attrs: dict[str, Mapping[str, Any]] = {
         "": {"input_hash": bed.spec.digest(), "n_modes": int(m.omega.size),
              "next_frequency": (m.omega_next / (2 * math.pi)
@@ -277,12 +314,8 @@ def read_modes_file(path: str | Path) -> ModesData:
     nodes = np.asarray(c.get("mesh/nodes"), dtype=float)
     N = nodes.shape[0]
     expect = {"modes/omega": (n,), "modes/translation": (n, N, 3), "modes/rotation": (n, N, 3),
-              "modes/twist": (n, N), "invariants/phi_integral": (3, n),
-              "invariants/u_cross_phi": (3, n), "invariants/phi_cross_phi": (n, 3, n),
-              "invariants/modal_mass": (n, n), "invariants/inertia_first_order": (n, 3, 3),
-              "invariants/inertia_second_order": (n, n, 3, 3),
-              "invariants/modal_stiffness": (n, n), "invariants/inertia": (3, 3),
-              "invariants/first_moment": (3,), "invariants/mass": ()}
+              "modes/twist": (n, N)}
+    expect.update({f"invariants/{v.name}": v.shape_for(n) for v in INVARIANTS})
     for name, shape in expect.items():
         got = np.shape(c.get(name))
         if got != shape:
@@ -291,9 +324,9 @@ def read_modes_file(path: str | Path) -> ModesData:
             plate.is_rectangle and (plate.nx + 1) * (plate.ny + 1) != N):
         raise InputError(f"{c.path}: dataset 'mesh/nodes' does not match the "
                          f"{plate.nx} x {plate.ny} mesh of the plate inputs")
-    inv = Invariants(**{key: (float(c.get(f"invariants/{key}")) if key == "mass"
-                              else np.asarray(c.get(f"invariants/{key}"), dtype=float))
-                        for key in _INVARIANT_UNITS}, model_mass=plate.theory == "mindlin")
+    inv = Invariants(**{v.name: (float(c.get(f"invariants/{v.name}")) if v.shape == ()
+                                 else np.asarray(c.get(f"invariants/{v.name}"), dtype=float))
+                        for v in INVARIANTS}, model_mass=plate.theory == "mindlin")
 
     def strings(name: str) -> tuple[str, ...]:
         value = c.datasets.get(name)

@@ -27,12 +27,12 @@ from flexbed.dynamics.laws import CurveLaw, LinearLaw, PolynomialLaw
 from flexbed.dynamics.rotation import A as rotation_matrix
 from flexbed.dynamics.rotation import p_from_angles
 from flexbed.dynamics.scene import DIRECTIONS, Base, Body, Drive, Load, Mount, Scene
-from flexbed.dynamics.shapes import SplineEnds
+from flexbed.dynamics.time_functions import SplineEnds
 
 from flexbed.files.builtin import BUILTIN, builtin_scene_path, builtin_scene_text  # noqa: F401
 from flexbed.files.bed_points import points_on_bed
 from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
-from flexbed.files.shapes import ALL_SHAPE_KEYS, ShapeReader
+from flexbed.files.drives import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
 from flexbed.files.sanity import warn_far_points
 

@@ -12,11 +12,11 @@ from flexbed.dynamics.errors import SceneError
 from flexbed.dynamics.flexible import FlexibleBody, modal_damping, rayleigh_damping
 from flexbed.dynamics.scene import Scene
 from flexbed.fem.quad_shapes import mode_shapes
-from flexbed.fem.shapes import OutsidePlateError
+from flexbed.fem.grid_shapes import OutsidePlateError
 
 from flexbed.errors import InputError
 from flexbed.files.bed_section import plate_mismatch
-from flexbed.files.modes import ModesData, read_modes_file
+from flexbed.files.modes import INVARIANTS, ModesData, read_modes_file
 from flexbed.stages.residual_modes import change_of_modes, residual_basis
 from flexbed.files.scene import SceneFile
 
@@ -115,14 +115,13 @@ def flexible_body(sf: SceneFile, data: ModesData, *, n_modes: int | None = None,
     else:
         alpha, beta = sf.bed.rayleigh
         C = rayleigh_damping(I6, K, alpha, beta)
+    # the invariants by the modes file's names (INVARIANTS): those of the kept
+    # modal coordinates, the rigid-body ones (I1, I2, I7) as the file has them
+    invariants = {v.name: arrays.get(v.symbol, getattr(inv, v.name)) for v in INVARIANTS}
     try:
         return FlexibleBody(
-            mass=inv.mass, first_moment=inv.first_moment, inertia=inv.inertia,
-            phi_integral=arrays["I3"], u_cross_phi=arrays["I4"], phi_cross_phi=arrays["I5"],
-            modal_mass=I6, inertia_first_order=arrays["I8"],
-            inertia_second_order=arrays["I9"], modal_stiffness=K, modal_damping=C,
-            points=points, point_shapes=np.transpose(arrays["shapes"], (1, 2, 0)), full=full,
-            basis=basis)
+            **invariants, modal_damping=C, points=points,
+            point_shapes=np.transpose(arrays["shapes"], (1, 2, 0)), full=full, basis=basis)
     except SceneError as exc:
         raise InputError(f"{where}: {exc}") from None
 

@@ -10,8 +10,11 @@
 - :mod:`~flexbed.study.point` is what a Dask worker runs;
 - :mod:`~flexbed.study.engine` starts or joins the Dask cluster;
 - :mod:`~flexbed.study.runner` submits the points and gathers the rows;
-- :mod:`~flexbed.study.table` and :mod:`~flexbed.study.plots` are the outputs.
+- :mod:`~flexbed.study.table` is the output (its plots: :mod:`flexbed.plots.study`).
 
-Only ``flexbed sweep`` and :func:`flexbed.sweep` import this package (and
-through it ``dask.distributed``).
+It may import :mod:`flexbed.api` (a point's analyses are the API's
+functions), :mod:`flexbed.files`, :mod:`flexbed.plots` (on writing them)
+and :mod:`flexbed.dynamics`. Only ``flexbed sweep`` and
+:func:`flexbed.sweep` import this package (and through it
+``dask.distributed``).
 """

@@ -151,13 +151,13 @@ def _frf(scene, outcomes, modes):
 
 
 def _modal_files(m) -> dict:
-    from flexbed.frequency_api import modal_files
+    from flexbed.api.frequency import modal_files
     return {"modal" + suffix: f for suffix, f in
             modal_files(m.scene, m.mounted, shapes=True).items()}
 
 
 def _frf_files(responses: Responses) -> dict:
-    from flexbed.frequency_api import frf_files
+    from flexbed.api.frequency import frf_files
     return {"frf" + suffix: f for suffix, f in
             frf_files(responses.scene, responses.default().result).items()}
 

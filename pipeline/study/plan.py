@@ -92,7 +92,7 @@ def modes_scene(scene: SceneFile) -> SceneFile:
 
 
 def _modes_key(scene: SceneFile) -> str:
-    from flexbed.api import modes_request
+    from flexbed.api.bed_modes import modes_request
     return hashlib.sha256(repr(modes_request(modes_scene(scene))).encode()).hexdigest()[:16]
 
 

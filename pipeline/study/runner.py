@@ -229,7 +229,7 @@ def run_plan(plan: Plan, *, scheduler=None, workers: int | None = None,
     bar.close()
     table = save(len(rows) == len(plan.points))
     if plots and folder is not None and len(table):
-        from flexbed.study.plots import plot_study
+        from flexbed.plots.study import plot_study
         plot_study(table, folder / "plots")
     return table
 

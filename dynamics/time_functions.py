@@ -345,7 +345,7 @@ class SplineEnds:
 
     def spline(self, x, y, *, left: str, right: str) -> PiecewisePolynomial:
         """The spline through (x, y) with these ends and the given tails
-        (see :func:`~dynamics.piecewise.spline_with_tails`)."""
+        (see :func:`~flexbed.dynamics.piecewise.spline_with_tails`)."""
         return spline_with_tails(x, y, left=left, right=right, end=self.condition,
                                  slopes=self.slopes)
 

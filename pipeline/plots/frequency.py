@@ -1,5 +1,5 @@
-"""PNG plots of the frequency-domain analyses: the decoupling table as a
-map, and Bode plots with the resonances marked."""
+"""Plots over frequency: the mounted system's decoupling table as a map,
+Bode plots with the resonances marked, and a run's shock response spectra."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.plots import plt, save_figure
+from flexbed.plots.figure import STYLES, plt, save_figure
 
-__all__ = ["plot_energy", "plot_bode"]
+__all__ = ["plot_energy", "plot_bode", "plot_shock_spectrum"]
 
 
 def plot_energy(path: Path, title: str, labels: tuple, frequency: np.ndarray,
@@ -62,5 +62,36 @@ def plot_bode(path: Path, title: str, frequency: np.ndarray, H: np.ndarray, name
     for ax in (a1, a2):
         ax.grid(True, which="both", alpha=0.3)
     a1.legend(loc="best", fontsize=7)
+    fig.tight_layout()
+    return save_figure(fig, path)
+
+
+def plot_shock_spectrum(path: Path, title: str, frequency: np.ndarray,
+                        curves: dict[str, np.ndarray], reference: dict[str, np.ndarray]) -> Path:
+    """Maximax shock response spectra on log-log axes: one curve per axis
+    (solid), and a driven base's input spectrum beside them (dashed).
+
+    Parameters
+    ----------
+    frequency : (n,) [Hz]
+    curves, reference : dict axis ("x", "y", "z") -> (n,) [m/s²]; a curve
+        below 1e-6 of the largest everywhere (round-off of an axis the
+        shock does not reach) is left out, and the axis spans four decades
+    """
+    top = max([float(np.max(v)) for v in (*curves.values(), *reference.values())] + [0.0])
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for c, v in curves.items():
+        if np.max(v) > 1e-6 * top:
+            ax.loglog(frequency, v, label=f"{c}", **STYLES[c])
+    for c, v in reference.items():
+        if np.max(v) > 1e-6 * top:
+            ax.loglog(frequency, v, label=f"input {c}", **{**STYLES[c], "ls": ":"})
+    if top > 0:
+        ax.set_ylim(1e-4 * top, 2.0 * top)
+    ax.set_xlabel("natural frequency [Hz]")
+    ax.set_ylabel("maximax absolute acceleration [m/s²]")
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
     fig.tight_layout()
     return save_figure(fig, path)

@@ -1,16 +1,18 @@
 """A study's plots: each metric against each varied numeric parameter
 (``plots/<metric>--<parameter>.png``), and with exactly two varied
 parameters a map of each metric over them (``plots/<metric>--map.png``).
-Failed points are left out."""
+Failed points are left out; matplotlib is imported on the first call."""
 
 from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from flexbed.study.table import StudyTable
+if TYPE_CHECKING:       # annotations only
+    from flexbed.study.table import StudyTable
 
 __all__ = ["plot_study", "varied"]
 
@@ -34,7 +36,7 @@ def varied(table: StudyTable) -> list[str]:
 
 def plot_study(table: StudyTable, folder: Path) -> list[Path]:
     """Write the plots into ``folder`` (created); return their paths."""
-    from flexbed.plots import plt, save_figure
+    from flexbed.plots.figure import plt, save_figure
 
     ok = table.ok
     params = varied(table)

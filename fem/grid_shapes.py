@@ -1,5 +1,6 @@
-"""Mode shapes as point motions: nodal translations and rotations, and the
-motion of any point of the plate, on or off the mid-surface.
+"""Mode shapes of the Kirchhoff plate's grid as point motions: nodal
+translations and rotations, and the motion of any point of the plate, on or
+off the mid-surface (the Mindlin shell's: :mod:`flexbed.fem.quad_shapes`).
 
 Small rotations of the plate's normal, by Kirchhoff kinematics:
 θ = (∂w/∂y, -∂w/∂x, 0); a point at height z above the mid-surface moves by

@@ -1,28 +1,17 @@
-"""PNG plots (matplotlib, non-interactive Agg backend)."""
+"""A run's plots over time: responses of the compared cases or of a
+point's axes, a single time series (the base's input), and the mount
+forces, one panel per pair of bodies joined and mount axis."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from flexbed.plots.figure import STYLES, plt, save_figure
 
-from flexbed.files.destination import atomic_write  # noqa: E402
-
-STYLES = {"rigid": dict(color="k", lw=1.2), "flexible": dict(color="tab:blue", lw=1.0, ls="--"),
-          "damped": dict(color="tab:red", lw=1.0), "x": dict(color="tab:green", lw=1.0),
-          "y": dict(color="tab:orange", lw=1.0), "z": dict(color="k", lw=1.2)}
-
-
-def save_figure(fig, path: Path) -> Path:
-    """Write a figure as PNG atomically (:mod:`flexbed.files.destination`) and close it."""
-    try:
-        return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
-    finally:
-        plt.close(fig)
+__all__ = ["plot_responses", "plot_series", "plot_mount_forces", "mount_forces_figure",
+           "mount_style", "mount_groups", "significant_directions"]
 
 
 def plot_responses(path: Path, title: str, curves: dict[str, tuple[np.ndarray, np.ndarray]],
@@ -56,37 +45,6 @@ def plot_series(path: Path, title: str, t: np.ndarray, value: np.ndarray, ylabel
     fig.tight_layout()
     return save_figure(fig, path)
 
-
-
-def plot_shock_spectrum(path: Path, title: str, frequency: np.ndarray,
-                        curves: dict[str, np.ndarray], reference: dict[str, np.ndarray]) -> Path:
-    """Maximax shock response spectra on log-log axes: one curve per axis
-    (solid), and a driven base's input spectrum beside them (dashed).
-
-    Parameters
-    ----------
-    frequency : (n,) [Hz]
-    curves, reference : dict axis ("x", "y", "z") -> (n,) [m/s²]; a curve
-        below 1e-6 of the largest everywhere (round-off of an axis the
-        shock does not reach) is left out, and the axis spans four decades
-    """
-    top = max([float(np.max(v)) for v in (*curves.values(), *reference.values())] + [0.0])
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for c, v in curves.items():
-        if np.max(v) > 1e-6 * top:
-            ax.loglog(frequency, v, label=f"{c}", **STYLES[c])
-    for c, v in reference.items():
-        if np.max(v) > 1e-6 * top:
-            ax.loglog(frequency, v, label=f"input {c}", **{**STYLES[c], "ls": ":"})
-    if top > 0:
-        ax.set_ylim(1e-4 * top, 2.0 * top)
-    ax.set_xlabel("natural frequency [Hz]")
-    ax.set_ylabel("maximax absolute acceleration [m/s²]")
-    ax.set_title(title)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(loc="best", fontsize=8)
-    fig.tight_layout()
-    return save_figure(fig, path)
 
 #: line styles of the mounts within one panel: colour and dash pattern both
 #: differ between neighbours, so curves drawn on top of each other (symmetric

@@ -1,4 +1,6 @@
-"""The frequency-domain analyses as library calls (exported by :mod:`flexbed.api`).
+"""The mounted system in the frequency domain as library calls: its modes
+(:func:`modal`, :class:`Modal`) and its transmissibility (:func:`frf`,
+:class:`Transmissibility`), and the files the commands write of them.
 
 >>> import flexbed
 >>> scene = flexbed.load_scene()
@@ -20,12 +22,14 @@ import numpy as np
 from flexbed.analyses import frf as afrf
 from flexbed.analyses import modal as amodal
 from flexbed.analyses.points import Point
+from flexbed.api import bed_modes
 from flexbed.errors import InputError
 from flexbed.files.destination import check_destination, write_text
 from flexbed.files.frequency import frf_contents, modal_contents, write_frf_contents, \
     write_modal_contents
 from flexbed.files.modes import ModesData
 from flexbed.files.scene import SceneFile
+from flexbed.threads import limited
 
 __all__ = ["modal", "frf", "Modal", "Transmissibility", "modal_files", "frf_files"]
 
@@ -130,20 +134,21 @@ def _save(prefix, files: dict) -> list[Path]:
     return paths
 
 
-def _mounted(api, scene: SceneFile, modes: ModesData | None, equilibrium) -> amodal.Mounted:
+def _mounted(scene: SceneFile, modes: ModesData | None, equilibrium) -> amodal.Mounted:
     if isinstance(equilibrium, Modal):           # its linearisation and modes, as they are
         if equilibrium.scene.digest != scene.digest:
             raise InputError("equilibrium: the Modal given is of another scene")
         return equilibrium.mounted
     if scene.bed.flexible and modes is None:
-        modes = api.modes(scene)
+        modes = bed_modes.modes(scene)
     if equilibrium is not None and not isinstance(equilibrium, (str, Path)):
         return amodal.mounted(scene, equilibrium.system, y_eq=equilibrium.equilibrium.y,
                               bed_modes=modes)
-    system = api._system(scene, modes)
+    system = bed_modes.compiled(scene, modes)
     return amodal.mounted(scene, system, equilibrium_file=equilibrium, bed_modes=modes)
 
 
+@limited()
 def modal(scene: SceneFile, *, modes: ModesData | None = None, equilibrium=None) -> Modal:
     """Modes of the mounted system about its static equilibrium, base held.
 
@@ -156,10 +161,10 @@ def modal(scene: SceneFile, *, modes: ModesData | None = None, equilibrium=None)
         From :func:`flexbed.statics`, or an equilibrium file (default:
         solved here).
     """
-    from flexbed import api
-    return Modal(scene, _mounted(api, scene, modes, equilibrium))
+    return Modal(scene, _mounted(scene, modes, equilibrium))
 
 
+@limited()
 def frf(scene: SceneFile, *, input: str = "base z",
         force_at: tuple[str, Sequence[float]] | None = None,
         points: Sequence[tuple] | None = None, band: tuple[float, float] | None = None,
@@ -185,7 +190,6 @@ def frf(scene: SceneFile, *, input: str = "base z",
         this scene's :class:`Modal` (its linearisation and modes reused:
         the same numbers as solving them again, without the cost).
     """
-    from flexbed import api
     pts = None
     if points is not None:
         pts = []
@@ -207,6 +211,6 @@ def frf(scene: SceneFile, *, input: str = "base z",
     freqs = None if frequencies is None else np.asarray(frequencies, dtype=float)
     if freqs is not None and not (freqs.ndim == 1 and freqs.size and np.all(freqs > 0)):
         raise InputError("frequencies must be a non-empty list of positive numbers [Hz]")
-    mt = _mounted(api, scene, modes, equilibrium)
+    mt = _mounted(scene, modes, equilibrium)
     return Transmissibility(scene, afrf.frequency_response(
         scene, mt, input=input, force_at=at, points=pts, band=band, n=n, frequencies=freqs))

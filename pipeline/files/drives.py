@@ -1,7 +1,8 @@
-"""The scene file's time shapes and curve data: ``[[base.drive]]`` and
-``[[base.force]]`` entries (sinusoid, triangle, trapezoid, sawtooth, curve
-data inline or from a CSV file) and the mount laws' curve tables, with the
-splines' end conditions.
+"""The scene file's drives and loads and its curve data: ``[[base.drive]]``
+and ``[[base.force]]`` entries as time shapes (sinusoid, triangle,
+trapezoid, sawtooth, curve data inline or from a CSV file; the functions
+themselves: :mod:`flexbed.dynamics.time_functions`) and the mount laws'
+curve tables, with the splines' end conditions.
 
 :class:`ShapeReader` adds these readers to :class:`TableReader`; the
 scene file's reader (:mod:`flexbed.files.scene`) builds on it.
@@ -16,7 +17,7 @@ import warnings
 import numpy as np
 
 from flexbed.dynamics.errors import SceneError
-from flexbed.dynamics.shapes import (END_CONDITIONS, Curve, Sawtooth, Sinusoid, SplineEnds,
+from flexbed.dynamics.time_functions import (END_CONDITIONS, Curve, Sawtooth, Sinusoid, SplineEnds,
                                      Trapezoid, Triangle, sampled)
 
 from flexbed.files.table_reader import TableReader

@@ -1,7 +1,8 @@
-"""The benchmark's PNG diagrams: error against cost, log–log (matplotlib, Agg).
+"""The benchmark's diagrams (``flexbed bench``): error against cost, log–log.
 
-Same conventions as :mod:`flexbed.plots`: 120 dpi, grid, legend, written to
-a temporary name then renamed, so a reader never sees half a file.
+Same conventions as every plot (:mod:`flexbed.plots.figure`): 120 dpi,
+grid, legend, written to a temporary name then renamed, so a reader never
+sees half a file.
 """
 
 from __future__ import annotations
@@ -9,15 +10,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.ticker import FuncFormatter, LogLocator, MaxNLocator, NullFormatter
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.ticker import (FuncFormatter, LogLocator, MaxNLocator,  # noqa: E402
-                               NullFormatter)
-
-from flexbed.plots import save_figure  # noqa: E402
+from flexbed.plots.figure import plt, save_figure
 
 __all__ = ["Series", "Panel", "plot_loglog"]
 

@@ -1,0 +1,89 @@
+"""The motion of the mount system as a library call, with the scene's
+solver settings overridden by keyword.
+
+>>> import flexbed
+>>> run = flexbed.simulate(flexbed.load_scene(), t_end=1.0, integrator="radau")  # doctest: +SKIP
+>>> run.complete, run.solver["method"]                                         # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any, Mapping
+
+from flexbed.api import bed_modes
+from flexbed.api.equilibrium import Statics
+from flexbed.api.results import Results
+from flexbed.errors import InputError
+from flexbed.files.modes import ModesData
+from flexbed.files.results import results_contents
+from flexbed.files.scene import SceneFile
+from flexbed.files.store import in_memory
+from flexbed.stages.simulation import simulate_system
+from flexbed.threads import limited
+
+__all__ = ["simulate", "solver_with", "SETTINGS"]
+
+#: the ``[solver]`` entries :func:`simulate` and :func:`flexbed.compare` take by keyword
+SETTINGS = ("integrator", "t_end", "dt", "rtol", "atol", "output_dt")
+
+
+def solver_with(scene: SceneFile, settings: Mapping[str, Any]):
+    """The scene's ``[solver]`` with ``settings`` (names of :data:`SETTINGS`)
+    replaced, checked."""
+    unknown = sorted(set(settings) - set(SETTINGS))
+    if unknown:
+        raise InputError(f"unknown setting(s) {', '.join(unknown)} (known: "
+                         f"{', '.join(SETTINGS)})")
+    try:
+        solver = dataclasses.replace(scene.solver, **settings)
+        solver.settings()
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"settings {dict(settings)!r}: {exc}") from None
+    return solver
+
+
+@limited()
+def simulate(scene: SceneFile, *, modes: ModesData | None = None,
+             equilibrium: Statics | None = None, start: str | None = None,
+             model: str | None = None, linear_tol: float | None = None,
+             progress=None, **settings) -> Results:
+    """The motion of the mount system.
+
+    Parameters
+    ----------
+    scene : SceneFile
+    modes : ModesData, optional
+        A flexible bed's modes (default: computed in memory).
+    equilibrium : Statics, optional
+        The scene's equilibrium from :func:`flexbed.statics` (default: solved here).
+    start : {"equilibrium", "initial"}, optional
+    model : {"nonlinear", "linear", "auto"}, optional
+    linear_tol : float, optional
+        [m], for ``model = "auto"``.
+    progress : callable(t), optional
+        Called with the time reached, between chunks of steps.
+    **settings
+        ``integrator``, ``t_end``, ``dt``, ``rtol``, ``atol``,
+        ``output_dt``: override the scene's ``[solver]``.
+
+    Returns
+    -------
+    Results
+        ``complete`` False (with ``message``) when the run stopped early.
+    """
+    solver = solver_with(scene, settings)
+    if scene.bed.flexible and modes is None:
+        modes = bed_modes.modes(scene)
+    system = equilibrium.system if equilibrium is not None else bed_modes.compiled(scene, modes)
+    sim = simulate_system(scene, system, solver.settings(), start=start or solver.start,
+                          model=model or solver.model,
+                          linear_tol=solver.linear_tol if linear_tol is None else linear_tol,
+                          eq=equilibrium.equilibrium if equilibrium is not None else None,
+                          progress=progress)
+    contents = results_contents(scene, system, sim.motion.run, start=sim.start,
+                                equilibrium=sim.equilibrium if sim.start == "equilibrium"
+                                else None, modes_path=modes.path if modes else None,
+                                model=sim.motion.attrs())
+    return Results(in_memory(*contents), modes=modes if scene.bed.flexible else None,
+                   datasets=contents)
