@@ -387,8 +387,7 @@ def warm_up(system: System, y0: np.ndarray, methods=None) -> None:
 #: reports progress and Python can take a Ctrl-C.
 CHUNK_STEPS = 50
 
-#: The compiled steppers' names in :mod:`dynamics.steppers`, looked up when
-#: a run needs one (radau's module is imported only then: see the package).
+#: The compiled steppers' names in :mod:`flexbed.dynamics.steppers`.
 _COMPILED = {"rk4": "rk4_segment", "dop853": "dop853_segment", "radau": "radau_segment"}
 
 

@@ -35,7 +35,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-__all__ = ["COMPILED", "refresh", "stamp", "cache_dir", "fallback_dir"]
+__all__ = ["COMPILED", "CONSTANTS", "refresh", "stamp", "cache_dir", "fallback_dir"]
 
 #: Every module of flexbed.dynamics that holds numba-compiled functions
 #: (relative names); a test checks that none is missing.
@@ -45,6 +45,10 @@ COMPILED = (
     "steppers.common", "steppers.rk4", "steppers.dop853", "steppers.radau",
     "linear.sweep", "linear.defect", "linear.phi",
 )
+
+#: Modules of data that numba compiles into the functions of COMPILED as
+#: constants (global arrays): in the stamp, with no cache files of their own.
+CONSTANTS = ("steppers.dop853_coefficients", "steppers.radau_coefficients")
 
 _ROOT = Path(__file__).resolve().parent
 _STAMP_FILE = "flexbed-compiled.stamp"
@@ -56,9 +60,10 @@ def _source(name: str) -> Path:
 
 
 def stamp() -> str:
-    """SHA-256 of the names and sources of the modules of :data:`COMPILED`."""
+    """SHA-256 of the names and sources of the modules of :data:`COMPILED`
+    and :data:`CONSTANTS`."""
     digest = hashlib.sha256()
-    for name in COMPILED:
+    for name in COMPILED + CONSTANTS:
         digest.update(name.encode())
         digest.update(_source(name).read_bytes())
     return digest.hexdigest()

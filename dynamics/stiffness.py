@@ -42,7 +42,7 @@ import math
 
 import numpy as np
 
-from .dop853_tableau import dop853_coefficients
+from .steppers.dop853_coefficients import DOP853, N_STAGES
 from .system import System
 
 __all__ = ["motion_eigenvalues", "stable_step", "stable_step_at_start", "stiff_message",
@@ -64,11 +64,10 @@ def _stability_polynomial(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 # R(z) of the explicit methods, highest power first (for np.polyval);
-# DOP853's 12 stages are SciPy's DOP853.A and .B
-_DOP = dop853_coefficients()
+# DOP853's from its 12 stages (flexbed.dynamics.steppers.dop853_coefficients)
 _STABILITY = {
     "rk4": np.array([1.0 / math.factorial(k) for k in range(4, -1, -1)]),
-    "dop853": _stability_polynomial(_DOP.A[:_DOP.N_STAGES, :_DOP.N_STAGES], _DOP.B)[::-1].copy(),
+    "dop853": _stability_polynomial(DOP853.A[:N_STAGES, :N_STAGES], DOP853.B)[::-1].copy(),
 }
 
 #: Bounds [lo, hi] of the radius |hλ| at which each method's |R(hλ)| first
@@ -109,7 +108,7 @@ def motion_eigenvalues(system: System, y: np.ndarray, t: float = 0.0) -> np.ndar
     ----------
     system : System
     y : (ny,) array
-        State (see :mod:`dynamics.layout`).
+        State (see :mod:`flexbed.dynamics.layout`).
     t : float
         Time [s].
 

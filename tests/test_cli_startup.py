@@ -58,8 +58,8 @@ def test_simulate_does_not_import_plotting_or_fem(tmp_path):
 
 def test_a_whole_simulate_of_the_built_in_scene_skips_scipy_integrate_and_interpolate(tmp_path):
     """The built-in scene's run (auto → dop853, curve data through our own
-    spline) needs neither scipy.integrate's package (SciPy's DOP853
-    coefficients are read from their file alone) nor scipy.interpolate: the
+    spline) needs neither scipy.integrate's package (the DOP853
+    coefficients are flexbed's own) nor scipy.interpolate: the
     two cost about 0.3 s of CPU to import."""
     code, out, imported = probe("simulate", "-o", str(tmp_path / "r.h5"), "--no-progress",
                                 cwd=tmp_path, watch=("scipy.integrate", "scipy.interpolate",

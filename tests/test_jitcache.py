@@ -59,3 +59,11 @@ def test_a_changed_stamp_flushes_every_compiled_module(tmp_path, monkeypatch):
     files[0].write_bytes(b"new")
     assert not jitcache.refresh(force=True)
     assert files[0].exists()
+
+
+def test_the_stamp_covers_the_coefficients_compiled_in_as_constants():
+    import flexbed.dynamics.steppers.dop853 as dop853
+    assert {"steppers.dop853_coefficients", "steppers.radau_coefficients"} <= set(
+        jitcache.CONSTANTS)
+    assert all(jitcache._source(name).is_file() for name in jitcache.CONSTANTS)
+    assert dop853.DOP853.__module__ == "flexbed.dynamics.steppers.dop853_coefficients"

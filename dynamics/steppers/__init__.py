@@ -4,6 +4,10 @@ SciPy's ``solve_ivp`` steppers spend hundreds of µs of Python per step; the
 steppers here run a whole segment [t_a, t_b] (or a chunk of it) inside one
 nopython call, calling the compiled right-hand side through its pointer,
 so that a step costs a few µs beyond its right-hand-side evaluations.
+The steppers import NumPy, numba and SciPy's public LAPACK entry points
+(``scipy.linalg.cython_lapack``), and of flexbed only
+:mod:`flexbed.dynamics.jitcache`: the right-hand side comes in as an
+argument.
 
 Methods
 -------
@@ -17,8 +21,8 @@ Methods
     control, error norm (the 5th-order estimate corrected by the 3rd-order
     one), initial-step selection (``select_initial_step``) and 7th-order
     dense output (the 3 extra stages are evaluated only for steps that hold
-    an output time strictly inside). The coefficient arrays are SciPy's
-    (``scipy.integrate._ivp.dop853_coefficients``).
+    an output time strictly inside). The coefficients are Hairer's, the
+    values SciPy's ``DOP853`` uses (:mod:`.dop853_coefficients`).
 ``radau_segment``
     Implicit Radau IIA of order 5 (3 stages), after Hairer & Wanner's RADAU5
     as in SciPy's ``Radau``: simplified Newton iteration in the variables
@@ -38,8 +42,8 @@ Methods
     relatively: t_new − t rounds): h is kept when the proposed ratio is
     below 1.2, SciPy's rule (``_KEEP_H_LOW``; Hairer's quot1 = 1 would keep
     it only in [1, 1.2), which took 1.6 to 17 times more LUs on this
-    module's checks, for fewer rejections). Coefficients T, T⁻¹, C, E, P, μ are SciPy's
-    (``scipy.integrate._ivp.radau``).
+    module's checks, for fewer rejections). The constants T, T⁻¹, C, E,
+    P, μ are the values SciPy's ``Radau`` uses (:mod:`.radau_coefficients`).
 
 Interface
 ---------
@@ -113,17 +117,16 @@ compiled with ``error_model="numpy"``: a division by zero gives inf or nan
 
 Modules
 -------
-:mod:`.common` (what the steppers share), :mod:`.rk4`, :mod:`.dop853`,
-:mod:`.radau` with :mod:`.lapack` (its LAPACK entry points). The linear
-fast path's compiled loops (the recursion over its pieces, the
-φ-functions, the error estimate's defect) are in a room of their own,
-:mod:`flexbed.dynamics.linear`, which this one does not import. :mod:`.radau`
-is imported when one of its names is first asked for (``radau_segment``
-etc. from this package), not with the package: it takes SciPy's Radau
-constants from ``scipy.integrate._ivp.radau``, and importing that runs
-``scipy.integrate``'s ``__init__`` (about 0.3 s of CPU) that a dop853 run
-does not need. numba's cache is per function and source file, so a late
-import loads the same cached code.
+:mod:`.common` (what the steppers share: the right-hand side's call,
+projection, the output rows, the initial step), :mod:`.rk4`,
+:mod:`.dop853` with :mod:`.dop853_coefficients` (its tableau),
+:mod:`.radau` with :mod:`.radau_coefficients` (its constants) and
+:mod:`.lapack` (its LAPACK entry points). The coefficient modules are
+read-only data checked when imported; they import NumPy only, never
+SciPy's private modules. The linear fast path's compiled loops (the
+recursion over its pieces, the φ-functions, the error estimate's defect)
+are in a room of their own, :mod:`flexbed.dynamics.linear`, which this
+one does not import.
 """
 
 from __future__ import annotations
@@ -133,6 +136,7 @@ from ..jitcache import refresh as _refresh
 _refresh()   # before any compiled function is loaded (flexbed.dynamics.jitcache)
 
 from .dop853 import dop853_segment
+from .radau import radau_reset, radau_segment, radau_workspace
 from .rk4 import rk4_segment
 
 __all__ = ["rk4_segment", "dop853_segment", "radau_segment", "radau_workspace", "radau_reset",
@@ -141,13 +145,3 @@ __all__ = ["rk4_segment", "dop853_segment", "radau_segment", "radau_workspace", 
 N_COUNTS = 5
 STATUS = {0: "reached t_b", 1: "paused (max_steps)", -1: "step size too small",
           -2: "non-finite state"}
-
-_RADAU_NAMES = ("radau_segment", "radau_workspace", "radau_reset")
-
-
-def __getattr__(name: str):
-    """The radau names, imported on first use (see Modules above)."""
-    if name in _RADAU_NAMES:
-        from . import radau
-        return getattr(radau, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

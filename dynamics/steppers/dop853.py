@@ -7,20 +7,18 @@ import math
 
 import numpy as np
 
-from ..dop853_tableau import dop853_coefficients
 from .common import inner, EPS, end_tol, finite, initial_step, jit, normalise_row, project, put_end, rhs
+from .dop853_coefficients import DOP853
 
 __all__ = ["dop853_segment"]
 
-# --- DOP853 coefficients (SciPy's) -------------------------------------------
-_dop = dop853_coefficients()   # SciPy's file, without scipy.integrate's __init__
-_DA = np.ascontiguousarray(_dop.A, dtype=np.float64)          # (16, 16)
-_DC = np.ascontiguousarray(_dop.C, dtype=np.float64)          # (16,)
-_DB = np.ascontiguousarray(_dop.B, dtype=np.float64)          # (12,)
-_DE3 = np.ascontiguousarray(_dop.E3, dtype=np.float64)        # (13,)
-_DE5 = np.ascontiguousarray(_dop.E5, dtype=np.float64)        # (13,)
-_DD = np.ascontiguousarray(_dop.D, dtype=np.float64)          # (4, 16)
-
+# --- DOP853 coefficients (.dop853_coefficients) ------------------------------
+_DA = DOP853.A                    # (16, 16)
+_DC = DOP853.C                    # (16,)
+_DB = DOP853.B                    # (12,)
+_DE3 = DOP853.E3                  # (13,)
+_DE5 = DOP853.E5                  # (13,)
+_DD = DOP853.D                    # (4, 16)
 
 
 @inner

@@ -6,22 +6,22 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate._ivp import radau as _rad
 
 from .common import inner, EPS, SQRT_EPS, end_tol, finite, initial_step, jit, normalise_row, project, put_end, rhs
 from .lapack import LAPACK
+from .radau_coefficients import RADAU
 
 __all__ = ["radau_segment", "radau_workspace", "radau_reset"]
 
-# --- Radau IIA (order 5) coefficients (SciPy's) ------------------------------
-_RT = np.ascontiguousarray(_rad.T, dtype=np.float64)          # (3, 3) eigenvectors of A
-_RTI = np.ascontiguousarray(_rad.TI, dtype=np.float64)        # (3, 3) their inverse
-_RC = np.ascontiguousarray(_rad.C, dtype=np.float64)          # (3,) stage times
-_RE = np.ascontiguousarray(_rad.E, dtype=np.float64)          # (3,) error estimate
-_RP = np.ascontiguousarray(_rad.P, dtype=np.float64)          # (3, 3) dense output
-_MU_REAL = float(_rad.MU_REAL)
-_MU_COMPLEX = complex(_rad.MU_COMPLEX)
-_TIC0, _TIC1, _TIC2 = (complex(_RTI[1, k], _RTI[2, k]) for k in range(3))  # T⁻¹'s complex row
+# --- Radau IIA (order 5) constants (.radau_coefficients) ---------------------
+_RT = RADAU.T                     # (3, 3) eigenvectors of A⁻¹
+_RTI = RADAU.TI                   # (3, 3) their inverse
+_RC = RADAU.C                     # (3,) stage times
+_RE = RADAU.E                     # (3,) error estimate
+_RP = RADAU.P                     # (3, 3) dense output
+_MU_REAL = RADAU.MU_REAL
+_MU_COMPLEX = RADAU.MU_COMPLEX
+_TIC0, _TIC1, _TIC2 = (complex(c) for c in RADAU.TI_COMPLEX)   # T⁻¹'s complex row
 _NEWTON_MAXITER = 6
 _LU_REUSE_RTOL = 1e-6   # |h − h_lu| ≤ this·h_lu: same h (round-off of t_new − t)
 # radau keeps h (and its LU factors) when the proposed ratio h_new/h lies in
