@@ -82,7 +82,9 @@ grid : (k,) float64 [s]; Y : (k, ny) float64; k_out : int
     For each grid time in (t_old, t_new] of every accepted step,
     ``Y[k] = dense(grid[k]) + shift`` (a time within 1e-12·max(1, t_new) of
     t_new takes the step's end state), then each body's Euler parameters in
-    Y[k] are normalised. Grid times at or before t_a must already be written.
+    Y[k] are normalised (:func:`.common.rows_inside` and
+    :func:`.common.write_rows`, shared by the three). Grid times at or
+    before t_a must already be written.
 max_steps : int
     Most accepted steps this call may take; reached before t_b: status 1
     (paused) with t, z and the next step h; call again with dt_or_h0 = h.

@@ -1,6 +1,6 @@
 """What the compiled steppers share: the call of the right-hand side on the
-shifted state, projection of the Euler parameters, output rows, SciPy's
-initial-step selection."""
+shifted state, projection of the Euler parameters, the output rows
+(:func:`rows_inside`, :func:`write_rows`), SciPy's initial-step selection."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["jit", "inner", "EPS", "SQRT_EPS", "rhs", "finite", "project", "normalise_row", "end_tol",
-           "put_end", "initial_step"]
+__all__ = ["jit", "inner", "EPS", "SQRT_EPS", "rhs", "finite", "project", "end_tol", "rows_inside",
+           "write_rows", "initial_step"]
 
 #: the decorator of the compiled steppers, called from Python
 jit = numba.njit(cache=True, error_model="numpy")
@@ -82,10 +82,40 @@ def end_tol(t_new):
 
 
 @inner
-def put_end(Y, k, z_new, shift):
-    """Y[k] = z_new + shift."""
-    for i in range(z_new.size):
-        Y[k, i] = z_new[i] + shift[i]
+def rows_inside(grid, k_out, t_new):
+    """The output rows strictly inside a step ending at t_new: k_out …
+    k_dense − 1, their grid times before t_new − end_tol(t_new). Returns
+    k_dense. The stepper writes these rows from its dense output,
+    ``Y[k] = dense(grid[k]) + shift``, then calls :func:`write_rows`."""
+    tol = end_tol(t_new)
+    k = k_out
+    while k < grid.size and grid[k] < t_new - tol:
+        k += 1
+    return k
+
+
+@inner
+def write_rows(grid, Y, k_out, k_dense, t_new, z_new, shift, p_idx):
+    """The output rows of an accepted step that ends at t_new in z_new.
+
+    Rows k_out … k_dense − 1 (:func:`rows_inside`) hold the dense output
+    already; the rows from k_dense on whose grid times lie within
+    end_tol(t_new) of t_new take the end state, ``Y[k] = z_new + shift``;
+    then every one of these rows has its Euler parameters normalised.
+
+    grid : (k,) ascending [s]; Y : (k, ny); z_new, shift : (ny,);
+    p_idx : (n_bodies, 4) int64 (see the package docstring).
+    Returns the first row not written (the new k_out).
+    """
+    tol = end_tol(t_new)
+    k = k_dense
+    while k < grid.size and grid[k] <= t_new + tol:
+        for i in range(z_new.size):
+            Y[k, i] = z_new[i] + shift[i]
+        k += 1
+    for j in range(k_out, k):
+        normalise_row(Y, j, p_idx)
+    return k
 
 
 @inner

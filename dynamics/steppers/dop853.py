@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from .common import inner, EPS, end_tol, finite, initial_step, jit, normalise_row, project, put_end, rhs
+from .common import inner, EPS, finite, initial_step, jit, project, rhs, rows_inside, write_rows
 from .dop853_coefficients import DOP853
 
 __all__ = ["dop853_segment"]
@@ -59,6 +59,28 @@ def _dop853_error_norm(K, h, z, zn, rtol, atol, e5, e3):
     if s5 == 0.0 and s3 == 0.0:
         return 0.0
     return abs(h) * s5 / math.sqrt((s5 + 0.01 * s3) * ny)
+
+
+@inner
+def _dense_coefficients(F, K, z, zn, h):
+    """F (7, ny): the dense output's coefficients of a step z → zn of
+    length h from its 16 stages K (SciPy's ``Dop853DenseOutput``)."""
+    ny = z.size
+    for i in range(ny):
+        dz = zn[i] - z[i]
+        F[0, i] = dz
+        F[1, i] = h * K[0, i] - dz
+        F[2, i] = 2.0 * dz - h * (K[12, i] + K[0, i])
+    for r in range(4):
+        for i in range(ny):
+            F[3 + r, i] = 0.0
+        for j in range(16):
+            c = _DD[r, j]
+            if c != 0.0:
+                for i in range(ny):
+                    F[3 + r, i] += c * K[j, i]
+        for i in range(ny):
+            F[3 + r, i] *= h
 
 
 @jit
@@ -137,47 +159,27 @@ def dop853_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid
         counts[1] += 1
         steps += 1
 
-        # output: 7th-order dense output, its 3 extra stages only if needed
-        tol = end_tol(t_new)
-        have_dense = False
-        while k_out < grid.size and grid[k_out] <= t_new + tol:
-            tk = grid[k_out]
-            if tk >= t_new - tol:
-                put_end(Y, k_out, zn, shift)
-            else:
-                if not have_dense:
-                    for s in range(13, 16):
-                        _combine(zt, z, h, K, _DA[s], s)
-                        rhs(t + _DC[s] * h, t_b, zt, shift, ybuf, K[s], kernel)
-                    counts[0] += 3
-                    for i in range(ny):
-                        dz = zn[i] - z[i]
-                        F[0, i] = dz
-                        F[1, i] = h * K[0, i] - dz
-                        F[2, i] = 2.0 * dz - h * (K[12, i] + K[0, i])
-                    for r in range(4):
-                        for i in range(ny):
-                            F[3 + r, i] = 0.0
-                        for j in range(16):
-                            c = _DD[r, j]
-                            if c != 0.0:
-                                for i in range(ny):
-                                    F[3 + r, i] += c * K[j, i]
-                        for i in range(ny):
-                            F[3 + r, i] *= h
-                    have_dense = True
-                x = (tk - t) / h
-                for i in range(ny):
-                    acc = 0.0
-                    for m in range(7):           # F[6], F[5], …, F[0]; ×x, ×(1−x) alternately
-                        acc += F[6 - m, i]
-                        if m % 2 == 0:
-                            acc *= x
-                        else:
-                            acc *= 1.0 - x
-                    Y[k_out, i] = acc + z[i] + shift[i]
-            normalise_row(Y, k_out, p_idx)
-            k_out += 1
+        # output: 7th-order dense output inside the step, its 3 extra
+        # stages only for a step with an output time inside
+        k_dense = rows_inside(grid, k_out, t_new)
+        if k_dense > k_out:
+            for s in range(13, 16):
+                _combine(zt, z, h, K, _DA[s], s)
+                rhs(t + _DC[s] * h, t_b, zt, shift, ybuf, K[s], kernel)
+            counts[0] += 3
+            _dense_coefficients(F, K, z, zn, h)
+        for k in range(k_out, k_dense):
+            x = (grid[k] - t) / h
+            for i in range(ny):
+                acc = 0.0
+                for m in range(7):               # F[6], F[5], …, F[0]; ×x, ×(1−x) alternately
+                    acc += F[6 - m, i]
+                    if m % 2 == 0:
+                        acc *= x
+                    else:
+                        acc *= 1.0 - x
+                Y[k, i] = acc + z[i] + shift[i]
+        k_out = write_rows(grid, Y, k_out, k_dense, t_new, zn, shift, p_idx)
 
         for i in range(ny):
             z[i] = zn[i]

@@ -7,7 +7,8 @@ import math
 
 import numpy as np
 
-from .common import inner, EPS, SQRT_EPS, end_tol, finite, initial_step, jit, normalise_row, project, put_end, rhs
+from .common import (inner, EPS, SQRT_EPS, finite, initial_step, jit, project, rhs, rows_inside,
+                     write_rows)
 from .lapack import LAPACK
 from .radau_coefficients import RADAU
 
@@ -419,19 +420,14 @@ def radau_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid,
         st[_S_T_SOL] = t
         st[_S_H_SOL] = h
         st[_S_HAS_SOL] = 1.0
-        tol = end_tol(t_new)
-        while k_out < grid.size and grid[k_out] <= t_new + tol:
-            tk = grid[k_out]
-            if tk >= t_new - tol:
-                put_end(Y, k_out, zn, shift)
-            else:
-                x = (tk - t) / h
-                x2 = x * x
-                x3 = x2 * x
-                for i in range(ny):
-                    Y[k_out, i] = (Q[0, i] * x + Q[1, i] * x2 + Q[2, i] * x3 + z[i]) + shift[i]
-            normalise_row(Y, k_out, p_idx)
-            k_out += 1
+        k_dense = rows_inside(grid, k_out, t_new)
+        for k in range(k_out, k_dense):
+            x = (grid[k] - t) / h
+            x2 = x * x
+            x3 = x2 * x
+            for i in range(ny):
+                Y[k, i] = (Q[0, i] * x + Q[1, i] * x2 + Q[2, i] * x3 + z[i]) + shift[i]
+        k_out = write_rows(grid, Y, k_out, k_dense, t_new, zn, shift, p_idx)
 
         for i in range(ny):
             z[i] = zn[i]

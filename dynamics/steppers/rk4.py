@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from .common import end_tol, finite, jit, normalise_row, project, put_end, rhs
+from .common import finite, jit, project, rhs, rows_inside, write_rows
 
 __all__ = ["rk4_segment"]
 
@@ -61,23 +61,18 @@ def rk4_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid, Y
             return -2, t, h, k_out
         counts[1] += 1
 
-        # output: cubic Hermite on (z, f) -> (zn, fn)
-        tol = end_tol(t_new)
-        while k_out < grid.size and grid[k_out] <= t_new + tol:
-            tk = grid[k_out]
-            if tk >= t_new - tol:
-                put_end(Y, k_out, zn, shift)
-            else:
-                s = (tk - t) / hs
-                h00 = (1.0 + 2.0 * s) * (1.0 - s) ** 2
-                h10 = s * (1.0 - s) ** 2
-                h01 = s * s * (3.0 - 2.0 * s)
-                h11 = s * s * (s - 1.0)
-                for i in range(ny):
-                    Y[k_out, i] = (h00 * z[i] + h10 * hs * f[i] + h01 * zn[i] + h11 * hs * fn[i]
-                                   + shift[i])
-            normalise_row(Y, k_out, p_idx)
-            k_out += 1
+        # output: cubic Hermite on (z, f) -> (zn, fn) inside the step
+        k_dense = rows_inside(grid, k_out, t_new)
+        for k in range(k_out, k_dense):
+            s = (grid[k] - t) / hs
+            h00 = (1.0 + 2.0 * s) * (1.0 - s) ** 2
+            h10 = s * (1.0 - s) ** 2
+            h01 = s * s * (3.0 - 2.0 * s)
+            h11 = s * s * (s - 1.0)
+            for i in range(ny):
+                Y[k, i] = (h00 * z[i] + h10 * hs * f[i] + h01 * zn[i] + h11 * hs * fn[i]
+                           + shift[i])
+        k_out = write_rows(grid, Y, k_out, k_dense, t_new, zn, shift, p_idx)
 
         for i in range(ny):
             z[i] = zn[i]
