@@ -11,8 +11,8 @@ Methods
 ``bdf``     implicit variable-order BDF (SciPy), for stiff scenes.
 ``radau``   implicit Radau IIA of order 5, for stiff scenes. Compiled.
 ``auto``    (the default) radau where dop853 would be stability-bound,
-            else dop853 (:func:`dynamics.stiffness.auto_method`); the run's
-            statistics say which ran and why.
+            else dop853 (:func:`flexbed.dynamics.method_choice.auto_method`);
+            the run's statistics say which ran and why.
 ``dop853``  explicit adaptive Dormand–Prince 8(5,3). Compiled.
 
 "Compiled": the whole stepping loop runs in numba (:mod:`dynamics.steppers`)
@@ -80,8 +80,8 @@ import numpy as np
 
 from . import steppers
 from .steppers import N_COUNTS
-from .stiffness import (auto_method, jacobian_columns, motion_eigenvalues, segments, stable_step,
-                        stiff_message)
+from .method_choice import auto_method
+from .stiffness import jacobian_columns, motion_eigenvalues, segments, stable_step, stiff_message
 from .system import System
 
 __all__ = ["Settings", "Stats", "Run", "integrate", "warm_up", "METHODS", "output_grid",

@@ -29,8 +29,9 @@ off. ``adams`` (LSODA switches to BDF by itself), ``bdf`` and ``radau``
 are not checked.
 
 ``auto`` (the default) uses the same linearisation to choose: radau where
-dop853 would be stability-bound, else dop853 (:func:`auto_method`); it
-never refuses a run.
+dop853 would be stability-bound, else dop853
+(:func:`flexbed.dynamics.method_choice.auto_method`); it never refuses a
+run.
 
 The stable step is found cheaply (:func:`stable_step`): only the
 eigenvalues that can set it are searched, by vectorised bracketing.
@@ -46,7 +47,7 @@ from .steppers.dop853_coefficients import DOP853, N_STAGES
 from .system import System
 
 __all__ = ["motion_eigenvalues", "stable_step", "stable_step_at_start", "stiff_message",
-           "auto_method", "AUTO_STEP_FRACTION", "jacobian_columns", "segments", "rk4_steps"]
+           "jacobian_columns", "segments", "rk4_steps"]
 
 _SQRT_EPS = math.sqrt(np.finfo(float).eps)
 
@@ -216,54 +217,6 @@ def stable_step_at_start(system: System, y0: np.ndarray, t_end: float,
         return stable_step(method, motion_eigenvalues(system, y0))
     finally:
         system.set_segment(None)
-
-
-#: ``auto`` takes radau when dop853's stable step is below this fraction of
-#: the output spacing (see :func:`auto_method`).
-AUTO_STEP_FRACTION = 0.5
-
-
-def auto_method(system: System, y0: np.ndarray, settings) -> tuple[str, str]:
-    """The method ``integrator = "auto"`` runs, and why (one line).
-
-    dop853 is *stability-bound* when the stable step h of its linearisation
-    at the start (:func:`stable_step_at_start`) is below half the output
-    spacing (:data:`AUTO_STEP_FRACTION`), or forces more than
-    ``settings.stiff_steps`` steps (when that is not 0): then radau, else
-    dop853. At the default tolerances dop853 takes steps longer than the
-    output spacing on the reference scene (rigid and flexible bed: 195 and
-    684 steps for 3,000 samples), so a stable step below half of it
-    means many times the steps its accuracy needs; there radau is the
-    cheaper (measured: 20 damped modes, h = 1.8e-5 s: dop853 112,481 steps,
-    12.4 s, radau 682 steps, 0.06 s; 1e9 N/m mounts under 10 kg,
-    h = 1.5e-4 s: dop853 3,697 steps, 0.11 s, radau 6 steps), while above it
-    dop853 is (the flexible reference bed is stability-bound in the
-    literal sense, h = 4.2e-3 s, and dop853 still costs half of radau).
-
-    Parameters
-    ----------
-    system : System
-    y0 : (ny,) array
-    settings : Settings
-        t_end, output_dt and stiff_steps are used.
-
-    Returns
-    -------
-    (method, reason) : ("radau" or "dop853", str)
-    """
-    h, rate = stable_step_at_start(system, y0, settings.t_end, "dop853")
-    if not math.isfinite(h):
-        return "dop853", "auto: no eigenvalue limits dop853's step"
-    steps = math.ceil(settings.t_end / h)
-    limit = f"the fastest rate {rate:.1e} 1/s limits dop853 to steps below {h:.1e} s"
-    if h < AUTO_STEP_FRACTION * settings.output_dt:
-        return "radau", (f"auto: dop853 would be stability-bound ({limit}, under half the output "
-                         f"spacing {settings.output_dt:g} s)")
-    if settings.stiff_steps and steps > settings.stiff_steps:
-        return "radau", (f"auto: dop853 would be stability-bound ({limit}: {steps} steps for "
-                         f"{settings.t_end:g} s, more than stiff_steps = {settings.stiff_steps})")
-    return "dop853", (f"auto: dop853 is not stability-bound ({limit}, not under half the output "
-                      f"spacing {settings.output_dt:g} s)")
 
 
 def stiff_message(system: System, y0: np.ndarray, settings) -> str | None:

@@ -11,7 +11,8 @@ import pytest
 from flexbed.cli import main as flexbed
 from flexbed.dynamics.integrate import Settings, integrate
 from flexbed.dynamics.statics import solve_statics
-from flexbed.dynamics.stiffness import AUTO_STEP_FRACTION, stable_step_at_start
+from flexbed.dynamics.method_choice import AUTO_STEP_FRACTION
+from flexbed.dynamics.stiffness import stable_step_at_start
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
 from flexbed.stages.modes import ensure_modes
