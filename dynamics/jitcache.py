@@ -24,6 +24,19 @@ temporary directory, ``flexbed-numba-<uid>`` (created with mode 0700 and
 used only if it is a directory this user owns), and says so in one line
 on stderr. A ``NUMBA_CACHE_DIR`` that is not writable while another
 location is gets one line naming the one numba uses instead.
+
+Where numba's cache is found: numba has no public call for it, so this
+module asks numba's own cache locators (``numba.core.caching``: the list
+``CacheImpl._locator_classes``, formerly ``_CacheImpl``, and each
+locator's ``from_function`` and ``get_cache_path``), internals that may
+change in any numba release. That is why ``pyproject.toml`` bounds numba
+above (``<0.69``: checked on 0.68.1; the lower bound 0.59 is the
+project's), and why a numba without them is met by a fallback, never a
+crash: :func:`refresh` then says in one line on stderr that the freshness
+check is skipped (after an edit of a compiled module, its cached ``.nbi``
+and ``.nbc`` files must then be removed by hand) and :func:`cache_dir`
+returns None. Raise the bound after checking a new numba against
+``tests/test_jitcache.py``.
 """
 
 from __future__ import annotations
@@ -73,29 +86,52 @@ def _probe():
     """A function for numba's cache locators (they read its line number only)."""
 
 
+class _NoLocators(Exception):
+    """numba's cache locators are not there as this module expects them."""
+
+
 def cache_dir(source: str | os.PathLike) -> str | None:
     """The folder where numba caches the functions of a source file, as
     numba chooses it (``NUMBA_CACHE_DIR``, the ``__pycache__`` beside the
-    file, or the user-wide cache), or None if none is writable."""
-    for cls in _locator_classes():
-        locator = cls.from_function(_probe, str(source))
-        if locator is not None:
-            return locator.get_cache_path()
+    file, or the user-wide cache), or None if none is writable or this
+    numba's locators are not available (see the module docstring)."""
+    try:
+        return _locate(source)
+    except _NoLocators:
+        return None
+
+
+def _locate(source: str | os.PathLike) -> str | None:
+    """:func:`cache_dir`, raising _NoLocators where numba's locators are
+    missing or do not take the calls of numba 0.59–0.68."""
+    try:
+        for cls in _locator_classes():
+            locator = cls.from_function(_probe, str(source))
+            if locator is not None:
+                return locator.get_cache_path()
+    except (AttributeError, TypeError) as exc:
+        raise _NoLocators(f"numba's cache locators do not work as expected ({exc})") from exc
     return None
 
 
 def _locator_classes() -> list:
     """numba's cache locators in the order it tries them (its default list,
-    or the one ``NUMBA_CACHE_LOCATOR_CLASSES`` names)."""
-    from numba.core import caching, config
-
+    or the one ``NUMBA_CACHE_LOCATOR_CLASSES`` names); _NoLocators where
+    this numba has no such list (``numba.core.caching.CacheImpl._locator_classes``)."""
+    try:
+        from numba.core import caching, config
+    except ImportError as exc:
+        raise _NoLocators(f"numba.core.caching cannot be imported ({exc})") from exc
     names = getattr(config, "CACHE_LOCATOR_CLASSES", "") or ""
     if names:
         found = [getattr(caching, n.strip().rsplit(".", 1)[-1], None) for n in names.split(",")]
         if all(found):
             return found
-    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")
-    return list(impl._locator_classes)
+    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)
+    classes = getattr(impl, "_locator_classes", None)
+    if not classes:
+        raise _NoLocators("numba.core.caching has no CacheImpl._locator_classes")
+    return list(classes)
 
 
 def fallback_dir() -> Path | None:
@@ -132,7 +168,7 @@ def _choose_location(source: Path) -> str | None:
     from numba.core import config
 
     asked = config.CACHE_DIR
-    found = cache_dir(source)
+    found = _locate(source)
     if asked and not _writable(asked) and found is not None:
         print(f"flexbed: note: NUMBA_CACHE_DIR = {asked} is not writable; compiled code is "
               f"cached in {found} instead", file=sys.stderr)
@@ -146,7 +182,7 @@ def _choose_location(source: Path) -> str | None:
     where = f"NUMBA_CACHE_DIR = {asked}" if asked else "the package's folder"
     print(f"flexbed: note: {where} is not writable; compiled code is cached in {spare} "
           f"(set NUMBA_CACHE_DIR to a writable folder to choose)", file=sys.stderr)
-    return cache_dir(source)
+    return _locate(source)
 
 
 def refresh(force: bool = False) -> bool:
@@ -160,14 +196,22 @@ def refresh(force: bool = False) -> bool:
     Returns
     -------
     bool
-        Whether the cache was flushed.
+        Whether the cache was flushed (False, with one line on stderr, where
+        numba's cache locators are not available: see the module docstring).
     """
     global _done
     if _done and not force:
         return False
     _done = True
-    home = _choose_location(_source(COMPILED[0]))
-    dirs = {name: cache_dir(_source(name)) for name in COMPILED}
+    try:
+        home = _choose_location(_source(COMPILED[0]))
+        dirs = {name: _locate(_source(name)) for name in COMPILED}
+    except _NoLocators as exc:
+        version = getattr(sys.modules.get("numba"), "__version__", "?")
+        print(f"flexbed: warning: {exc} (numba {version}); the freshness check of the "
+              f"cached compiled code is skipped: after editing a module of "
+              f"flexbed.dynamics, delete its cached .nbi and .nbc files", file=sys.stderr)
+        return False
     if home is None:
         return False
     stamp_path = Path(home) / _STAMP_FILE

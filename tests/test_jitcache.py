@@ -61,6 +61,18 @@ def test_a_changed_stamp_flushes_every_compiled_module(tmp_path, monkeypatch):
     assert files[0].exists()
 
 
+def test_without_numbas_cache_locators_the_check_is_skipped_with_a_warning(monkeypatch, capsys):
+    """numba's locator list is private (numba.core.caching.CacheImpl._locator_classes):
+    a numba without it must not break flexbed, only lose the freshness check."""
+    from numba.core import caching
+
+    monkeypatch.delattr(caching.CacheImpl, "_locator_classes")
+    assert jitcache.cache_dir(jitcache._source(jitcache.COMPILED[0])) is None
+    assert jitcache.refresh(force=True) is False
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("flexbed: warning:") and "skipped" in err[0], err
+
+
 def test_the_stamp_covers_the_coefficients_compiled_in_as_constants():
     import flexbed.dynamics.steppers.dop853 as dop853
     assert {"steppers.dop853_coefficients", "steppers.radau_coefficients"} <= set(
