@@ -1,11 +1,13 @@
 """The right-hand side of the equations of motion, compiled (numba).
 
 :func:`evaluate` is the one implementation of the physics of a scene at a
-time t and state y (layout: :mod:`dynamics.layout`), compiled once as a C
-function (:func:`rhs_function`) that every compiled caller calls through
-its pointer. It reads a scene compiled into flat arrays (the fields of
-:class:`Compiled`, built by :class:`dynamics.system.System`, packed into
-two arrays by :func:`pack`) and does arithmetic only, in this order:
+time t and state y (layout: :mod:`flexbed.dynamics.layout`), compiled once
+as a C function (:func:`rhs_function`) that every compiled caller calls
+through its pointer. It reads a scene compiled into flat arrays (the
+fields of :class:`Compiled`, built by
+:class:`flexbed.dynamics.system.System`, packed into two arrays by
+:func:`pack`) and does arithmetic only, in this order, one compiled
+function per step (:mod:`.rhs`):
 
 1. the base: prescribed position, velocity and acceleration from the
    drives (their exact integrals), or the state of a free base and its
@@ -21,20 +23,25 @@ two arrays by :func:`pack`) and does arithmetic only, in this order:
    ``J ω̄̇ = n̄ − ω̄ × J ω̄``) and, per flexible body, the floating-frame
    equations in the body frame ``M̄(a) [Aᵀ r̈, ω̄̇, ä] = Q̄`` from the modal
    invariants (:func:`flex_mass_body`, :func:`flex_forces_body`; the
-   formulas are in :mod:`dynamics.flexible`), solved by Cholesky;
-6. the powers that feed the energy quadratures.
+   formulas are in :mod:`flexbed.dynamics.flexible`), solved by Cholesky;
+6. the velocity rates into dy, a free base's equations, and the powers
+   that feed the energy quadratures.
 
 Everything per call writes into arrays of :class:`Compiled` (the ``w_*``
 work arrays), so a call allocates nothing; ``w_dx``, ``w_dxd``, ``w_f``,
 ``w_F``, ``w_acc`` and ``w_base`` keep the last call's mount deflections,
 rates, forces, inertial mount forces, accelerations and base motion, and
 ``w_M`` each flexible body's mass matrix as its Cholesky factor, for
-:meth:`dynamics.system.System.observe` and :mod:`dynamics.history`
-(:func:`evaluate_batch` evaluates many states in one call).
+:meth:`flexbed.dynamics.system.System.observe` and
+:mod:`flexbed.dynamics.history` (:func:`evaluate_batch` evaluates many
+states in one call).
 
 Modules: :mod:`.storage` (the fields, packing, views), :mod:`.inputs`
 (the base's inputs), :mod:`.mount_laws`, :mod:`.flexible_body`,
-:mod:`.rhs` (:func:`evaluate`, its C function), :mod:`.batch`.
+:mod:`.rhs` (:func:`evaluate`, its sections, its C function),
+:mod:`.batch`. The package imports NumPy, numba and
+:mod:`flexbed.dynamics.jitcache` only, nothing else of flexbed: the scene
+reaches it as arrays.
 
 Inputs (drives and loads of the base), one row each: ``in_kind`` 0 for a
 piecewise polynomial (value, first and second integral as three tables of

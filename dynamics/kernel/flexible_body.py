@@ -58,7 +58,7 @@ def flex_mass_body(m, I2, I3, I4, I5, I6, I7, I8, T, n, a, M):
     M̄ = [[m I, −S̃, I3], [S̃, J(a), C(a)], [I3ᵀ, C(a)ᵀ, I6]] with
     S = I2 + I3 a, J(a) = I7 + Σ a_k (I8_k + I8_kᵀ) + Σ a_k a_l I9_kl
     = I7 + Σ a_k (T_k + I8_kᵀ), C(a) = I4 + Σ a_k I5[k] (the invariants of
-    :mod:`dynamics.flexible`, padded arrays of at least n modes; T from
+    :mod:`flexbed.dynamics.flexible`, padded arrays of at least n modes; T from
     :func:`flex_T` at this a). m [kg]; a (n,); M (≥ 6+n, ≥ 6+n).
     """
     N = 6 + n

@@ -13,7 +13,7 @@ __all__ = ["piecewise_value", "input_value"]
 
 @njit(cache=True, no_cpython_wrapper=True)
 def piecewise_value(breaks, origins, coeffs, x, seg_end):
-    """A piecewise polynomial at x (see :mod:`dynamics.piecewise`).
+    """A piecewise polynomial at x (see :mod:`flexbed.dynamics.piecewise`).
 
     breaks (nb,) increasing, +inf padded; origins (nb + 1,); coeffs
     (nb + 1, d + 1) ascending. Right-continuous, except at x ≥ seg_end: the

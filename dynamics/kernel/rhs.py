@@ -1,6 +1,16 @@
 """The right-hand side :func:`evaluate` (see :mod:`flexbed.dynamics.kernel`
 for what it computes, in order), compiled once as a C function.
 
+:func:`evaluate` builds its views of the scene's fields, then calls one
+compiled function per section: :func:`_base_inputs` (1),
+:func:`_rotations` (2), :func:`_mount_ends` (3), :func:`_mount_forces`
+(4), :func:`_newton_euler` and :func:`_floating_frame` (5),
+:func:`_rates_and_powers` (6). They take the views already built, and
+numba inlines them (``inline="always"``) into the one C function, which
+is the code of one long function, operation for operation: same results
+to the bit, same speed (called as separate functions, with their
+arrays passed at each call, it measured a few per cent slower).
+
 Compiled code that calls the right-hand side (the steppers, the history of
 a run) calls it through a function pointer: the C function
 ``void rhs(double t, double seg_end, double *y, double *dy, double *F,
@@ -57,94 +67,38 @@ def _rotation(p, A):
     A[2, 1] = 2.0 * (e2 * e3 + e0 * e1) * s
 
 
-def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
-    """dy/dt for the state y at time t, on the packed storage (F, I).
-
-    Compiled once as the C function of :func:`rhs_function`; every array
-    comes by address.
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
+def _base_inputs(t, seg_end, y, mode, qb, vb, r0_base, support, in_ints, in_sin, in_b, in_o,
+                 in_c, base):
+    """Section 1: the base's motion and the external load on a free base.
 
     Parameters
     ----------
-    t : float
-        Time [s].
-    seg_end : float
-        End of the segment being integrated (inputs give their left limits
-        at and beyond it); ``inf`` for right-continuous inputs.
-    y_ptr : address of (ny,) float64
-        State (:mod:`dynamics.layout`); ny is in I's header.
-    dy_ptr : address of (ny,) float64
-        Output, overwritten in full.
-    F_ptr, I_ptr : addresses of the float64 and int64 storage
-        The scene (:func:`.storage.pack`); the work arrays in F are written.
+    t, seg_end : float
+        Time and end of the segment [s] (as for :func:`evaluate`).
+    y : (ny,) float64
+        State.
+    mode : int
+        The base's motion: 0 fixed, 1 driven, 2 free.
+    qb, vb : int
+        Offsets in y of a free base's position and velocity.
+    r0_base : (3,) float64
+        The base's position in the scene [m].
+    support : (3,) float64
+        Constant external force on the base [N].
+    in_ints, in_sin, in_b, in_o, in_c
+        The base's inputs (:data:`flexbed.dynamics.kernel.FIELDS`).
+    base : (3, 3) float64
+        Written: the base's position [m], velocity [m/s] and, when driven,
+        acceleration [m/s²] (zero otherwise; a free base's is set in
+        section 6).
+
+    Returns
+    -------
+    Fx : tuple of 3 float
+        External force on a free base [N], inertial: ``support`` plus the
+        loads (``support`` alone for other bases).
     """
-    head = carray(I_ptr, HEADER, np.int64)
-    y = carray(y_ptr, head[0], np.float64)
-    dy = carray(dy_ptr, head[0], np.float64)
-    meta = carray(I_ptr, (HEADER + 6 * head[3],), np.int64)[HEADER:].reshape((head[3], 6))
-    # the views of every field of FIELDS, in its order (checked by a test)
-    ints = _v1(I_ptr, meta[0], np.int64)
-    gravity = _v1(F_ptr, meta[1], np.float64)
-    mass = _v1(F_ptr, meta[2], np.float64)
-    J = _v3(F_ptr, meta[3], np.float64)
-    Jinv = _v3(F_ptr, meta[4], np.float64)
-    body_flex = _v1(I_ptr, meta[5], np.int64)
-    r0_base = _v1(F_ptr, meta[6], np.float64)
-    support = _v1(F_ptr, meta[7], np.float64)
-    body_i = _v1(I_ptr, meta[8], np.int64)
-    body_j = _v1(I_ptr, meta[9], np.int64)
-    S = _v2(F_ptr, meta[10], np.float64)
-    U = _v3(F_ptr, meta[11], np.float64)
-    d0 = _v2(F_ptr, meta[12], np.float64)
-    end_flex = _v1(I_ptr, meta[13], np.int64)
-    end_phi = _v3(F_ptr, meta[14], np.float64)
-    law_kind = _v1(I_ptr, meta[15], np.int64)
-    law_row = _v1(I_ptr, meta[16], np.int64)
-    lin_kc = _v2(F_ptr, meta[17], np.float64)
-    poly_k = _v2(F_ptr, meta[18], np.float64)
-    poly_c = _v2(F_ptr, meta[19], np.float64)
-    crv_b = _v3(F_ptr, meta[20], np.float64)
-    crv_o = _v3(F_ptr, meta[21], np.float64)
-    crv_c = _v4(F_ptr, meta[22], np.float64)
-    fx_ints = _v2(I_ptr, meta[23], np.int64)
-    fx_m = _v1(F_ptr, meta[24], np.float64)
-    fx_I2 = _v2(F_ptr, meta[25], np.float64)
-    fx_I3 = _v3(F_ptr, meta[26], np.float64)
-    fx_I4 = _v3(F_ptr, meta[27], np.float64)
-    fx_I5 = _v4(F_ptr, meta[28], np.float64)
-    fx_I6 = _v3(F_ptr, meta[29], np.float64)
-    fx_K = _v3(F_ptr, meta[30], np.float64)
-    fx_C = _v3(F_ptr, meta[31], np.float64)
-    fx_I7 = _v3(F_ptr, meta[32], np.float64)
-    fx_I8 = _v4(F_ptr, meta[33], np.float64)
-    fx_I9 = _v5(F_ptr, meta[34], np.float64)
-    in_ints = _v2(I_ptr, meta[35], np.int64)
-    in_sin = _v2(F_ptr, meta[36], np.float64)
-    in_b = _v3(F_ptr, meta[37], np.float64)
-    in_o = _v3(F_ptr, meta[38], np.float64)
-    in_c = _v4(F_ptr, meta[39], np.float64)
-    w_A = _v3(F_ptr, meta[40], np.float64)
-    w_P = _v2(F_ptr, meta[41], np.float64)
-    w_Pd = _v2(F_ptr, meta[42], np.float64)
-    w_ub = _v2(F_ptr, meta[43], np.float64)
-    w_dx = _v2(F_ptr, meta[44], np.float64)
-    w_dxd = _v2(F_ptr, meta[45], np.float64)
-    w_f = _v2(F_ptr, meta[46], np.float64)
-    w_F = _v2(F_ptr, meta[47], np.float64)
-    w_force = _v2(F_ptr, meta[48], np.float64)
-    w_torque = _v2(F_ptr, meta[49], np.float64)
-    w_flexQ = _v2(F_ptr, meta[50], np.float64)
-    w_acc = _v2(F_ptr, meta[51], np.float64)
-    w_base = _v2(F_ptr, meta[52], np.float64)
-    w_M = _v3(F_ptr, meta[53], np.float64)
-    w_Q = _v1(F_ptr, meta[54], np.float64)
-    w_T = _v3(F_ptr, meta[55], np.float64)
-    w_gb = _v1(F_ptr, meta[56], np.float64)
-    nb, M, nf, mode = ints[0], ints[1], ints[2], ints[3]
-    qr, vr, qb, vb, w0 = ints[4], ints[5], ints[6], ints[7], ints[8]
-    g = gravity
-    A = w_A
-    base = w_base
-    # 1. the base
     for c in range(3):
         base[0, c] = r0_base[c]
         base[1, c] = 0.0
@@ -175,7 +129,28 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
                 Fx1 += val
             else:
                 Fx2 += val
-    # 2. rotations, ṗ, ṙ
+    return (Fx0, Fx1, Fx2)
+
+
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
+def _rotations(y, dy, nb, qr, vr, A):
+    """Section 2: every body's rotation matrix, ṙ and ṗ.
+
+    Parameters
+    ----------
+    y : (ny,) float64
+        State.
+    dy : (ny,) float64
+        Written: ṙ [m/s] and ṗ [1/s] of bodies 1 … nb − 1.
+    nb : int
+        Number of bodies (the base is body 0).
+    qr, vr : int
+        Offsets in y of the bodies' positions and Euler parameters (7 per
+        body) and of their velocities (6 per body: ṙ [m/s] inertial,
+        ω̄ [rad/s] body frame).
+    A : (nb, 3, 3) float64
+        Written: A = Q(p)/|p|² of every body (the identity for the base).
+    """
     for i in range(3):
         for j in range(3):
             A[0, i, j] = 1.0 if i == j else 0.0
@@ -192,10 +167,40 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
         dy[q + 4] = 0.5 * (e0 * wx + e2 * wz - e3 * wy)
         dy[q + 5] = 0.5 * (e0 * wy + e3 * wx - e1 * wz)
         dy[q + 6] = 0.5 * (e0 * wz + e1 * wy - e2 * wx)
-    # 3. mount ends
-    P = w_P
-    Pd = w_Pd
-    ub = w_ub
+
+
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
+def _mount_ends(y, M, qr, vr, body_i, body_j, S, end_flex, end_phi, fx_ints, base, A, ub, P,
+                Pd):
+    """Section 3: position and velocity of every mount end (E = 2 M ends,
+    the ends on body i first).
+
+    Parameters
+    ----------
+    y : (ny,) float64
+        State.
+    M : int
+        Number of mounts.
+    qr, vr : int
+        Offsets in y of the bodies' coordinates and velocities.
+    body_i, body_j : (M,) int64
+        The bodies of each mount's ends (0: the base).
+    S : (E, 3) float64
+        The ends in their body's frame, undeformed [m].
+    end_flex : (E,) int64
+        Flexible body index of the end's body, or −1.
+    end_phi : (E, 3, nm) float64
+        Mode shapes at the ends [kg^-1/2].
+    fx_ints : (nf, 4) int64
+        Per flexible body: body, modes n, offsets of a and ȧ in y.
+    base : (3, 3) float64
+        The base's position [m] and velocity [m/s] (section 1).
+    A : (nb, 3, 3) float64
+        Rotation matrices (section 2).
+    ub, P, Pd : (E, 3) float64
+        Written: ū = s̄ (+ Φ a) in the body frame [m], the inertial
+        position P [m] and velocity Ṗ [m/s] of each end.
+    """
     for e in range(2 * M):
         m = e % M
         b = body_i[m] if e < M else body_j[m]
@@ -233,9 +238,48 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
         for c in range(3):
             P[e, c] = y[q + c] + Ab[c, 0] * ub[e, 0] + Ab[c, 1] * ub[e, 1] + Ab[c, 2] * ub[e, 2]
             Pd[e, c] = y[v + c] + Ab[c, 0] * rx + Ab[c, 1] * ry + Ab[c, 2] * rz
-    # 4. mounts
-    force = w_force
-    torque = w_torque
+
+
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
+def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, law_kind,
+                  law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c, A, P, Pd, ub, w_dx,
+                  w_dxd, w_f, w_F, force, torque, w_flexQ):
+    """Section 4: every mount's deflections, rates and forces (paper eq.
+    2–4), summed into the bodies' forces and moments.
+
+    Parameters
+    ----------
+    M, nb, nf : int
+        Numbers of mounts, bodies and flexible bodies.
+    body_i, body_j, U, d0, end_flex, end_phi, fx_ints
+        The mounts and flexible bodies (:data:`flexbed.dynamics.kernel.FIELDS`):
+        U (M, 3, 3) the directions u_k in body i's frame (rows), d0 (M, 3)
+        [m] the unstrained deflections.
+    law_kind, law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c
+        The mount laws, one per (mount, direction).
+    A : (nb, 3, 3) float64
+        Rotation matrices (section 2).
+    P, Pd, ub : (E, 3) float64
+        The ends' positions [m], velocities [m/s] and body-frame ū [m]
+        (section 3).
+    w_dx, w_dxd, w_f : (M, 3) float64
+        Written: Δx [m], Δẋ [m/s] and force f [N] per direction.
+    w_F : (M, 3) float64
+        Written: the inertial force F = A_i Uᵀ f on P_i [N] (−F on P_j).
+    force : (nb, 3) float64
+        Written: the sum of the mount forces on each body, inertial [N].
+    torque : (nb, 3) float64
+        Written: their moments about each body's frame origin, body frame
+        [N m] (row 0, the base, stays 0).
+    w_flexQ : (nf, 6 + nm) float64
+        Written: the generalized mount forces on each flexible body, body
+        frame (force, moment, modal).
+
+    Returns
+    -------
+    float
+        The power of the mount forces, −Σ f Δẋ [W].
+    """
     for b in range(nb):
         for c in range(3):
             force[b, c] = 0.0
@@ -316,8 +360,37 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
                 for j in range(fx_ints[k, 1]):
                     Qk[6 + j] += (end_phi[e, 0, j] * g0 + end_phi[e, 1, j] * g1
                                   + end_phi[e, 2, j] * g2)
-    # 5. Newton–Euler, rigid bodies (flexible ones are overwritten below)
-    acc = w_acc
+    return p_mount
+
+
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
+def _newton_euler(y, nb, vr, g, mass, J, Jinv, body_flex, force, torque, acc):
+    """Section 5, rigid bodies: ``m r̈ = F + m g``, ``J ω̄̇ = n̄ − ω̄ × J ω̄``.
+
+    Parameters
+    ----------
+    y : (ny,) float64
+        State.
+    nb : int
+        Number of bodies.
+    vr : int
+        Offset in y of the bodies' velocities.
+    g : (3,) float64
+        Gravity [m/s²].
+    mass : (nb,) float64
+        Masses [kg].
+    J, Jinv : (nb, 3, 3) float64
+        Inertia tensors about the centre of mass, body frame [kg m²], and
+        their inverses [1/(kg m²)].
+    body_flex : (nb,) int64
+        Flexible body index (such bodies are skipped), or −1.
+    force, torque : (nb, 3) float64
+        The mount forces [N] inertial and moments [N m] body frame
+        (section 4).
+    acc : (nb, 6) float64
+        Written for the rigid bodies 1 …: r̈ [m/s²] inertial, ω̄̇ [rad/s²]
+        body frame.
+    """
     for b in range(1, nb):
         if body_flex[b] >= 0:
             continue
@@ -337,8 +410,53 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
         acc[b, 3] = Ji[0, 0] * n0 + Ji[0, 1] * n1 + Ji[0, 2] * n2
         acc[b, 4] = Ji[1, 0] * n0 + Ji[1, 1] * n1 + Ji[1, 2] * n2
         acc[b, 5] = Ji[2, 0] * n0 + Ji[2, 1] * n1 + Ji[2, 2] * n2
+
+
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
+def _floating_frame(y, dy, nf, vr, g, fx_ints, fx_m, fx_I2, fx_I3, fx_I4, fx_I5, fx_I6, fx_K,
+                    fx_C, fx_I7, fx_I8, fx_I9, A, w_flexQ, acc, w_M, Q, T, gb):
+    """Section 5, flexible bodies: ``M̄(a) [Aᵀ r̈, ω̄̇, ä] = Q̄`` in the body
+    frame, M̄ and Q̄ from the modal invariants
+    (:func:`.flexible_body.flex_mass_body`,
+    :func:`.flexible_body.flex_forces_body`), solved by Cholesky.
+
+    Parameters
+    ----------
+    y : (ny,) float64
+        State.
+    dy : (ny,) float64
+        Written: ȧ and ä of the flexible bodies.
+    nf : int
+        Number of flexible bodies.
+    vr : int
+        Offset in y of the bodies' velocities.
+    g : (3,) float64
+        Gravity [m/s²].
+    fx_ints, fx_m, fx_I2 … fx_I9, fx_K, fx_C
+        The flexible bodies' layout, invariants, modal stiffness and
+        damping (:data:`flexbed.dynamics.kernel.FIELDS`).
+    A : (nb, 3, 3) float64
+        Rotation matrices (section 2).
+    w_flexQ : (nf, 6 + nm) float64
+        The generalized mount forces (section 4).
+    acc : (nb, 6) float64
+        Written for the flexible bodies: r̈ [m/s²] inertial, ω̄̇ [rad/s²]
+        body frame.
+    w_M : (nf, 6 + nm, 6 + nm) float64
+        Written: each flexible body's M̄(a), then its Cholesky factor.
+    Q : (6 + 2 nm,) float64
+        Work: Q̄, then C ȧ.
+    T : (nm, 3, 3) float64
+        Work: T_k = I8_k + Σ_l a_l I9_kl.
+    gb : (3,) float64
+        Work: Aᵀ g [m/s²].
+
+    Returns
+    -------
+    float
+        The power of the structural damping, −Σ ȧ C ȧ [W].
+    """
     p_struct = 0.0
-    Q = w_Q
     for k in range(nf):
         b = fx_ints[k, 0]
         n = fx_ints[k, 1]
@@ -350,10 +468,9 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
         a = y[oa:oa + n]
         ad = y[ov:ov + n]
         Ab = A[b]
-        gb = w_gb
         for c in range(3):
             gb[c] = Ab[0, c] * g[0] + Ab[1, c] * g[1] + Ab[2, c] * g[2]
-        I3, I8, T = fx_I3[k], fx_I8[k], w_T
+        I3, I8 = fx_I3[k], fx_I8[k]
         flex_T(I8, fx_I9[k], n, a, T)
         flex_mass_body(fx_m[k], fx_I2[k], I3, fx_I4[k], fx_I5[k], fx_I6[k],
                        fx_I7[k], I8, T, n, a, Mb)
@@ -370,18 +487,65 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
         for j in range(n):
             dy[oa + j] = ad[j]
             dy[ov + j] = Q[6 + j]
+    return p_struct
+
+
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
+def _rates_and_powers(y, dy, nb, vr, mode, qb, vb, w0, mass, g, force, Fx, base, acc, p_mount,
+                      p_struct):
+    """Section 6: the bodies' velocity rates into dy, a free base's
+    equations and the powers that feed the energy quadratures.
+
+    The rates are copied here, in a loop of their own, rather than where
+    section 5 computes them: dy may alias any array (it comes by address),
+    so a write to it inside those loops would make them reload what they
+    read (5–10 % slower in all, measured).
+
+    Parameters
+    ----------
+    y : (ny,) float64
+        State.
+    dy : (ny,) float64
+        Written: the velocity rates of bodies 1 … (from ``acc``); the four
+        powers at ``w0`` (mounts, external loads on a free base, the drive
+        of a driven base, structural damping) [W]; a free base's ṙ [m/s]
+        and r̈ [m/s²].
+    nb : int
+        Number of bodies.
+    vr : int
+        Offset in y of the bodies' velocities.
+    mode : int
+        The base's motion: 0 fixed, 1 driven, 2 free.
+    qb, vb, w0 : int
+        Offsets in y of a free base's position and velocity, and of the
+        work quadratures.
+    mass : (nb,) float64
+        Masses [kg] (the base's first).
+    g : (3,) float64
+        Gravity [m/s²].
+    force : (nb, 3) float64
+        The mount forces on each body, inertial [N] (section 4).
+    Fx : tuple of 3 float
+        External force on a free base [N] (section 1).
+    base : (3, 3) float64
+        The base's r, ṙ, r̈; a free base's r̈ written here.
+    acc : (nb, 6) float64
+        The bodies' r̈ [m/s²] inertial and ω̄̇ [rad/s²] body frame
+        (section 5); row 0 written: the base's r̈ [m/s²].
+    p_mount, p_struct : float
+        The powers of the mounts (section 4) and of the structural damping
+        (section 5) [W].
+    """
     for b in range(1, nb):
         v = vr + 6 * (b - 1)
         for c in range(6):
             dy[v + c] = acc[b, c]
-    # 6. the base and the powers
     dy[w0] = p_mount
     dy[w0 + 1] = 0.0
     dy[w0 + 2] = 0.0
     dy[w0 + 3] = p_struct
     if mode == 2:
         inv_mb = 1.0 / mass[0]
-        Fx = (Fx0, Fx1, Fx2)
         for c in range(3):
             dy[qb + c] = y[vb + c]
             ab = (force[0, c] + Fx[c]) * inv_mb + g[c]
@@ -395,6 +559,107 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
     for c in range(3):
         acc[0, c] = base[2, c]
 
+
+def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
+    """dy/dt for the state y at time t, on the packed storage (F, I).
+
+    Compiled once as the C function of :func:`rhs_function`; every array
+    comes by address.
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    seg_end : float
+        End of the segment being integrated (inputs give their left limits
+        at and beyond it); ``inf`` for right-continuous inputs.
+    y_ptr : address of (ny,) float64
+        State (:mod:`flexbed.dynamics.layout`); ny is in I's header.
+    dy_ptr : address of (ny,) float64
+        Output, overwritten in full.
+    F_ptr, I_ptr : addresses of the float64 and int64 storage
+        The scene (:func:`.storage.pack`); the work arrays in F are written.
+    """
+    head = carray(I_ptr, HEADER, np.int64)
+    y = carray(y_ptr, head[0], np.float64)
+    dy = carray(dy_ptr, head[0], np.float64)
+    meta = carray(I_ptr, (HEADER + 6 * head[3],), np.int64)[HEADER:].reshape((head[3], 6))
+    # the views of every field of FIELDS, in its order (checked by a test)
+    ints = _v1(I_ptr, meta[0], np.int64)
+    gravity = _v1(F_ptr, meta[1], np.float64)
+    mass = _v1(F_ptr, meta[2], np.float64)
+    J = _v3(F_ptr, meta[3], np.float64)
+    Jinv = _v3(F_ptr, meta[4], np.float64)
+    body_flex = _v1(I_ptr, meta[5], np.int64)
+    r0_base = _v1(F_ptr, meta[6], np.float64)
+    support = _v1(F_ptr, meta[7], np.float64)
+    body_i = _v1(I_ptr, meta[8], np.int64)
+    body_j = _v1(I_ptr, meta[9], np.int64)
+    S = _v2(F_ptr, meta[10], np.float64)
+    U = _v3(F_ptr, meta[11], np.float64)
+    d0 = _v2(F_ptr, meta[12], np.float64)
+    end_flex = _v1(I_ptr, meta[13], np.int64)
+    end_phi = _v3(F_ptr, meta[14], np.float64)
+    law_kind = _v1(I_ptr, meta[15], np.int64)
+    law_row = _v1(I_ptr, meta[16], np.int64)
+    lin_kc = _v2(F_ptr, meta[17], np.float64)
+    poly_k = _v2(F_ptr, meta[18], np.float64)
+    poly_c = _v2(F_ptr, meta[19], np.float64)
+    crv_b = _v3(F_ptr, meta[20], np.float64)
+    crv_o = _v3(F_ptr, meta[21], np.float64)
+    crv_c = _v4(F_ptr, meta[22], np.float64)
+    fx_ints = _v2(I_ptr, meta[23], np.int64)
+    fx_m = _v1(F_ptr, meta[24], np.float64)
+    fx_I2 = _v2(F_ptr, meta[25], np.float64)
+    fx_I3 = _v3(F_ptr, meta[26], np.float64)
+    fx_I4 = _v3(F_ptr, meta[27], np.float64)
+    fx_I5 = _v4(F_ptr, meta[28], np.float64)
+    fx_I6 = _v3(F_ptr, meta[29], np.float64)
+    fx_K = _v3(F_ptr, meta[30], np.float64)
+    fx_C = _v3(F_ptr, meta[31], np.float64)
+    fx_I7 = _v3(F_ptr, meta[32], np.float64)
+    fx_I8 = _v4(F_ptr, meta[33], np.float64)
+    fx_I9 = _v5(F_ptr, meta[34], np.float64)
+    in_ints = _v2(I_ptr, meta[35], np.int64)
+    in_sin = _v2(F_ptr, meta[36], np.float64)
+    in_b = _v3(F_ptr, meta[37], np.float64)
+    in_o = _v3(F_ptr, meta[38], np.float64)
+    in_c = _v4(F_ptr, meta[39], np.float64)
+    w_A = _v3(F_ptr, meta[40], np.float64)
+    w_P = _v2(F_ptr, meta[41], np.float64)
+    w_Pd = _v2(F_ptr, meta[42], np.float64)
+    w_ub = _v2(F_ptr, meta[43], np.float64)
+    w_dx = _v2(F_ptr, meta[44], np.float64)
+    w_dxd = _v2(F_ptr, meta[45], np.float64)
+    w_f = _v2(F_ptr, meta[46], np.float64)
+    w_F = _v2(F_ptr, meta[47], np.float64)
+    w_force = _v2(F_ptr, meta[48], np.float64)
+    w_torque = _v2(F_ptr, meta[49], np.float64)
+    w_flexQ = _v2(F_ptr, meta[50], np.float64)
+    w_acc = _v2(F_ptr, meta[51], np.float64)
+    w_base = _v2(F_ptr, meta[52], np.float64)
+    w_M = _v3(F_ptr, meta[53], np.float64)
+    w_Q = _v1(F_ptr, meta[54], np.float64)
+    w_T = _v3(F_ptr, meta[55], np.float64)
+    w_gb = _v1(F_ptr, meta[56], np.float64)
+    nb, M, nf, mode = ints[0], ints[1], ints[2], ints[3]
+    qr, vr, qb, vb, w0 = ints[4], ints[5], ints[6], ints[7], ints[8]
+    # the six sections of flexbed.dynamics.kernel, in order
+    Fx = _base_inputs(t, seg_end, y, mode, qb, vb, r0_base, support, in_ints, in_sin, in_b, in_o,
+                      in_c, w_base)                                            # 1.
+    _rotations(y, dy, nb, qr, vr, w_A)                                         # 2.
+    _mount_ends(y, M, qr, vr, body_i, body_j, S, end_flex, end_phi, fx_ints, w_base, w_A, w_ub,
+                w_P, w_Pd)                                                     # 3.
+    p_mount = _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints,
+                            law_kind, law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c, w_A,
+                            w_P, w_Pd, w_ub, w_dx, w_dxd, w_f, w_F, w_force, w_torque,
+                            w_flexQ)                                           # 4.
+    _newton_euler(y, nb, vr, gravity, mass, J, Jinv, body_flex, w_force, w_torque, w_acc)  # 5.
+    p_struct = _floating_frame(y, dy, nf, vr, gravity, fx_ints, fx_m, fx_I2, fx_I3, fx_I4, fx_I5,
+                               fx_I6, fx_K, fx_C, fx_I7, fx_I8, fx_I9, w_A, w_flexQ, w_acc, w_M,
+                               w_Q, w_T, w_gb)
+    _rates_and_powers(y, dy, nb, vr, mode, qb, vb, w0, mass, gravity, w_force, Fx, w_base, w_acc,
+                      p_mount, p_struct)                                       # 6.
 
 _compiled = []
 
