@@ -15,10 +15,11 @@ Methods
             the run's statistics say which ran and why.
 ``dop853``  explicit adaptive Dormand–Prince 8(5,3). Compiled.
 
-"Compiled": the whole stepping loop runs in numba (:mod:`dynamics.steppers`)
-and calls the compiled right-hand side (:func:`dynamics.kernel.evaluate`)
-through its pointer, in chunks of at most ``CHUNK_STEPS`` accepted steps (between
-chunks the driver reports progress and a Ctrl-C can stop the run); the
+"Compiled": the whole stepping loop runs in numba
+(:mod:`flexbed.dynamics.steppers`) and calls the compiled right-hand side
+(:func:`flexbed.dynamics.kernel.evaluate`) through its pointer, in chunks
+of at most ``CHUNK_STEPS`` accepted steps (between chunks the driver
+reports progress and a Ctrl-C can stop the run); the
 step control of ``dop853`` and ``radau`` is SciPy's. ``adams`` and ``bdf``
 are SciPy's steppers driven from Python, one step at a time, calling
 ``System.rhs``.
@@ -26,11 +27,11 @@ are SciPy's steppers driven from Python, one step at a time, calling
 Every method restarts at each breakpoint (pulse corners, ends of curve
 data; the stepper is built anew with that breakpoint as its bound, so no
 step crosses it), and the inputs are evaluated with their one-sided limits
-from inside the segment (``System.set_segment``). While an input of the
-base is active, adaptive steps are bounded by its ``max_step``
-(dynamics.shapes) and the first step after a restart is 1/20 of that, so
-that a solver starting at rest cannot step over the load it has not yet
-felt.
+from inside the segment (its end is passed to every evaluation, as
+``seg_end``). While an input of the base is active, adaptive steps are
+bounded by its ``max_step`` (:mod:`flexbed.dynamics.time_functions`) and
+the first step after a restart is 1/20 of that, so that a solver starting
+at rest cannot step over the load it has not yet felt.
 
 The steppers integrate the deviation from the start, ``z = y − y0`` in the
 positions and Euler parameters, so that relative tolerances act on the
@@ -276,7 +277,7 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     ----------
     system : System
     y0 : (ny,) array
-        State at t = 0 (see :mod:`dynamics.layout`).
+        State at t = 0 (see :mod:`flexbed.dynamics.layout`).
     settings : Settings
     progress : callable(t: float) -> None, optional
         Called after every accepted step (SciPy's methods) or every chunk of
@@ -350,7 +351,6 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     except FloatingPointError as exc:
         complete, message = False, (f"{method}: floating-point error at t = "
                                     f"{state['t']:.6g} s: {exc}")
-    system.set_segment(None)
     if method in _COMPILED:
         stats.steps = int(counts[1])
         stats.rejected = int(counts[2])
@@ -402,7 +402,7 @@ def _first_step(system: System, t: float, tb: float) -> tuple[float, float]:
 
 def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, counts, state,
                   stats, project, progress):
-    """The compiled steppers (:mod:`dynamics.steppers`), segment by segment,
+    """The compiled steppers (:mod:`flexbed.dynamics.steppers`), segment by segment,
     in chunks of at most CHUNK_STEPS accepted steps. Returns the time [s]
     spent loading (or compiling) the stepper, by a call that takes no step,
     before the first one."""
@@ -422,7 +422,6 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
         t = state["t"]
         stats.segments += 1
         project(z)
-        system.set_segment(t, tb)
         if method == "rk4":
             hmax, h = math.inf, settings.dt
         else:
@@ -440,9 +439,9 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
             if progress is not None:
                 progress(float(t))
             if status == -1:
-                raise _Stop(state["watch"].collapsed(method, float(t), float(h), z + shift))
+                raise _Stop(state["watch"].collapsed(method, float(t), float(h), z + shift, tb))
             if status != -2:
-                state["watch"].check(float(t), z + shift)
+                state["watch"].check(float(t), z + shift, tb)
             if status == 0:
                 break
             if status == -2:
@@ -455,31 +454,21 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
                progress):
     """SciPy's LSODA (adams) and BDF, one step at a time."""
     method = settings.method
-    rhs = system.rhs
     lay = system.layout
     project_y = _Projector(system)
     n_motion = lay.nq + lay.nv
-
-    def fun(t, zz):
-        return rhs(t, zz + shift)
-
-    def implicit_jac(t, zz):
-        out = np.zeros((zz.size, zz.size))
-        out[:, :n_motion] = jacobian_columns(fun, t, zz, n_motion, zz + shift)
-        return out
-
     stepper = None
     try:
         for tb in bounds:
             t = state["t"]
             stats.segments += 1
             project(z)
-            system.set_segment(t, tb)
+            fun = _shifted_rhs(system, shift, tb)
             trial = _TrialTimes(fun)
             hmax, h0 = _first_step(system, t, tb)
             extra = {"max_step": hmax, "first_step": h0} if h0 > 0 else {}
             if method == "bdf":
-                extra["jac"] = implicit_jac
+                extra["jac"] = _difference_jacobian(fun, shift, n_motion)
             stepper = _scipy_stepper(method)(trial, t, z, tb, rtol=rtol, atol=atol, **extra)
             while stepper.status == "running":
                 if stats.steps >= settings.max_steps:
@@ -492,7 +481,7 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
                     if "step size" in str(msg):
                         raise _Stop(state["watch"].collapsed(method, stepper.t,
                                                              stepper.step_size or 0.0,
-                                                             stepper.y + shift))
+                                                             stepper.y + shift, tb))
                     raise _Stop(f"{method} failed at t = {stepper.t:.6g} s: {msg}")
                 stats.steps += 1
                 stats.rejected += trial.attempts_since(t_old) - 1
@@ -501,7 +490,7 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
                 if not np.all(np.isfinite(y_new)):
                     raise _Stop(f"{method}: the state became non-finite at t = {t_new:.6g} s "
                                 f"(unstable step; try a smaller step or an implicit method)")
-                state["watch"].check(t_new, y_new + shift)
+                state["watch"].check(t_new, y_new + shift, tb)
                 # samples in (t_old, t_new]
                 k_out = state["k_out"]
                 k_end = k_out
@@ -527,6 +516,28 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
         if stepper is not None:
             stats.jacobian_evaluations += int(getattr(stepper, "njev", 0) or 0)
             stats.lu_decompositions += int(getattr(stepper, "nlu", 0) or 0)
+
+
+def _shifted_rhs(system: System, shift: np.ndarray, seg_end: float):
+    """f(t, z) = dy/dt at y = z + shift, the inputs' one-sided limits those
+    of the segment ending at ``seg_end`` [s] (for SciPy's steppers)."""
+    rhs = system.rhs
+
+    def fun(t, zz):
+        return rhs(t, zz + shift, seg_end)
+
+    return fun
+
+
+def _difference_jacobian(fun, shift: np.ndarray, n_motion: int):
+    """The Jacobian of ``fun`` for SciPy's BDF: forward differences over the
+    first ``n_motion`` entries (q and v), zero columns for the quadratures."""
+    def implicit_jac(t, zz):
+        out = np.zeros((zz.size, zz.size))
+        out[:, :n_motion] = jacobian_columns(fun, t, zz, n_motion, zz + shift)
+        return out
+
+    return implicit_jac
 
 
 class _Stop(Exception):
@@ -568,19 +579,22 @@ class _Watch:
         self.names = [system.scene.bodies[i].name for i in lay.rigid]
         self.driven = system.base_motion == "driven"
 
-    def _displacements(self, t: float, y: np.ndarray, driven: bool = True) -> np.ndarray:
+    def _displacements(self, t: float, y: np.ndarray, driven: bool = True,
+                       seg_end: float = math.inf) -> np.ndarray:
         """|Δr| (n,) [m] of every body from its start, relative to the base
-        (to a driven base's drive only if ``driven``)."""
+        (to a driven base's drive only if ``driven``, evaluated as in the
+        segment ending at ``seg_end`` [s])."""
         parts = self.lay.split(y)
         d = parts["r"] - self.r0
         if self.rb0 is not None:
             d = d - (parts["r_base"] - self.rb0)
         elif self.driven and driven:
-            d = d - (self.system.base_motion_at(t)[0] - self.system.r0_base)
+            d = d - (self.system.base_motion_at(t, seg_end)[0] - self.system.r0_base)
         return np.linalg.norm(d, axis=1)
 
-    def check(self, t: float, y: np.ndarray) -> None:
-        """Raise _Stop if a body of the state y (ny,) at t [s] diverges."""
+    def check(self, t: float, y: np.ndarray, seg_end: float = math.inf) -> None:
+        """Raise _Stop if a body of the state y (ny,) at t [s] diverges
+        (t in the segment ending at ``seg_end`` [s])."""
         if not self.names:
             return
         limit = DIVERGE_FACTOR * self.size + self.v0 * t + 0.5 * self.g * t * t
@@ -588,7 +602,7 @@ class _Watch:
         if np.all(d <= limit):
             return
         if self.driven:             # only now: the drive's displacement, evaluated in Python
-            d = self._displacements(t, y)
+            d = self._displacements(t, y, seg_end=seg_end)
         bad = ~(d <= limit)
         if np.any(bad):
             i = int(np.argmax(np.where(bad, np.nan_to_num(d, nan=np.inf), -1.0)))
@@ -598,13 +612,15 @@ class _Watch:
                         f"the motion grows without bound (if the scene is stable, the "
                         f"integration is not: try a smaller step or an implicit method)")
 
-    def collapsed(self, method: str, t: float, h: float, y: np.ndarray) -> str:
-        """The message for a step size that collapsed at t: the run
-        diverges (in finite time), naming the body moving fastest."""
+    def collapsed(self, method: str, t: float, h: float, y: np.ndarray,
+                  seg_end: float = math.inf) -> str:
+        """The message for a step size that collapsed at t (in the segment
+        ending at ``seg_end`` [s]): the run diverges (in finite time),
+        naming the body moving fastest."""
         parts = self.lay.split(y)
         rd = parts["rd"] - (parts["rd_base"] if self.rb0 is not None else 0.0)
         speed = np.linalg.norm(rd, axis=1)
-        d = self._displacements(t, y)
+        d = self._displacements(t, y, seg_end=seg_end)
         i = int(np.argmax(np.nan_to_num(speed, nan=np.inf))) if self.names else 0
         who = (f"body '{self.names[i]}' at {speed[i]:.3g} m/s, {d[i]:.3g} m from where it "
                f"started" if self.names else "the base")

@@ -180,7 +180,6 @@ def mounted_system(system: System, y_eq: np.ndarray) -> MountedSystem:
     Z = np.zeros((2 * cols.size, coords.nz))
     Z[np.arange(cols.size), cols] = step[cols]
     Z[cols.size + np.arange(cols.size), cols] = -step[cols]
-    system.set_segment(None)
     _, cap = system.rhs_batch(np.zeros(Z.shape[0]), coords.to_y(Z),
                               capture=("w_dx", "w_dxd", "w_f", "w_F"))
     h2 = 2.0 * step[cols]

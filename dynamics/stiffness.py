@@ -96,7 +96,8 @@ def jacobian_columns(fun, t: float, z: np.ndarray, n: int, size: np.ndarray) -> 
     return jac
 
 
-def motion_eigenvalues(system: System, y: np.ndarray, t: float = 0.0) -> np.ndarray:
+def motion_eigenvalues(system: System, y: np.ndarray, t: float = 0.0,
+                       seg_end: float = math.inf) -> np.ndarray:
     """Eigenvalues of the Jacobian of the motion at (t, y).
 
     Forward differences of the right-hand side over the coordinates and
@@ -112,6 +113,9 @@ def motion_eigenvalues(system: System, y: np.ndarray, t: float = 0.0) -> np.ndar
         State (see :mod:`flexbed.dynamics.layout`).
     t : float
         Time [s].
+    seg_end : float
+        End of the segment [s] whose one-sided limits the base's inputs
+        give (inf: right-continuous), as for the right-hand side.
 
     Returns
     -------
@@ -125,7 +129,7 @@ def motion_eigenvalues(system: System, y: np.ndarray, t: float = 0.0) -> np.ndar
     Y = np.tile(y, (n + 1, 1))
     j = np.arange(n)
     Y[j + 1, j] = y[:n] + _SQRT_EPS * np.maximum(1.0, np.abs(y[:n]))
-    F, _ = system.rhs_batch(np.full(n + 1, float(t)), Y)
+    F, _ = system.rhs_batch(np.full(n + 1, float(t)), Y, seg_end=seg_end)
     jac = ((F[1:] - F[0]) / (Y[j + 1, j] - y[:n])[:, None]).T[:n]
     if not np.all(np.isfinite(jac)):
         return np.full(n, np.nan + 0j)
@@ -212,11 +216,8 @@ def stable_step_at_start(system: System, y0: np.ndarray, t_end: float,
                          method: str) -> tuple[float, float]:
     """:func:`stable_step` of ``method`` for the linearisation at (0, y0),
     the inputs evaluated as on the first segment: (h [s], rate [1/s])."""
-    system.set_segment(*segments(system, t_end)[0])
-    try:
-        return stable_step(method, motion_eigenvalues(system, y0))
-    finally:
-        system.set_segment(None)
+    return stable_step(method, motion_eigenvalues(system, y0,
+                                                  seg_end=segments(system, t_end)[0][1]))
 
 
 def stiff_message(system: System, y0: np.ndarray, settings) -> str | None:

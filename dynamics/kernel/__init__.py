@@ -5,6 +5,7 @@ time t and state y (layout: :mod:`flexbed.dynamics.layout`), compiled once
 as a C function (:func:`rhs_function`) that every compiled caller calls
 through its pointer. It reads a scene compiled into flat arrays (the
 fields of :class:`Compiled`, built by
+:func:`flexbed.dynamics.kernel_tables.kernel_storage` for a
 :class:`flexbed.dynamics.system.System`, packed into two arrays by
 :func:`pack`) and does arithmetic only, in this order, one compiled
 function per step (:mod:`.rhs`):
@@ -32,7 +33,7 @@ work arrays), so a call allocates nothing; ``w_dx``, ``w_dxd``, ``w_f``,
 ``w_F``, ``w_acc`` and ``w_base`` keep the last call's mount deflections,
 rates, forces, inertial mount forces, accelerations and base motion, and
 ``w_M`` each flexible body's mass matrix as its Cholesky factor, for
-:meth:`flexbed.dynamics.system.System.observe` and
+:func:`flexbed.dynamics.observation.observe` and
 :mod:`flexbed.dynamics.history` (:func:`evaluate_batch` evaluates many
 states in one call).
 

@@ -12,7 +12,9 @@ from numba.extending import intrinsic
 
 __all__ = ["Compiled", "FIELDS", "KINDS", "HEADER", "pack", "view1", "view2", "view3", "view4", "view5"]
 
-#: at most nm modes, ni inputs; see System._compile for every entry).
+#: The kernel's fields, in the order of the storage's table (nb bodies, M mounts, E = 2 M
+#: ends, nf flexible bodies of at most nm modes, ni inputs; each built by
+#: flexbed.dynamics.kernel_tables.kernel_storage).
 FIELDS = (
     # sizes and layout: [nb, M, nf, base_mode (0 fixed, 1 driven, 2 free), qr, vr, qb, vb,
     #                    w0, qm, vm]

@@ -249,9 +249,8 @@ def _defect_nodes(system: System, lin: Linearisation, t: np.ndarray,
     nz = lin.A.shape[0]
     conv = (coords.y_eq, coords._add, coords._put, coords._th, coords._yp, coords.p_eq,
             coords._take, coords.p_eq_conj)
-    system.set_segment(None)
     V = np.empty((t.size, nz + work.stop - work.start))
-    nodes = refine_nodes(system.kernel, system.seg_end, t, Z, lin.inputs(t), conv, lin.b0,
+    nodes = refine_nodes(system.kernel, math.inf, t, Z, lin.inputs(t), conv, lin.b0,
                          lin.B, np.ascontiguousarray(lin.A.T), work.start, _first_nodes(t),
                          16.0 * _CUBIC_SHARE, _NOISE, V)
     system.nfev += nodes.size

@@ -395,7 +395,6 @@ def linearise(system: System, y_eq: np.ndarray, rate_step: float = 1e-6,
     nfev0 = system.nfev
     step = difference_steps(system, coords, rate_step, translation_step)
 
-    system.set_segment(None)
     Zp = np.zeros((2 * nz + 1, nz))                                     # 0, +steps, −steps
     Zp[1:nz + 1].flat[::nz + 1] = step
     Zp[nz + 1:].flat[::nz + 1] = -step

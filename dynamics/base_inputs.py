@@ -1,0 +1,135 @@
+"""The base's drives and loads as functions of time, on the Python side.
+
+:class:`BaseInputs` holds every input of a scene's base compiled once (a
+curve's spline and its integrals built here and reused for the kernel's
+tables, :mod:`flexbed.dynamics.kernel_tables`) and answers what the
+integrators and the outputs ask of them: the base's prescribed motion and
+the external load at a time, the breakpoints, the longest step the inputs
+allow. The compiled right-hand side evaluates the same inputs from its own
+tables (:mod:`flexbed.dynamics.kernel.inputs`).
+
+One-sided limits: every evaluation takes the end of the segment being
+integrated, ``seg_end`` [s]; at t ≥ seg_end an input gives its limit from
+the left (from inside the segment), elsewhere it is right-continuous.
+``seg_end = inf`` (the default) means right-continuous everywhere (statics,
+outputs).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .scene import Scene
+
+__all__ = ["BaseInputs"]
+
+
+@dataclass(frozen=True, slots=True)
+class BaseInputs:
+    """The inputs of a scene's base, compiled.
+
+    Attributes
+    ----------
+    r0 : (3,) array [m]
+        The base's position in the scene (read-only).
+    support : (3,) array [N]
+        Constant external force on a free base (read-only): the scene's
+        ``support``, or ``−(total mass) g`` for ``"static"``.
+    items : tuple
+        The scene's drives, then its loads (:class:`flexbed.dynamics.scene.Drive`,
+        :class:`~flexbed.dynamics.scene.Load`).
+    roles : tuple of int
+        0 for a drive, 1 for a load, per item.
+    compiled : tuple of TimeFunction
+        Their compiled shapes, in the same order.
+    drives, loads : tuple of 3 tuples of TimeFunction
+        The compiled drives (accelerations [m/s²]) and loads [N] per
+        direction X, Y, Z, in scene order.
+    breakpoints : tuple of float
+        Times [s] > 0 where an input (or a derivative) jumps, sorted.
+    """
+
+    r0: np.ndarray
+    support: np.ndarray
+    items: tuple
+    roles: tuple
+    compiled: tuple
+    drives: tuple
+    loads: tuple
+    breakpoints: tuple
+
+    @classmethod
+    def of(cls, scene: Scene, gravity: np.ndarray) -> BaseInputs:
+        """Compile the inputs of ``scene``'s base; ``gravity`` (3,) [m/s²]
+        gives a ``"static"`` support."""
+        base = scene.base
+        items = tuple(base.drives) + tuple(base.loads)
+        compiled = tuple(d.shape.compile() for d in items)
+        drives = [[], [], []]
+        loads = [[], [], []]
+        bps = set()
+        for d, f in zip(base.drives, compiled):
+            drives[d.direction].append(f)
+            bps.update(f.breakpoints)
+        for d, f in zip(base.loads, compiled[len(base.drives):]):
+            loads[d.direction].append(f)
+            bps.update(f.breakpoints)
+        if isinstance(base.support, str):
+            support = (-scene.total_mass * gravity if base.support == "static"
+                       else np.zeros(3))
+        else:
+            support = np.array(base.support, dtype=float)
+        r0 = np.array(scene.bodies[0].position, dtype=float)
+        r0.flags.writeable = False
+        support = np.array(support, dtype=float)
+        support.flags.writeable = False
+        return cls(r0=r0, support=support, items=items,
+                   roles=(0,) * len(base.drives) + (1,) * len(base.loads), compiled=compiled,
+                   drives=tuple(tuple(f) for f in drives), loads=tuple(tuple(f) for f in loads),
+                   breakpoints=tuple(sorted(b for b in bps if b > 0.0)))
+
+    def motion_at(self, t: float, seg_end: float = math.inf):
+        """The base's prescribed position [m], velocity [m/s] and acceleration
+        [m/s²] at time t [s], each (3,), from the drives (a free base's motion
+        comes from the state)."""
+        at = None if math.isinf(seg_end) else seg_end
+        r = self.r0.copy()
+        v = np.zeros(3)
+        a = np.zeros(3)
+        for k in range(3):
+            for f in self.drives[k]:
+                r[k] += f.second(t, at)
+                v[k] += f.first(t, at)
+                a[k] += f.value(t, at)
+        return r, v, a
+
+    def load_at(self, t: float, seg_end: float = math.inf) -> np.ndarray:
+        """External force on the base [N] (3,) at time t [s]: loads + support."""
+        at = None if math.isinf(seg_end) else seg_end
+        F = self.support.copy()
+        for k in range(3):
+            for f in self.loads[k]:
+                F[k] += f.value(t, at)
+        return F
+
+    def max_step(self, t_a: float, t_b: float) -> float:
+        """Longest adaptive step [s] allowed on [t_a, t_b] by the inputs active
+        there (inf: none)."""
+        out = np.inf
+        for f in (f for k in range(3) for f in self.drives[k] + self.loads[k]):
+            lo, hi = f.support
+            if lo < t_b and hi > t_a:
+                out = min(out, f.max_step)
+        return float(out)
+
+    def compiled_input(self, shape):
+        """The compiled form (value and exact integrals) of one of the base's
+        input shapes, as built with these inputs (another shape: compiled
+        now)."""
+        for item, f in zip(self.items, self.compiled):
+            if item.shape is shape:
+                return f
+        return shape.compile()
