@@ -175,7 +175,7 @@ def table(data: dict) -> str:
             cells.append("–" if math.isnan(r["q"]) else f"{r['q']:.2f}")
             cells += [f"{100 * r['correction'] / r['value']:+.3f} %", f"**{r['value']:.3f}**",
                       f"{100 * r['bound'] / r['value']:.3f} %"]
-            for h, s in d["shell"].items():
+            for s in d["shell"].values():
                 cells.append(f"{s['f'][k]:.3f} ({100 * (s['f'][k] / r['value'] - 1):+.2f} %, "
                              f"MAC {s['mac'][k]:.3f})")
             lines.append(f"| {k + 1} ({d['labels'][k]}) | " + " | ".join(cells) + " |")

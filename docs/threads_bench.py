@@ -7,7 +7,13 @@ the modes stage's own time and of the wall times. Prints a Markdown table.
 Usage: ``python docs/threads_bench.py [REPEATS] [modes] [bench]`` (default 5,
 both), with ``flexbed`` on the PATH. Takes a few minutes.
 """
-import os, re, statistics, subprocess, sys, time, tempfile
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
 
 def run(cmd, env):
     t0 = time.perf_counter()

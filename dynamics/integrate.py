@@ -367,7 +367,7 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
 def _load_kernel(system: System, method: str) -> None:
     """Load (or compile) the compiled right-hand side, and the batch
     evaluation of the stiffness check for the methods that have one."""
-    system.kernel
+    _ = system.kernel   # the property loads (or compiles) the right-hand side
     if method in ("auto", "rk4", "dop853"):
         system.rhs_batch(np.zeros(0), np.zeros((0, system.ny)))
 

@@ -101,9 +101,11 @@ class CurveLaw:
     damper_ends: SplineEnds = SplineEnds()
 
     def __post_init__(self):
-        object.__setattr__(self, "spring", _curve("spring_curve", ("deflection", "force"), self.spring))
+        object.__setattr__(self, "spring",
+                           _curve("spring_curve", ("deflection", "force"), self.spring))
         if self.damper is not None:
-            object.__setattr__(self, "damper", _curve("damper_curve", ("rate", "force"), self.damper))
+            object.__setattr__(self, "damper",
+                               _curve("damper_curve", ("rate", "force"), self.damper))
         for key in ("spring_ends", "damper_ends"):
             if not isinstance(getattr(self, key), SplineEnds):
                 raise SceneError(f"{key} = {getattr(self, key)!r} is not a SplineEnds")
@@ -128,12 +130,14 @@ def _curve(name: str, keys: tuple[str, str], data) -> tuple[np.ndarray, np.ndarr
         a.setflags(write=False)
         out.append(a)
     if out[0].size != out[1].size:
-        raise SceneError(f"{name}: {keys[0]} has {out[0].size} points but {keys[1]} has {out[1].size}")
+        raise SceneError(f"{name}: {keys[0]} has {out[0].size} points "
+                         f"but {keys[1]} has {out[1].size}")
     bad = np.flatnonzero(np.diff(out[0]) <= 0)
     if bad.size:
         i = int(bad[0]) + 1
         raise SceneError(f"{name}.{keys[0]} must be strictly increasing: "
-                         f"{keys[0]}[{i}] = {float(out[0][i])!r} after {keys[0]}[{i - 1}] = {float(out[0][i - 1])!r}")
+                         f"{keys[0]}[{i}] = {float(out[0][i])!r} after "
+                         f"{keys[0]}[{i - 1}] = {float(out[0][i - 1])!r}")
     return out[0], out[1]
 
 

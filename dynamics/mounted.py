@@ -157,7 +157,8 @@ def mounted_system(system: System, y_eq: np.ndarray) -> MountedSystem:
 
     One linearisation (:func:`flexbed.dynamics.linear.model.linearise`) and one
     batch of the right-hand side at ±1e-6 in each rotation and modal
-    coordinate and ±1e-4 in each translation and rate (modal ones scaled as the linearisation scales them) for the mounts'
+    coordinate and ±1e-4 in each translation and rate (modal ones scaled as
+    the linearisation scales them) for the mounts'
     outputs; central differences, exact for linear mounts up to round-off
     and O(1e-12) relative for the rotations' geometry.
     """

@@ -95,7 +95,8 @@ class Body:
         try:
             J = np.array(self.inertia, dtype=float)
         except (TypeError, ValueError):
-            raise SceneError(f"{where}: inertia = {self.inertia!r} must be 3 or 3 × 3 numbers") from None
+            raise SceneError(f"{where}: inertia = {self.inertia!r} "
+                             "must be 3 or 3 × 3 numbers") from None
         if J.shape == (3,):
             J = np.diag(J)
         J = _vector(where, "inertia", J, (3, 3))
@@ -196,11 +197,13 @@ class Base:
             if self.support not in ("static", "none"):
                 raise SceneError(f"base: support = {self.support!r} must be 'static' or 3 numbers")
             if self.support == "static" and self.motion != "free":
-                raise SceneError(f"base: support = 'static' needs motion = 'free', not {self.motion!r}")
+                raise SceneError("base: support = 'static' needs motion = 'free', "
+                                 f"not {self.motion!r}")
         else:
             s = _vector("base", "support", self.support, (3,))
             if self.motion != "free" and np.any(s != 0):
-                raise SceneError(f"base: support = {s.tolist()} needs motion = 'free', not {self.motion!r}")
+                raise SceneError(f"base: support = {s.tolist()} needs motion = 'free', "
+                                 f"not {self.motion!r}")
             object.__setattr__(self, "support", s)
 
 

@@ -86,7 +86,8 @@ class TimeFunction:
         self.seconds = seconds
 
     @classmethod
-    def from_piecewise(cls, f: PiecewisePolynomial, breakpoints, max_step=math.inf) -> "TimeFunction":
+    def from_piecewise(cls, f: PiecewisePolynomial, breakpoints,
+                       max_step=math.inf) -> "TimeFunction":
         f1 = f.antiderivative()
         f2 = f1.antiderivative()
         return cls(f, f1, f2, breakpoints, f.evaluate, f1.evaluate, f2.evaluate,
@@ -244,7 +245,8 @@ class Triangle:
 
 @dataclass(frozen=True, slots=True)
 class Trapezoid:
-    """Trapezoidal pulse: ramp up over ``rise``, hold ``peak`` for ``flat``, ramp down over ``fall``."""
+    """Trapezoidal pulse: ramp up over ``rise``, hold ``peak`` for ``flat``,
+    ramp down over ``fall``."""
 
     peak: float
     rise: float
@@ -387,8 +389,9 @@ class Curve:
 
     def compile(self) -> TimeFunction:
         f = self.ends.spline(self.time, self.value, left="zero", right="hold")
+        shortest = float(np.min(np.diff(self.time)))
         return TimeFunction.from_piecewise(f, [self.time[0], self.time[-1]],
-                                           max_step=CURVE_SAMPLES_PER_STEP * float(np.min(np.diff(self.time))))
+                                           max_step=CURVE_SAMPLES_PER_STEP * shortest)
 
     def sample_times(self, dt: float) -> np.ndarray:
         return _grid(self.start, self.end, dt)

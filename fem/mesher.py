@@ -185,8 +185,9 @@ def read_mesh_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     quads = [np.asarray(b.data) for b in mesh.cells if b.type == "quad"]
     tris = [np.asarray(b.data) for b in mesh.cells if b.type == "triangle"]
     if not quads and not tris:
+        found = ', '.join(b.type for b in mesh.cells) or 'none'
         raise GeometryError("mesh_file", f"mesh_file = {str(path)!r} has no quad or triangle "
-                                         f"cells (it has {', '.join(b.type for b in mesh.cells) or 'none'})")
+                                         f"cells (it has {found})")
     cells = np.vstack(quads).astype(np.int64) if quads else np.zeros((0, 4), np.int64)
     if tris:
         tri = np.vstack(tris).astype(np.int64)

@@ -72,7 +72,8 @@ def section_of(kind: str, *, height=None, width=None, web=None, flange_width=Non
         bf, tf = _positive("flange_width", flange_width), _positive("flange", flange)
         Aw, Af = h * tw, bf * tf
         c = (Aw * h / 2 + Af * (h + tf / 2)) / (Aw + Af)
-        Iy = tw * h ** 3 / 12 + Aw * (h / 2 - c) ** 2 + bf * tf ** 3 / 12 + Af * (h + tf / 2 - c) ** 2
+        Iy = (tw * h ** 3 / 12 + Aw * (h / 2 - c) ** 2
+              + bf * tf ** 3 / 12 + Af * (h + tf / 2 - c) ** 2)
         Iz = h * tw ** 3 / 12 + tf * bf ** 3 / 12
         return Section(Aw + Af, Iy, Iz, _thin(h, tw) + _thin(bf, tf), c)
     if kind == "I":
@@ -158,8 +159,10 @@ def line_mass_properties(st: Stiffener, density: float, centre: np.ndarray
 
 
 def _hermite(EI: float, L: float) -> np.ndarray:
-    return EI / L ** 3 * np.array([[12, 6 * L, -12, 6 * L], [6 * L, 4 * L * L, -6 * L, 2 * L * L],
-                                   [-12, -6 * L, 12, -6 * L], [6 * L, 2 * L * L, -6 * L, 4 * L * L]])
+    return EI / L ** 3 * np.array([[12, 6 * L, -12, 6 * L],
+                                   [6 * L, 4 * L * L, -6 * L, 2 * L * L],
+                                   [-12, -6 * L, 12, -6 * L],
+                                   [6 * L, 2 * L * L, -6 * L, 4 * L * L]])
 
 
 def _xy(p: np.ndarray) -> str:
@@ -273,7 +276,7 @@ def stiffener_matrices(st: Stiffener, nodes: np.ndarray, cells: np.ndarray, dril
         dofs = np.array(sorted(cols))
         pos = {d: j for j, d in enumerate(dofs)}
 
-        def ops(i):
+        def ops(i, dofs=dofs, pos=pos):
             T = np.zeros((3, dofs.size))
             R = np.zeros((3, dofs.size))
             u, v, w, tx, ty = (pos[5 * i + c] for c in range(5))

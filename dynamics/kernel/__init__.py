@@ -66,4 +66,5 @@ from .rhs import PROTOTYPE, evaluate, evaluate_many, rhs_function
 from .storage import FIELDS, HEADER, KINDS, Compiled, pack
 
 __all__ = ["Compiled", "FIELDS", "KINDS", "HEADER", "pack", "evaluate", "rhs_function",
-           "PROTOTYPE", "evaluate_many", "evaluate_batch", "flex_T", "flex_mass_body", "flex_forces_body", "piecewise_value"]
+           "PROTOTYPE", "evaluate_many", "evaluate_batch", "flex_T", "flex_mass_body",
+           "flex_forces_body", "piecewise_value"]

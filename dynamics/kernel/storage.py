@@ -10,7 +10,8 @@ import numpy as np
 from numba import carray, njit, types
 from numba.extending import intrinsic
 
-__all__ = ["Compiled", "FIELDS", "KINDS", "HEADER", "pack", "view1", "view2", "view3", "view4", "view5"]
+__all__ = ["Compiled", "FIELDS", "KINDS", "HEADER", "pack",
+           "view1", "view2", "view3", "view4", "view5"]
 
 #: The kernel's fields, in the order of the storage's table (nb bodies, M mounts, E = 2 M
 #: ends, nf flexible bodies of at most nm modes, ni inputs; each built by

@@ -84,8 +84,8 @@ def _dense_coefficients(F, K, z, zn, h):
 
 
 @jit
-def dop853_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid, Y, k_out, max_steps,
-                   p_idx, n_motion, counts, work):
+def dop853_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid, Y, k_out,
+                   max_steps, p_idx, n_motion, counts, work):
     """Dormand–Prince 8(5,3) over [t_a, t_b], SciPy's DOP853 step control.
 
     See the module docstring for the parameters and returns; n_motion and
@@ -109,7 +109,8 @@ def dop853_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid
     if dt_or_h0 > 0.0:
         h_abs = dt_or_h0
     else:
-        h_abs = initial_step(t_a, t_b, z, f, shift, kernel, rtol, atol, h_max, 7, ybuf, zt, ft, counts)
+        h_abs = initial_step(t_a, t_b, z, f, shift, kernel, rtol, atol, h_max, 7,
+                             ybuf, zt, ft, counts)
     t = t_a
     steps = 0
     while t < t_b:

@@ -240,8 +240,8 @@ def _predict_factor(h_abs, h_abs_old, err, err_old, has_old):
 
 
 @jit
-def radau_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid, Y, k_out, max_steps,
-                  p_idx, n_motion, counts, work):
+def radau_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid, Y, k_out,
+                  max_steps, p_idx, n_motion, counts, work):
     """Radau IIA of order 5 over [t_a, t_b] (see the module docstring).
 
     work : tuple from :func:`radau_workspace` (ny), with the options. A

@@ -1,6 +1,7 @@
 """The mounted system's mode shapes on meshes, for ParaView: the bed as its
 plate mesh (the modes file's, or the plate's grid for a rigid bed; a
-scene without a [bed] table has none), every other body (equipment) as the box of its inertia, and per mode the
+scene without a [bed] table has none), every other body (equipment) as
+the box of its inertia, and per mode the
 displacement of every node (rigid motion, and the bed's deformation
 through its modes) from the point machinery (:mod:`flexbed.analyses.linear_points`).
 

@@ -34,7 +34,6 @@ from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.files.results import read_results
 from flexbed.files.store import Contents
-from flexbed.files.store import Contents
 
 
 @dataclass(frozen=True)

@@ -124,7 +124,8 @@ def section_integrators(ctx: BenchContext) -> str:
              "(`dynamics/steppers/`), adams and bdf SciPy's, driven from Python; rejected "
              "steps of adams and bdf are counted from the distinct trial times of their "
              "right-hand sides (SciPy does not report them). The radau rows' Jacobians are "
-             f"forward differences of the compiled kernel. Settings predicted to take over {ctx.profile.budget:g} s are not run "
+             "forward differences of the compiled kernel. Settings predicted to take over "
+             f"{ctx.profile.budget:g} s are not run "
              "(the table says why); \"stiff: refused\" is the integrator's own stiffness "
              "check.", ""]
     rows_by_case, refs = {}, {}

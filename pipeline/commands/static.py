@@ -35,7 +35,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "(base held), printed as the paper's Table 2 and written to a file.")
     add_scene_arg(parser)
     parser.add_argument("-o", "--output", default=None, metavar="FILE",
-                        help="equilibrium file to write (default: <scene file stem>-equilibrium.h5)")
+                        help="equilibrium file to write "
+                             "(default: <scene file stem>-equilibrium.h5)")
     parser.add_argument("--tol", type=float, default=None, metavar="TOL",
                         help="Newton–Raphson tolerance (default: the scene's static_tol)")
     add_modes_file_arg(parser)

@@ -25,9 +25,9 @@ from flexbed.files.bed_geometry import (GEOMETRY_KEYS, read_fixed_masses, read_g
 
 _PLATE_KEYS = tuple(f.name for f in fields(PlateSpec)
                     if f.name not in ("geometry", "masses", "stiffeners"))
-_KEYS = _PLATE_KEYS + GEOMETRY_KEYS + ("body", "model", "modes", "fmax", "rayleigh", "damping_ratio",
-                       "modes_file", "static_sag", "invariants", "auto_factor",
-                       "static_correction", "correction_modes")
+_KEYS = _PLATE_KEYS + GEOMETRY_KEYS + ("body", "model", "modes", "fmax", "rayleigh",
+                                       "damping_ratio", "modes_file", "static_sag", "invariants",
+                                       "auto_factor", "static_correction", "correction_modes")
 DEFAULT_MODES = 2
 PLATE_BODY_TOL = 1e-4    # a flexible bed body's given mass and inertia against the plate's
 
@@ -113,7 +113,8 @@ class BedSection:
         elif (self.modes is None) == (self.fmax is None):
             raise ValueError("give either modes or fmax, not both")
         if (len(self.rayleigh) != 2 or not all(_is_number(v) for v in self.rayleigh)):
-            raise ValueError(f"rayleigh = {list(self.rayleigh)!r} must be two numbers [alpha, beta]")
+            raise ValueError(f"rayleigh = {list(self.rayleigh)!r} "
+                             "must be two numbers [alpha, beta]")
         for name, v in zip(("alpha", "beta"), self.rayleigh):
             if v < 0:
                 raise ValueError(f"rayleigh {name} = {v!r} must be >= 0")

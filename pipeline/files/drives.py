@@ -152,7 +152,8 @@ class ShapeReader(TableReader):
     def curve_tables(self, where, key, value, xkey) -> list:
         """A mount law's 3 curve tables (one per direction):
         [(x, force, SplineEnds)]."""
-        if not isinstance(value, list) or len(value) != 3 or not all(isinstance(v, dict) for v in value):
+        if (not isinstance(value, list) or len(value) != 3
+                or not all(isinstance(v, dict) for v in value)):
             self.fail(where, f"{key} must be 3 tables {{{xkey} = [...], force = [...]}} "
                              f"(one per direction)")
         out = []

@@ -94,7 +94,8 @@ def write_mode_shapes(path: str | os.PathLike, meshes: list, frequency: np.ndarr
             label = f"mode_{k + 1:0{width}d} ({float(frequency[k]):.4g} Hz)"
             lines += [f'        <Attribute Name={quoteattr(label)} AttributeType="Vector" '
                       'Center="Node">',
-                      f"          {data_item(name, f'{g}/mode_{k + 1:0{width}d}', (n, 3), 'Float')}",
+                      "          "
+                      + data_item(name, f"{g}/mode_{k + 1:0{width}d}", (n, 3), "Float"),
                       "        </Attribute>"]
         lines.append("      </Grid>")
     lines += ["    </Grid>", "  </Domain>", "</Xdmf>"]

@@ -6,7 +6,7 @@ Schema ``flexbed.modes``, version 1.2 (1.0 and 1.1 files still read;
 =================================  ==============  =====================  =========
 dataset                            shape           units                  from
 =================================  ==============  =====================  =========
-``plate/<input>`` (attributes)     –               as in the scene     inputs  
+``plate/<input>`` (attributes)     –               as in the scene     inputs
 ``mesh/nodes``                     (N, 3)          m                      mesh
 ``mesh/cells``                     (ne, 4)         1                      mesh
 ``modes/frequency``                (n,)            Hz                     FE

@@ -165,7 +165,8 @@ class _Reader(ShapeReader):
         bodies = [self.body(i, b, bed if i == at else None) for i, b in enumerate(bodies_raw)]
         names = [b.name for b in bodies]
         base = self.base(data.get("base", {}))
-        mounts = [self.mount(i, m, names) for i, m in enumerate(self.tables("mount", data.get("mount", [])))]
+        mounts = [self.mount(i, m, names)
+                  for i, m in enumerate(self.tables("mount", data.get("mount", [])))]
         if bed.body is not None and bed.body not in names:
             self.fail("bed", f"body = {bed.body!r} is not a body (bodies: {', '.join(names)})")
         solver = self.solver(data.get("solver", {}))
@@ -330,7 +331,8 @@ class _Reader(ShapeReader):
             self.fail(where, str(exc))
 
     def coefficient_lists(self, where, key, value) -> list:
-        if not isinstance(value, list) or len(value) != 3 or not all(isinstance(v, list) for v in value):
+        if (not isinstance(value, list) or len(value) != 3
+                or not all(isinstance(v, list) for v in value)):
             self.fail(where, f"{key} must be 3 lists of coefficients (one per direction)")
         out = []
         for d, row in enumerate(value):

@@ -254,8 +254,8 @@ def read_file(path: str | os.PathLike, *, schema: str, major: int,
         raise
     except Exception as exc:  # h5py raises OSError/KeyError/RuntimeError on damage
         where = f" at dataset '{current}'" if current else ""
-        raise InputError(f"{path}: corrupt HDF5 file{where}: "
-                         f"{str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") from None
+        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise InputError(f"{path}: corrupt HDF5 file{where}: {first}") from None
     for name in required:
         if name not in datasets:
             raise InputError(f"{path}: dataset '{name}' is missing")

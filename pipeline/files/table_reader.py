@@ -101,7 +101,8 @@ class TableReader:
             self.fail(where, f"{key} = {short_repr(value)} holds a control character (a line "
                              f"break, a tab, …); names are one line of text")
         if choices is not None and value not in choices:
-            self.fail(where, f"{key} = {short_repr(value)} must be one of {', '.join(map(repr, choices))}")
+            self.fail(where, f"{key} = {short_repr(value)} "
+                             f"must be one of {', '.join(map(repr, choices))}")
         return value
 
     def tables(self, where, value) -> list:
