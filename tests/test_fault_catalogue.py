@@ -27,30 +27,7 @@ import pytest
 
 from flexbed.cli import main
 
-sys.path.insert(0, str(Path(__file__).parent))
-from scene_text import base_and_body  # noqa: E402
-
-_MOUNT = """
-[[mount]]
-name = "M{n}"
-body_i = "base"
-body_j = "mass"
-point_i = [{x}, {y}, 0.3]
-point_j = [{x}, {y}, -0.2]
-law = "linear"
-k = [{k}, {k}, {k}]
-"""
-
-
-def scene(*, mass="50.0", gravity="-9.81", inertia="[2.0, 3.0, 4.0]", k="1.0e5", extra="",
-          point_j_z="-0.2") -> str:
-    """A 50 kg body on four linear mounts above a fixed base (statics in
-    3 Newton steps); the arguments are pasted into the TOML as written."""
-    mounts = "".join(_MOUNT.format(n=i + 1, x=x, y=y, k=k).replace("-0.2]", f"{point_j_z}]")
-                     for i, (x, y) in enumerate([(-0.2, -0.2), (0.2, -0.2), (-0.2, 0.2),
-                                                 (0.2, 0.2)]))
-    return base_and_body("cat", mass=mass, gravity=gravity, inertia=inertia) + mounts + extra
-
+from scene_text import body_on_four_mounts as scene
 
 _DRIVE = """
 [base]

@@ -15,7 +15,7 @@ from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
 from flexbed.stages.system import compile_scene
 from flexbed.files.scene import load_scene
-from test_dyn_single_mount import K, M_BODY, Z0, free_vibration, one_mount
+from built_scenes import K, M_BODY, Z0, free_vibration, one_mount
 
 AMP = 0.01
 
