@@ -49,9 +49,8 @@ def check(system, run):
     return h
 
 
-def test_rigid_reference_scene():
-    sf = load_scene(None)
-    s = compile_scene(sf)
+def test_rigid_reference_scene(reference_system):
+    s = reference_system
     eq = solve_statics(s, tol=1e-6)
     run = integrate(s, eq.y, Settings("dop853", t_end=0.3, output_dt=0.002))
     check(s, run)
