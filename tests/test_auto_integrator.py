@@ -99,4 +99,4 @@ def test_the_results_file_says_which_method_ran_and_why(beta20, tmp_path, capsys
     solver = read_results(out).attrs["solver"]
     assert solver["method"] == "radau" and solver["method_requested"] == "auto"
     assert solver["method_reason"].startswith("auto: dop853 would be stability-bound")
-    assert 0.0 < solver["wall_time"] and solver["load_time"] >= 0.0
+    assert 0.0 < solver["wall_time"] and 0.0 < solver["load_time"]      # both measured

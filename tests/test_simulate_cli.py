@@ -33,7 +33,11 @@ def test_every_integrator_writes_a_complete_results_file(tmp_path, method, opts)
     assert c.attrs[""]["complete"] is True and c.attrs[""]["start"] == "equilibrium"
     st = c.attrs["solver"]
     assert st["method"] == method and st["steps"] > 0 and st["rhs_evaluations"] >= st["steps"]
-    assert st["rejected_steps"] >= 0 and st["wall_time"] > 0
+    assert st["wall_time"] > 0
+    if method == "rk4":                 # fixed steps: none rejected
+        assert st["rejected_steps"] == 0
+    else:                               # the first step's trials rejected, then few
+        assert 0 < st["rejected_steps"] < st["steps"] / 2
     assert c.units["bodies/position"] == "m" and c.units["mounts/force"] == "N"
     assert all(u is not None for u in c.units.values())
     t = c.get("time")
