@@ -132,7 +132,8 @@ def test_driven_base_follows_its_prescribed_displacement():
             if tau <= 0:
                 continue
             if tau <= r:
-                out_a[i], out_v[i], out_d[i] = P * tau / r, P * tau ** 2 / (2 * r), P * tau ** 3 / (6 * r)
+                out_a[i], out_v[i], out_d[i] = (P * tau / r, P * tau ** 2 / (2 * r),
+                                                P * tau ** 3 / (6 * r))
                 continue
             v1, d1 = P * r / 2, P * r ** 2 / 6
             u = min(tau - r, f)
@@ -158,7 +159,9 @@ def test_driven_base_follows_its_prescribed_displacement():
     def acc_y(u):
         return trap_f.value(u) + cur_f.value(u)
 
-    vel_y = lambda u: quad(acc_y, 0, u, points=[0.01, 0.03, 0.07, 0.1, 0.2], epsabs=1e-14, limit=200)[0]
+    def vel_y(u):
+        return quad(acc_y, 0, u, points=[0.01, 0.03, 0.07, 0.1, 0.2], epsabs=1e-14, limit=200)[0]
+
     d_end = quad(vel_y, 0, 0.35, points=[0.01, 0.03, 0.07, 0.1, 0.2], epsabs=1e-13, limit=200)[0]
     assert abs(pos[-1, 1] - d_end) < 1e-10
     # the bodies feel it: the bed has moved with the base

@@ -150,7 +150,8 @@ CASES = [
     _extra_case("bed-nx-10**30", f"[bed]\nnx = {10 ** 30}\n", ("bed", "nx")),
     _extra_case("bed-nx-10000-ny-10", "[bed]\nnx = 10000\nny = 10\n",
                 ("bed", "nx = 10000, ny = 10", "degrees of freedom", "250,000")),
-    _extra_case("bed-length-1e308", "[bed]\nlength_x = 1e308\n", ("bed", "length_x", "out of range")),
+    _extra_case("bed-length-1e308", "[bed]\nlength_x = 1e308\n",
+                ("bed", "length_x", "out of range")),
     _extra_case("bed-poisson-0.5", "[bed]\npoisson = 0.5\n", ("bed", "poisson")),
     Case("toml-nested-2000", _static("a = " + "[" * 2000 + "]" * 2000 + "\n"), 2,
          ("s.toml", "nested too deeply")),
@@ -235,7 +236,7 @@ def _snapshot(folder: Path) -> dict:
     """Every regular file under ``folder`` (not following links) and a hash
     of its content."""
     out = {}
-    for root, dirs, files in os.walk(folder):
+    for root, _, files in os.walk(folder):
         for f in files:
             p = Path(root) / f
             if p.is_file() and not p.is_symlink():

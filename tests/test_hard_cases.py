@@ -33,7 +33,8 @@ import pytest
 from scipy.special import ellipj, ellipk
 
 from flexbed.dynamics.history import history
-from flexbed.dynamics.integrate import Settings, integrate, motion_eigenvalues, stable_step, stiff_message
+from flexbed.dynamics.integrate import (Settings, integrate, motion_eigenvalues, stable_step,
+                                        stiff_message)
 from flexbed.dynamics.rotation import A as rotation_matrix
 from flexbed.dynamics.statics import solve_statics
 from flexbed.cli import main as flexbed
@@ -141,7 +142,8 @@ def test_beta20_explicit_methods_refuse_with_one_line(beta20):
         assert run.t.size == 1 and np.all(np.isfinite(run.y))
         assert "\n" not in run.message
         m = re.fullmatch(r"stiff scene: the fastest rate (\S+) 1/s limits (\w+) to steps below "
-                         r"(\S+) s \((.*)\); use integrator = \"auto\", \"radau\" or \"bdf\"", run.message)
+                         r"(\S+) s \((.*)\); use integrator = \"auto\", \"radau\" or \"bdf\"",
+                         run.message)
         assert m and m[2] == method
         assert float(m[1]) == pytest.approx(rho, rel=0.05)
         bound = 6.39 if method == "dop853" else 2.785

@@ -34,7 +34,7 @@ from scene_text import base_and_body, four_mounts
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
 
-MOUNTS = four_mounts(f"""
+MOUNTS = four_mounts("""
 law = "linear"
 k = [1.0e5, 1.0e5, 1.0e5]
 c = [5.0, 5.0, 5.0]

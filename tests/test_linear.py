@@ -48,7 +48,7 @@ def _exact_sdof(t, omega2, pieces):
     for (tk, al, be), tb in zip(pieces, bounds):
         C, D = u + al / omega2, (v + be / omega2) / w
 
-        def state(tau):
+        def state(tau, al=al, be=be, C=C, D=D, d=d, dv=dv):     # this piece's constants
             uu = -(al + be * tau) / omega2 + C * np.cos(w * tau) + D * np.sin(w * tau)
             dd = d + dv * tau + al * tau ** 2 / 2 + be * tau ** 3 / 6
             return uu, dd
@@ -195,7 +195,7 @@ UNSTABLE = base_and_body("unstable", gravity=0.0, mass=10.0, inertia="[1.0, 1.0,
 
 [solver]
 t_end = 0.5
-""" + four_mounts(f"""
+""" + four_mounts("""
 law = "polynomial"
 stiffness = [[0.0, 1.0e4], [0.0, 1.0e4], [0.0, -1.0e4, 0.0, 1.0e8]]
 """)

@@ -87,8 +87,13 @@ def test_local_cubics_reproduce_cubics_and_integrate_them_exactly():
     rng = np.random.default_rng(2)
     tn = np.cumsum(rng.uniform(0.5, 1.5, 11))
     coeff = rng.standard_normal((4, 3))
-    poly = lambda t: np.stack([np.polyval(coeff[::-1, j], t) for j in range(3)], axis=1)
-    prim = lambda t: np.stack([np.polyval(np.polyint(coeff[::-1, j]), t) for j in range(3)], axis=1)
+
+    def poly(t):
+        return np.stack([np.polyval(coeff[::-1, j], t) for j in range(3)], axis=1)
+
+    def prim(t):
+        return np.stack([np.polyval(np.polyint(coeff[::-1, j]), t) for j in range(3)], axis=1)
+
     tq = np.sort(rng.uniform(tn[0], tn[-1], 50))
     tq[0], tq[-1] = tn[0], tn[-1]
     C = _cubics(tn, poly(tn))
@@ -146,8 +151,13 @@ def test_hermite_peak_and_largest_motion():
     nodes = np.append(np.arange(0, t.size, 8), t.size - 1)
     a, b = rng.standard_normal(12), 0.1 * rng.standard_normal(12)
     # largest near t = 0.53, between the nodes 0.5 and 0.583
-    V = lambda s: np.outer(1.0 - 4.0 * (s - 0.53) ** 2, a) + np.outer((s - 0.53) ** 3, b)
-    Vd = lambda s: np.outer(-8.0 * (s - 0.53), a) + np.outer(3.0 * (s - 0.53) ** 2, b)
+
+    def V(s):
+        return np.outer(1.0 - 4.0 * (s - 0.53) ** 2, a) + np.outer((s - 0.53) ** 3, b)
+
+    def Vd(s):
+        return np.outer(-8.0 * (s - 0.53), a) + np.outer(3.0 * (s - 0.53) ** 2, b)
+
     every = V(t)
     ref = np.sqrt(np.max(np.sum(every.reshape(t.size, 4, 3) ** 2, axis=2)))
     got = hermite_peak(t, nodes, V(t[nodes]), Vd(t[nodes]))
