@@ -406,6 +406,7 @@ def _limit_file_size(limit: int):
     return preexec
 
 
+@pytest.mark.slow
 def test_a_full_disk_leaves_nothing_and_says_what_to_do(tmp_path):
     """A file size limit (RLIMIT_FSIZE, as a full disk would: the write
     fails with EFBIG) while the equilibrium file is written: one line, exit

@@ -90,6 +90,7 @@ def test_patch_tests_constant_strain_and_constant_curvature(kind):
     assert abs(shear) <= 1e-13 * np.abs(model.K_shear).max() * np.abs(bending).max() ** 2
 
 
+@pytest.mark.slow
 def test_no_shear_locking_at_t_over_l_1_1000():
     """t/L = 1/1000 on triangles: against the converged thin-plate
     (Kirchhoff) values the error is the mesh's; the largest falls as h²
@@ -107,6 +108,7 @@ def test_no_shear_locking_at_t_over_l_1_1000():
     assert np.all(err[2] < err[1]) and np.all(err[1] < err[0]), err
 
 
+@pytest.mark.slow
 def test_nafems_fv12_on_triangles():
     """NAFEMS FV12 on 2 x 48 x 48 triangles within 0.15 % of 1.622, 2.360,
     2.922 and Leissa's 4.190, 4.190, 7.356 Hz (−0.12, −0.00, +0.03, −0.05,
@@ -119,6 +121,7 @@ def test_nafems_fv12_on_triangles():
     assert np.all(np.abs(err[1][[2, 5]]) < 0.25 * np.abs(err[0][[2, 5]])), err
 
 
+@pytest.mark.slow
 def test_reference_bed_on_triangles_against_the_3d_solid():
     """2 x 20 x 120 triangles (5 cm squares halved): the first seven elastic
     modes within 0.35 % of the 3D solid (torsion +0.33 %, +0.35 %; the rest

@@ -34,6 +34,7 @@ from flexbed.errors import FlexbedError
 from flexbed.files.toml_text import dumps
 from scene_text import body_on_four_mounts
 
+pytestmark = pytest.mark.slow             # hundreds of mutants through the command
 
 BASE = tomllib.loads(body_on_four_mounts(extra='\n[solver]\nstatic_tol = 1e-6\n'))
 

@@ -128,6 +128,7 @@ def _simulate(tmp_path, *args):
     return cp, out
 
 
+@pytest.mark.slow
 def test_auto_picks_linear_below_the_tolerance(tmp_path):
     cp, out = _simulate(tmp_path, "--model", "auto")
     assert cp.returncode == 0, cp.stderr
@@ -137,6 +138,7 @@ def test_auto_picks_linear_below_the_tolerance(tmp_path):
     assert attrs["linear_estimated_error"] < 1e-6
 
 
+@pytest.mark.slow
 def test_auto_falls_back_to_nonlinear_above_the_tolerance(tmp_path):
     cp, out = _simulate(tmp_path, "--model", "auto", "--linear-tol", "1e-20")
     assert cp.returncode == 0, cp.stderr
@@ -145,6 +147,7 @@ def test_auto_falls_back_to_nonlinear_above_the_tolerance(tmp_path):
     assert attrs["model"] == "nonlinear" and attrs["method"] == "dop853"
 
 
+@pytest.mark.slow
 def test_bad_linear_tol_is_one_line(tmp_path):
     cp, out = _simulate(tmp_path, "--model", "auto", "--linear-tol", "-1")
     assert cp.returncode == 2
