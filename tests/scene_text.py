@@ -1,6 +1,13 @@
 """The two-body scene most hand-written test scenes start from: a heavy
 base and one body above it, as TOML text to which a test appends its
-mounts, base motion and solver settings."""
+mounts, base motion and solver settings; and that body on four linear
+mounts, the fault catalogue's scene, which the fuzzer and the sanity
+checks mutate too.
+
+A plain module, not fixtures: test modules build their scene texts at
+import time (module constants, parametrisations, Hypothesis strategies).
+It imports by its plain name because pytest puts this folder on
+``sys.path`` (see ``conftest.py``)."""
 
 
 def base_and_body(name: str, *, gravity: float = -9.81, mass: float = 50.0,
@@ -43,3 +50,27 @@ point_i = [{x}, {y}, 0.5]
 point_j = [{x}, {y}, 0.0]
 {law.strip()}
 """ for i, (x, y) in enumerate(corners, 1))
+
+
+_LINEAR_MOUNT = """
+[[mount]]
+name = "M{n}"
+body_i = "base"
+body_j = "mass"
+point_i = [{x}, {y}, 0.3]
+point_j = [{x}, {y}, -0.2]
+law = "linear"
+k = [{k}, {k}, {k}]
+"""
+
+
+def body_on_four_mounts(*, mass="50.0", gravity="-9.81", inertia="[2.0, 3.0, 4.0]", k="1.0e5",
+                        extra="", point_j_z="-0.2") -> str:
+    """A 50 kg body on four linear mounts above a fixed base (statics in
+    3 Newton steps); the arguments are pasted into the TOML as written.
+    M1's ``point_j`` is the first ``-0.2]`` of the text."""
+    mounts = "".join(_LINEAR_MOUNT.format(n=i + 1, x=x, y=y, k=k)
+                     .replace("-0.2]", f"{point_j_z}]")
+                     for i, (x, y) in enumerate([(-0.2, -0.2), (0.2, -0.2), (-0.2, 0.2),
+                                                 (0.2, 0.2)]))
+    return base_and_body("cat", mass=mass, gravity=gravity, inertia=inertia) + mounts + extra

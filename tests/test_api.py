@@ -181,6 +181,7 @@ def test_compare_rows(flexible_scene):
     assert "| equipment A | damped |" in c.table()
 
 
+@pytest.mark.slow
 def test_the_example_runs(tmp_path):
     cp = subprocess.run([sys.executable, str(ROOT / "docs" / "api_example.py")], cwd=tmp_path,
                         capture_output=True, text=True, timeout=600)

@@ -17,6 +17,9 @@ from flexbed.bench.dynamics import (Measurement, classify, fastest_reaching, obs
 from flexbed.bench.report import SECTIONS, write_report
 from flexbed.cli import main
 
+#: every test here is a bench test; those on the report (about a minute) are slow too
+pytestmark = pytest.mark.bench
+
 T_END = 0.5
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -33,6 +36,7 @@ def report(tmp_path_factory):
     return write_report(out, quick=True, t_end=T_END)
 
 
+@pytest.mark.slow
 def test_files_the_report_did_not_write_are_left_alone(report):
     out = report.path.parent
     for name, data in FOREIGN.items():
@@ -42,6 +46,7 @@ def test_files_the_report_did_not_write_are_left_alone(report):
                                            [out / name for name in FOREIGN])
 
 
+@pytest.mark.slow
 def test_report_and_every_figure_are_written(report):
     text = report.path.read_text()
     assert report.path.name == "benchmarks.md"
@@ -57,6 +62,7 @@ def test_report_and_every_figure_are_written(report):
     assert "not comparable" in text
 
 
+@pytest.mark.slow
 def test_every_integrator_ran_on_every_quick_case(report):
     rows = report.ctx.results["integrators"]
     assert set(rows) == {"rigid", "flexible"}
@@ -67,6 +73,7 @@ def test_every_integrator_ran_on_every_quick_case(report):
             assert m.ok and 0 < m.position_error < 1e-4 and 0 < m.force_error < 10.0
 
 
+@pytest.mark.slow
 def test_reference_is_far_more_accurate_than_the_ladders(report):
     for key, ref in report.ctx.results["references"].items():
         ok = [m for m in report.ctx.results["integrators"][key] if m.ok]
@@ -74,12 +81,14 @@ def test_reference_is_far_more_accurate_than_the_ladders(report):
         assert 0 < ref.force_error < 0.05 * min(m.force_error for m in ok), key
 
 
+@pytest.mark.slow
 def test_rk4_converges_at_fourth_order(report):
     for key in ("rigid", "flexible"):
         orders = observed_orders(report.ctx.results["integrators"][key])
         assert orders and all(3.6 < p < 4.4 for p in orders), (key, orders)
 
 
+@pytest.mark.slow
 def test_truncation_error_falls_as_modes_are_kept(report):
     runs = report.ctx.results["modes_count"]["runs"]
     for attr in ("position_error", "motion_error", "force_error"):
@@ -88,12 +97,14 @@ def test_truncation_error_falls_as_modes_are_kept(report):
         assert e[-1] < 0.5 * e[0], (attr, e)
 
 
+@pytest.mark.slow
 def test_mesh_error_falls_with_refinement(report):
     rows = report.ctx.results["mesh"]
     errs = [r.error for r in rows]
     assert errs[-1] == 0.0 and all(b < a for a, b in zip(errs, errs[1:]))
 
 
+@pytest.mark.slow
 def test_first_order_invariants_differ_slightly_from_full(report):
     full, first = report.ctx.results["invariants"]["flexible"]
     assert full.position_error < 1e-7                     # the integrator's own error
@@ -101,6 +112,7 @@ def test_first_order_invariants_differ_slightly_from_full(report):
     assert 0 < d < 1e-6
 
 
+@pytest.mark.slow
 def test_aims_name_the_fastest_setting_reaching_each_error(report):
     verdicts = report.ctx.results["aims"]
     assert set(verdicts) == {(k, e) for k in ("rigid", "flexible") for e in (1e-6, 1e-9)}
@@ -110,6 +122,7 @@ def test_aims_name_the_fastest_setting_reaching_each_error(report):
     assert best.wall_time == min(m.wall_time for m in rows if m.ok and m.position_error <= 1e-6)
 
 
+@pytest.mark.slow
 def test_settings_over_budget_are_skipped_with_the_prediction(report):
     ctx = report.ctx
     rows = run_ladders(ctx.case("rigid"), ctx.reference("rigid"),
@@ -156,6 +169,7 @@ def test_sections_are_a_named_list():
         write_report("unused", sections=["nonsense"])
 
 
+@pytest.mark.slow
 def test_bench_rigid_sub_report_through_the_command(tmp_path, capsys, monkeypatch):
     """Run from a project's root, bench writes into ./flexbed-bench and
     leaves docs/ (the project's own report) alone."""
@@ -189,6 +203,7 @@ def test_bench_positionals_target_then_scene(capsys):
     assert len(err) == 1 and "target 'nonsense' is not one of all, modes" in err[0]
 
 
+@pytest.mark.slow
 def test_frequency_section_times_modal_and_frf_on_both_beds(report):
     res = report.ctx.results["frequency"]
     assert "## The mounted system in the frequency domain" in report.path.read_text()
@@ -199,6 +214,7 @@ def test_frequency_section_times_modal_and_frf_on_both_beds(report):
     assert flexible["adaptive_frequencies"] > 400
 
 
+@pytest.mark.slow
 def test_beds_section_puts_both_theories_against_the_3d_solid(report):
     from flexbed.bench.beds import SOLID, SOLID_IN_PLANE
     res = report.ctx.results["beds"]

@@ -130,6 +130,7 @@ def test_missing_scene_file(tmp_path, capsys):
     assert code == 2 and "nope.toml" in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_run_writes_every_stage_into_the_folder(tmp_path, capsys):
     code, out, err = run(capsys, "run", "-o", str(tmp_path / "out"))
     assert code == 0, err

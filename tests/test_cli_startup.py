@@ -49,6 +49,7 @@ def test_version_help_and_scene_import_nothing_heavy(argv):
         assert "[[mount]]" in out
 
 
+@pytest.mark.slow
 def test_simulate_does_not_import_plotting_or_fem(tmp_path):
     code, out, imported = probe("simulate", "-o", str(tmp_path / "r.h5"), "--t-end", "0.05",
                                 "--no-progress", cwd=tmp_path)
@@ -56,6 +57,7 @@ def test_simulate_does_not_import_plotting_or_fem(tmp_path):
     assert not imported & {"matplotlib", "skfem", "meshio", "dask", "distributed"}, imported
 
 
+@pytest.mark.slow
 def test_a_whole_simulate_of_the_built_in_scene_skips_scipy_integrate_and_interpolate(tmp_path):
     """The built-in scene's run (auto → dop853, curve data through our own
     spline) needs neither scipy.integrate's package (the DOP853

@@ -27,6 +27,7 @@ def scene(tmp_path, *edits, name="s.toml"):
     return path
 
 
+@pytest.mark.slow
 def test_reference_scene_rigid_flexible_damped(tmp_path, capsys):
     """Paper section 5.2: with the flexible bed the equipment sits lower and
     its vertical motion is slightly delayed; with beta = 0.01 its amplitude
@@ -133,6 +134,7 @@ def test_a_delay_beyond_the_window_is_said_so(shift, side):
 
 # ---------------------------------------------------- integrator and end time
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["compare", "run"])
 def test_integrator_and_t_end_options(tmp_path, capsys, command):
     out = tmp_path / command

@@ -5,7 +5,6 @@ whose frequency would force trillions of steps."""
 import math
 
 import numpy as np
-import pytest
 
 from flexbed.cli import main as flexbed
 from flexbed.files.results import read_results

@@ -16,7 +16,8 @@ def bed_and_box(*, l0_zero: bool, isotropic: bool):
     """Fixed base, a bed on 4 mounts from the base, a box on 4 mounts from the bed."""
     bodies = (Body("base", 1e5, (1e5, 1e5, 1e5), (0, 0, 0)),
               Body("bed", 300.0, (60.0, 20.0, 75.0), (0, 0, 1.0)),
-              Body("box", 40.0, ([3.0, 0.2, 0.0], [0.2, 2.0, 0.1], [0.0, 0.1, 4.0]), (0.1, 0.2, 1.3)))
+              Body("box", 40.0, ([3.0, 0.2, 0.0], [0.2, 2.0, 0.1], [0.0, 0.1, 4.0]),
+                   (0.1, 0.2, 1.3)))
     mounts = []
     for n, (sx, sy) in enumerate(SIGNS):
         mounts.append(Mount(f"b{n}", "base", "bed", (0.6 * sx, 0.9 * sy, 0.5),

@@ -23,7 +23,8 @@ def bed():
     return compute_bed_modes(PlateSpec(), n_modes=4)
 
 
-def flexible(bed, n, *, C=None, points=np.zeros((0, 3)), shapes=None, full=True):
+def flexible(bed, n, *, C=None, points=None, shapes=None, full=True):
+    points = np.zeros((0, 3)) if points is None else points
     inv = bed.invariants
     k = slice(0, n)
     K = inv.modal_stiffness[k, k]

@@ -10,28 +10,11 @@ from flexbed.dynamics.history import history
 from flexbed.dynamics.integrate import Settings, integrate
 from flexbed.dynamics.laws import CurveLaw, LinearLaw, PolynomialLaw
 from flexbed.dynamics.rotation import A, p_from_angles
-from flexbed.dynamics.scene import Base, Body, Drive, Load, Mount, Scene
+from flexbed.dynamics.scene import Base, Body, Drive, Load, Scene
 from flexbed.dynamics.time_functions import Curve, Sinusoid, Trapezoid, Triangle, sampled
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
-
-SIGNS = [(-1, -1), (-1, 1), (1, -1), (1, 1)]
-K_BED, K_EQ, C_EQ = 5.0e5, 1.0e5, 300.0
-
-
-def scene(eq_laws, axes=np.eye(3), base=None, bed_axes=np.eye(3)):
-    """Base, bed on 4 mounts, one piece of equipment on 4 mounts (reference-like)."""
-    bodies = (Body("base", 1e6, (2.2e8, 4.2e4, 2.4e8), (0, 0, 0)),
-              Body("bed", 2995.2, (5753.28, 162.24, 5910.53), (0, 0, 5.1)),
-              Body("eq", 100.0, (9.1, 2.8, 10.4), (0.05, 0.3, 5.35)))
-    mounts = [Mount(f"b{n}", "base", "bed", (0.4 * sx, 2.4 * sy, 5.0), (0.4 * sx, 2.4 * sy, 0.0),
-                    bed_axes, (LinearLaw(K_BED),) * 3) for n, (sx, sy) in enumerate(SIGNS)]
-    mounts += [Mount(f"e{n}", "bed", "eq", (0.05 + 0.24 * sx, 0.3 + 0.48 * sy, 0.0),
-                     (0.24 * sx, 0.48 * sy, -0.15), axes, eq_laws) for n, (sx, sy) in enumerate(SIGNS)]
-    base = base or Base("free", loads=(Load(2, sampled(Sinusoid(1e6, 5.0, 0.0, 0.0, 0.4), 1e-3)),
-                                       Load(0, Triangle(3e5, 0.05, 0.1, 0.1))),
-                        support="static")
-    return Scene(bodies, base, tuple(mounts), (0.0, 0.0, -9.81), "t")
+from built_scenes import C_EQ, K_EQ, bed_and_equipment
 
 
 def perturbed_run(sc, t_end=0.6, dt=1e-3):
@@ -57,11 +40,11 @@ def test_isotropic_undamped_mounts_make_the_tilt_irrelevant():
     of the axes) moves exactly as on upright mounts, to round-off — here in a
     fully three-dimensional motion."""
     laws = (LinearLaw(K_EQ),) * 3
-    s, upright = perturbed_run(scene(laws))
+    s, upright = perturbed_run(bed_and_equipment(laws))
     tilt45 = A(p_from_angles(math.radians(45), 0, 0)).T
-    _, tilted = perturbed_run(scene(laws, axes=tilt45))
+    _, tilted = perturbed_run(bed_and_equipment(laws, axes=tilt45))
     odd = A(p_from_angles(0.4, -0.7, 1.2)).T
-    _, skewed = perturbed_run(scene(laws, axes=odd))
+    _, skewed = perturbed_run(bed_and_equipment(laws, axes=odd))
     ref = motion(s, upright)
     assert np.max(np.abs(ref - ref[0])) > 1e-3                      # it does move
     assert np.max(np.abs(motion(s, tilted) - ref)) < 1e-12
@@ -70,9 +53,9 @@ def test_isotropic_undamped_mounts_make_the_tilt_irrelevant():
 
 def test_tilt_matters_when_mounts_are_not_isotropic():
     laws = (LinearLaw(K_EQ), LinearLaw(2 * K_EQ), LinearLaw(K_EQ))
-    s, upright = perturbed_run(scene(laws), t_end=0.2)
-    _, tilted = perturbed_run(scene(laws, axes=A(p_from_angles(math.radians(45), 0, 0)).T),
-                              t_end=0.2)
+    s, upright = perturbed_run(bed_and_equipment(laws), t_end=0.2)
+    tilt45 = A(p_from_angles(math.radians(45), 0, 0)).T
+    _, tilted = perturbed_run(bed_and_equipment(laws, axes=tilt45), t_end=0.2)
     assert np.max(np.abs(motion(s, tilted) - motion(s, upright))) > 1e-4
 
 
@@ -87,9 +70,9 @@ def test_polynomial_and_curve_laws_reproduce_the_linear_law():
     v = np.linspace(-3.0, 3.0, 7)
     curve = tuple(CurveLaw((x, k * x), (v, C_EQ * v)) for k in ks)
     axes = A(p_from_angles(0.3, 0.2, -0.5)).T
-    s, a = perturbed_run(scene(linear, axes=axes))
-    _, b = perturbed_run(scene(poly, axes=axes))
-    _, c = perturbed_run(scene(curve, axes=axes))
+    s, a = perturbed_run(bed_and_equipment(linear, axes=axes))
+    _, b = perturbed_run(bed_and_equipment(poly, axes=axes))
+    _, c = perturbed_run(bed_and_equipment(curve, axes=axes))
     assert np.max(np.abs(motion(s, b) - motion(s, a))) < 1e-12
     assert np.max(np.abs(motion(s, c) - motion(s, a))) < 1e-12
 
@@ -97,7 +80,7 @@ def test_polynomial_and_curve_laws_reproduce_the_linear_law():
 def test_mount_forces_are_equal_and_opposite_and_follow_eq_4():
     laws = (LinearLaw(K_EQ, C_EQ), LinearLaw(2 * K_EQ), LinearLaw(K_EQ, 2 * C_EQ))
     axes = A(p_from_angles(0.3, 0.2, -0.5)).T
-    s, run = perturbed_run(scene(laws, axes=axes), t_end=0.3)
+    s, run = perturbed_run(bed_and_equipment(laws, axes=axes), t_end=0.3)
     h = history(s, run.t, run.y)
     assert np.array_equal(h["force_i"], -h["force_j"])
     # eq. 4 from the stored quantities: F_i = Σ_k f_k u_k, u_k = A(p_i) ū_k
@@ -123,7 +106,7 @@ def test_driven_base_follows_its_prescribed_displacement():
     tc = np.linspace(0.1, 0.2, 11)
     cur = Curve(tc, 3.0 * (tc - 0.1))          # straight line: spline is exact
     base = Base("driven", drives=(Drive(0, sin), Drive(2, tri), Drive(1, trap), Drive(1, cur)))
-    s = System(scene((LinearLaw(K_EQ, C_EQ),) * 3, base=base))
+    s = System(bed_and_equipment((LinearLaw(K_EQ, C_EQ),) * 3, base=base))
     eq = solve_statics(s)
     run = integrate(s, eq.y, Settings("dop853", t_end=0.35, rtol=1e-8, atol=1e-10, output_dt=0.005))
     assert run.complete
@@ -149,7 +132,8 @@ def test_driven_base_follows_its_prescribed_displacement():
             if tau <= 0:
                 continue
             if tau <= r:
-                out_a[i], out_v[i], out_d[i] = P * tau / r, P * tau ** 2 / (2 * r), P * tau ** 3 / (6 * r)
+                out_a[i], out_v[i], out_d[i] = (P * tau / r, P * tau ** 2 / (2 * r),
+                                                P * tau ** 3 / (6 * r))
                 continue
             v1, d1 = P * r / 2, P * r ** 2 / 6
             u = min(tau - r, f)
@@ -175,7 +159,9 @@ def test_driven_base_follows_its_prescribed_displacement():
     def acc_y(u):
         return trap_f.value(u) + cur_f.value(u)
 
-    vel_y = lambda u: quad(acc_y, 0, u, points=[0.01, 0.03, 0.07, 0.1, 0.2], epsabs=1e-14, limit=200)[0]
+    def vel_y(u):
+        return quad(acc_y, 0, u, points=[0.01, 0.03, 0.07, 0.1, 0.2], epsabs=1e-14, limit=200)[0]
+
     d_end = quad(vel_y, 0, 0.35, points=[0.01, 0.03, 0.07, 0.1, 0.2], epsabs=1e-13, limit=200)[0]
     assert abs(pos[-1, 1] - d_end) < 1e-10
     # the bodies feel it: the bed has moved with the base

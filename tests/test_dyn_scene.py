@@ -83,7 +83,8 @@ def test_mount_and_scene_checks():
     left = np.diag([1.0, 1.0, -1.0])
     cases = [
         (lambda: Mount("m", "g", "b", (0, 0, 0), (0, 0, 0), left, lin), "left-handed"),
-        (lambda: Mount("m", "g", "b", (0, 0, 0), (0, 0, 0), np.eye(3) * 1.01, lin), "not orthonormal"),
+        (lambda: Mount("m", "g", "b", (0, 0, 0), (0, 0, 0), np.eye(3) * 1.01, lin),
+         "not orthonormal"),
         (lambda: Mount("m", "g", "g", (0, 0, 0), (0, 0, 0), np.eye(3), lin), "both 'g'"),
         (lambda: LinearLaw(-5.0), "k = -5.0 must be > 0"),
         (lambda: PolynomialLaw(tuple(range(10))), "degree 9"),
@@ -95,7 +96,8 @@ def test_mount_and_scene_checks():
         (lambda: Base("fixed", drives=(Drive(2, Triangle(1, 1, 1)),)), "motion = 'driven'"),
         (lambda: Base("driven", loads=(Load(2, Triangle(1, 1, 1)),)), "act only on a free base"),
         (lambda: Scene(bodies + (Body(**BODY),)), "name is used twice"),
-        (lambda: Scene(bodies, mounts=(Mount("m", "g", "x", (0, 0, 0), (0, 0, 0), np.eye(3), lin),)),
+        (lambda: Scene(bodies, mounts=(Mount("m", "g", "x", (0, 0, 0), (0, 0, 0), np.eye(3),
+                                             lin),)),
          "body_j = 'x' is not a body"),
     ]
     for make, message in cases:

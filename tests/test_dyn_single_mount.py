@@ -7,28 +7,10 @@ import numpy as np
 import pytest
 
 from flexbed.dynamics.integrate import Settings, integrate
-from flexbed.dynamics.laws import LinearLaw
-from flexbed.dynamics.scene import Base, Body, Drive, Mount, Scene
+from flexbed.dynamics.scene import Base, Drive
 from flexbed.dynamics.time_functions import Sinusoid
 from flexbed.dynamics.system import System
-
-M_BODY = 50.0
-K = 2.0e4           # N/m
-Z0 = 1.0
-
-
-def one_mount(c=0.0, base=None):
-    """A 50 kg body hanging on one mount attached at its centre of mass, no gravity."""
-    bodies = (Body("ground", 1e3, (1.0, 1.0, 1.0), (0, 0, 0)),
-              Body("box", M_BODY, (2.0, 3.0, 4.0), (0, 0, Z0)))
-    mount = Mount("m", "ground", "box", (0, 0, Z0), (0, 0, 0), np.eye(3), (LinearLaw(K, c),) * 3)
-    return Scene(bodies, base or Base("fixed"), (mount,), (0.0, 0.0, 0.0), "one")
-
-
-def free_vibration(system, amp, zeta, t):
-    wn = math.sqrt(K / M_BODY)
-    wd = wn * math.sqrt(1 - zeta ** 2)
-    return amp * np.exp(-zeta * wn * t) * (np.cos(wd * t) + zeta * wn / wd * np.sin(wd * t))
+from built_scenes import K, M_BODY, Z0, free_vibration, one_mount
 
 
 @pytest.mark.parametrize("zeta", [0.0, 0.05])

@@ -27,30 +27,7 @@ import pytest
 
 from flexbed.cli import main
 
-sys.path.insert(0, str(Path(__file__).parent))
-from scene_text import base_and_body  # noqa: E402
-
-_MOUNT = """
-[[mount]]
-name = "M{n}"
-body_i = "base"
-body_j = "mass"
-point_i = [{x}, {y}, 0.3]
-point_j = [{x}, {y}, -0.2]
-law = "linear"
-k = [{k}, {k}, {k}]
-"""
-
-
-def scene(*, mass="50.0", gravity="-9.81", inertia="[2.0, 3.0, 4.0]", k="1.0e5", extra="",
-          point_j_z="-0.2") -> str:
-    """A 50 kg body on four linear mounts above a fixed base (statics in
-    3 Newton steps); the arguments are pasted into the TOML as written."""
-    mounts = "".join(_MOUNT.format(n=i + 1, x=x, y=y, k=k).replace("-0.2]", f"{point_j_z}]")
-                     for i, (x, y) in enumerate([(-0.2, -0.2), (0.2, -0.2), (-0.2, 0.2),
-                                                 (0.2, 0.2)]))
-    return base_and_body("cat", mass=mass, gravity=gravity, inertia=inertia) + mounts + extra
-
+from scene_text import body_on_four_mounts as scene
 
 _DRIVE = """
 [base]
@@ -173,7 +150,8 @@ CASES = [
     _extra_case("bed-nx-10**30", f"[bed]\nnx = {10 ** 30}\n", ("bed", "nx")),
     _extra_case("bed-nx-10000-ny-10", "[bed]\nnx = 10000\nny = 10\n",
                 ("bed", "nx = 10000, ny = 10", "degrees of freedom", "250,000")),
-    _extra_case("bed-length-1e308", "[bed]\nlength_x = 1e308\n", ("bed", "length_x", "out of range")),
+    _extra_case("bed-length-1e308", "[bed]\nlength_x = 1e308\n",
+                ("bed", "length_x", "out of range")),
     _extra_case("bed-poisson-0.5", "[bed]\npoisson = 0.5\n", ("bed", "poisson")),
     Case("toml-nested-2000", _static("a = " + "[" * 2000 + "]" * 2000 + "\n"), 2,
          ("s.toml", "nested too deeply")),
@@ -258,7 +236,7 @@ def _snapshot(folder: Path) -> dict:
     """Every regular file under ``folder`` (not following links) and a hash
     of its content."""
     out = {}
-    for root, dirs, files in os.walk(folder):
+    for root, _, files in os.walk(folder):
         for f in files:
             p = Path(root) / f
             if p.is_file() and not p.is_symlink():
@@ -428,6 +406,7 @@ def _limit_file_size(limit: int):
     return preexec
 
 
+@pytest.mark.slow
 def test_a_full_disk_leaves_nothing_and_says_what_to_do(tmp_path):
     """A file size limit (RLIMIT_FSIZE, as a full disk would: the write
     fails with EFBIG) while the equilibrium file is written: one line, exit

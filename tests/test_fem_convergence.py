@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import pytest
 import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
@@ -91,6 +92,7 @@ def test_local_element_equals_scikit_fem_bfs_on_the_reference_mesh():
     assert abs(K_global - model.K).max() < 1e-9 * abs(model.K).max()
 
 
+@pytest.mark.slow
 def test_symmetric_static_solution_stays_symmetric_on_80x80():
     """The known caution: scikit-fem's global-coordinate BFS basis loses
     digits on fine meshes. With the local-coordinate element a symmetric
@@ -118,6 +120,7 @@ def mirror_x(model, K):
     return S @ K[perm][:, perm] @ S, K
 
 
+@pytest.mark.slow
 def test_local_element_stiffness_is_mirror_symmetric_on_80x80():
     """At the element level: the plate is symmetric under x -> -x, so is its
     stiffness matrix. The local element keeps that to round-off; scikit-fem's

@@ -110,6 +110,7 @@ def test_second_moments_match_the_mass_matrix(bed):
     assert np.allclose(trace, phi.T @ model.M @ phi, rtol=0, atol=1e-14)
 
 
+@pytest.mark.slow
 def test_grid_shapes_reproduce_the_fe_field(bed):
     """Mode shapes from the modes-file data (nodal translation, rotation,
     twist) evaluated between nodes equal the FE field there."""

@@ -116,6 +116,7 @@ def test_plate_inputs_out_of_range(entry, value):
         PlateSpec(**{entry: value})
 
 
+@pytest.mark.slow
 def test_whole_stage_on_100x100_keeps_the_frequencies():
     """10 000 elements: the assembled model still reproduces the converged
     frequencies (the 40 x 40 values within the discretisation error)."""

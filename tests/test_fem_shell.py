@@ -20,6 +20,7 @@ FV12 = dict(length_x=10.0, length_y=10.0, young=2e11, poisson=0.3, density=8000.
 SOLID = np.array([23.144, 63.807, 80.281, 124.997, 163.317, 169.63, 206.168])
 
 
+@pytest.mark.slow
 def test_nafems_fv12_free_square_plate():
     """NAFEMS FV12 (1.622, 2.360, 2.922 Hz) and Leissa's 4.190, 4.190,
     7.356 Hz, within 0.2 % on 64 x 64 MITC4 elements."""

@@ -90,6 +90,7 @@ def test_patch_tests_constant_strain_and_constant_curvature(kind):
     assert abs(shear) <= 1e-13 * np.abs(model.K_shear).max() * np.abs(bending).max() ** 2
 
 
+@pytest.mark.slow
 def test_no_shear_locking_at_t_over_l_1_1000():
     """t/L = 1/1000 on triangles: against the converged thin-plate
     (Kirchhoff) values the error is the mesh's; the largest falls as h²
@@ -107,6 +108,7 @@ def test_no_shear_locking_at_t_over_l_1_1000():
     assert np.all(err[2] < err[1]) and np.all(err[1] < err[0]), err
 
 
+@pytest.mark.slow
 def test_nafems_fv12_on_triangles():
     """NAFEMS FV12 on 2 x 48 x 48 triangles within 0.15 % of 1.622, 2.360,
     2.922 and Leissa's 4.190, 4.190, 7.356 Hz (−0.12, −0.00, +0.03, −0.05,
@@ -119,6 +121,7 @@ def test_nafems_fv12_on_triangles():
     assert np.all(np.abs(err[1][[2, 5]]) < 0.25 * np.abs(err[0][[2, 5]])), err
 
 
+@pytest.mark.slow
 def test_reference_bed_on_triangles_against_the_3d_solid():
     """2 x 20 x 120 triangles (5 cm squares halved): the first seven elastic
     modes within 0.35 % of the 3D solid (torsion +0.33 %, +0.35 %; the rest
@@ -165,7 +168,10 @@ def test_triangle_mesh_mass_properties_are_exact():
     def tri_part(p, th):
         d1, d2 = p[1] - p[0], p[2] - p[0]
         A = 0.5 * abs(d1[0] * d2[1] - d1[1] * d2[0])
-        sx = lambda f, g: A / 12 * (sum(f[i] * g[i] for i in range(3)) + f.sum() * g.sum())
+
+        def sx(f, g):
+            return A / 12 * (sum(f[i] * g[i] for i in range(3)) + f.sum() * g.sum())
+
         x, y = p[:, 0], p[:, 1]
         mm = rho * th * A
         return mm, p.mean(axis=0), rho * th * sx(x, x), rho * th * sx(y, y), \
@@ -203,7 +209,10 @@ def test_point_inside_a_triangle_is_the_linear_field():
     cell, s = shapes.locate(*p)
     assert cell == 1
     t, r = shapes.at(np.array([[p[0], p[1], 0.05]]))
-    lin = lambda f: 0.2 * f[:, 1] + 0.5 * f[:, 3] + 0.3 * f[:, 2]
+
+    def lin(f):
+        return 0.2 * f[:, 1] + 0.5 * f[:, 3] + 0.3 * f[:, 2]
+
     assert np.allclose(r[:, 0], lin(rot), rtol=1e-13, atol=1e-14)
     expect = lin(trans) + 0.05 * np.stack([lin(rot)[:, 1], -lin(rot)[:, 0],
                                            np.zeros(2)], axis=1)
@@ -250,7 +259,10 @@ def test_scene_with_an_imported_triangle_mesh_simulates(tmp_path):
     N = np.array([1 - s[0] - s[1], s[0], s[1]])
     corners = data.cells[cell, :3]
     assert np.allclose(N @ data.nodes[corners, :2], p, rtol=0, atol=1e-14)
-    at = lambda q: run.absolute(Point("q", "bed", np.array([q[0], q[1], 0.0]))).position
+
+    def at(q):
+        return run.absolute(Point("q", "bed", np.array([q[0], q[1], 0.0]))).position
+
     blend = sum(n * at(data.nodes[c]) for n, c in zip(N, corners))
     assert np.abs(at(p) - blend).max() < 1e-12
     assert np.abs(at(p)[-1] - at(p)[0]).max() > 1e-5             # and it moved

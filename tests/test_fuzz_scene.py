@@ -32,11 +32,11 @@ from flexbed.commands import static
 from flexbed.console import run_command
 from flexbed.errors import FlexbedError
 from flexbed.files.toml_text import dumps
+from scene_text import body_on_four_mounts
 
-sys.path.insert(0, str(Path(__file__).parent))
-from test_fault_catalogue import scene  # noqa: E402
+pytestmark = pytest.mark.slow             # hundreds of mutants through the command
 
-BASE = tomllib.loads(scene(extra='\n[solver]\nstatic_tol = 1e-6\n'))
+BASE = tomllib.loads(body_on_four_mounts(extra='\n[solver]\nstatic_tol = 1e-6\n'))
 
 
 def _leaves(data, prefix=()):

@@ -33,11 +33,11 @@ import pytest
 from scipy.special import ellipj, ellipk
 
 from flexbed.dynamics.history import history
-from flexbed.dynamics.integrate import Settings, integrate, motion_eigenvalues, stable_step, stiff_message
+from flexbed.dynamics.integrate import (Settings, integrate, motion_eigenvalues, stable_step,
+                                        stiff_message)
 from flexbed.dynamics.rotation import A as rotation_matrix
 from flexbed.dynamics.statics import solve_statics
 from flexbed.cli import main as flexbed
-from flexbed.stages.modes import ensure_modes
 from flexbed.stages.system import compile_scene
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
@@ -57,17 +57,7 @@ def settings(sf, **overrides):
 
 # ---------------------------------------------------------------- 1. β = 0.01, 20 modes
 
-@pytest.fixture(scope="module")
-def beta20(tmp_path_factory):
-    """Scene, modes file, system and equilibrium (with the elastic sag)."""
-    sf = scene("hard_beta20.toml")
-    modes = tmp_path_factory.mktemp("beta20") / "modes.h5"
-    ensure_modes(sf, modes, log=lambda _: None)
-    system = compile_scene(sf, modes)
-    eq = solve_statics(system, tol=sf.solver.static_tol, sag=sf.bed.static_sag)
-    assert eq.success, eq.message
-    return sf, modes, system, eq.y
-
+# the scene, its modes, system and equilibrium: the session fixture beta20 (conftest.py)
 
 def test_rk4_stability_bounds_are_the_known_ones():
     """RK4 is stable up to |hλ| = 2.7852935634 on the negative real axis
@@ -152,7 +142,8 @@ def test_beta20_explicit_methods_refuse_with_one_line(beta20):
         assert run.t.size == 1 and np.all(np.isfinite(run.y))
         assert "\n" not in run.message
         m = re.fullmatch(r"stiff scene: the fastest rate (\S+) 1/s limits (\w+) to steps below "
-                         r"(\S+) s \((.*)\); use integrator = \"auto\", \"radau\" or \"bdf\"", run.message)
+                         r"(\S+) s \((.*)\); use integrator = \"auto\", \"radau\" or \"bdf\"",
+                         run.message)
         assert m and m[2] == method
         assert float(m[1]) == pytest.approx(rho, rel=0.05)
         bound = 6.39 if method == "dop853" else 2.785

@@ -19,7 +19,7 @@ from flexbed.dynamics.system import System
 from flexbed.files.scene import load_scene
 from flexbed.stages.modes import ensure_modes
 from flexbed.stages.system import compile_scene
-from test_dyn_mounts import scene as mounts_scene
+from built_scenes import bed_and_equipment
 
 SCENES = Path(__file__).parent / "scenes"
 
@@ -49,9 +49,8 @@ def check(system, run):
     return h
 
 
-def test_rigid_reference_scene():
-    sf = load_scene(None)
-    s = compile_scene(sf)
+def test_rigid_reference_scene(reference_system):
+    s = reference_system
     eq = solve_statics(s, tol=1e-6)
     run = integrate(s, eq.y, Settings("dop853", t_end=0.3, output_dt=0.002))
     check(s, run)
@@ -76,7 +75,7 @@ def test_driven_base_and_curve_mounts():
     tc = np.linspace(0.0, 0.2, 11)
     base = Base("driven", drives=(Drive(2, Triangle(20.0, 0.02, 0.03, 0.05)),
                                   Drive(1, Curve(tc, np.sin(10 * tc)))))
-    s = System(mounts_scene(laws, base=base))
+    s = System(bed_and_equipment(laws, base=base))
     eq = solve_statics(s)
     run = integrate(s, eq.y, Settings("dop853", t_end=0.25, output_dt=0.005))
     h = check(s, run)
@@ -84,7 +83,7 @@ def test_driven_base_and_curve_mounts():
 
 
 def test_free_base_and_the_hard_polynomial_mounts():
-    s = System(mounts_scene((LinearLaw(1e5, 300.0),) * 3))
+    s = System(bed_and_equipment((LinearLaw(1e5, 300.0),) * 3))
     run = integrate(s, s.initial_state(), Settings("rk4", t_end=0.2, dt=1e-3, output_dt=0.01))
     check(s, run)
     sf = load_scene(SCENES / "hard_hardening_pulse.toml")

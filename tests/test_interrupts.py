@@ -32,9 +32,11 @@ import pytest
 from flexbed.files.results import read_results
 from scene_text import base_and_body, four_mounts
 
-pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+#: seven commands run whole in child processes and interrupted (about 15 s)
+pytestmark = [pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals"),
+              pytest.mark.slow]
 
-MOUNTS = four_mounts(f"""
+MOUNTS = four_mounts("""
 law = "linear"
 k = [1.0e5, 1.0e5, 1.0e5]
 c = [5.0, 5.0, 5.0]

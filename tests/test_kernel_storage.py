@@ -26,7 +26,7 @@ def test_the_right_hand_side_reads_every_field_in_table_order():
 def test_pack_round_trip():
     rng = np.random.default_rng(1)
     fields = {}
-    for k, name in enumerate(FIELDS):
+    for name in FIELDS:
         kind, ndim = KINDS[name]
         shape = tuple(int(s) for s in rng.integers(0, 4, size=ndim))
         a = rng.normal(size=shape) if kind == "f" else rng.integers(-5, 5, size=shape)

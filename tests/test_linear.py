@@ -48,7 +48,7 @@ def _exact_sdof(t, omega2, pieces):
     for (tk, al, be), tb in zip(pieces, bounds):
         C, D = u + al / omega2, (v + be / omega2) / w
 
-        def state(tau):
+        def state(tau, al=al, be=be, C=C, D=D, d=d, dv=dv):     # this piece's constants
             uu = -(al + be * tau) / omega2 + C * np.cos(w * tau) + D * np.sin(w * tau)
             dd = d + dv * tau + al * tau ** 2 / 2 + be * tau ** 3 / 6
             return uu, dd
@@ -128,6 +128,7 @@ def _simulate(tmp_path, *args):
     return cp, out
 
 
+@pytest.mark.slow
 def test_auto_picks_linear_below_the_tolerance(tmp_path):
     cp, out = _simulate(tmp_path, "--model", "auto")
     assert cp.returncode == 0, cp.stderr
@@ -137,6 +138,7 @@ def test_auto_picks_linear_below_the_tolerance(tmp_path):
     assert attrs["linear_estimated_error"] < 1e-6
 
 
+@pytest.mark.slow
 def test_auto_falls_back_to_nonlinear_above_the_tolerance(tmp_path):
     cp, out = _simulate(tmp_path, "--model", "auto", "--linear-tol", "1e-20")
     assert cp.returncode == 0, cp.stderr
@@ -145,6 +147,7 @@ def test_auto_falls_back_to_nonlinear_above_the_tolerance(tmp_path):
     assert attrs["model"] == "nonlinear" and attrs["method"] == "dop853"
 
 
+@pytest.mark.slow
 def test_bad_linear_tol_is_one_line(tmp_path):
     cp, out = _simulate(tmp_path, "--model", "auto", "--linear-tol", "-1")
     assert cp.returncode == 2
@@ -195,7 +198,7 @@ UNSTABLE = base_and_body("unstable", gravity=0.0, mass=10.0, inertia="[1.0, 1.0,
 
 [solver]
 t_end = 0.5
-""" + four_mounts(f"""
+""" + four_mounts("""
 law = "polynomial"
 stiffness = [[0.0, 1.0e4], [0.0, 1.0e4], [0.0, -1.0e4, 0.0, 1.0e8]]
 """)

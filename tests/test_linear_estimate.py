@@ -87,8 +87,13 @@ def test_local_cubics_reproduce_cubics_and_integrate_them_exactly():
     rng = np.random.default_rng(2)
     tn = np.cumsum(rng.uniform(0.5, 1.5, 11))
     coeff = rng.standard_normal((4, 3))
-    poly = lambda t: np.stack([np.polyval(coeff[::-1, j], t) for j in range(3)], axis=1)
-    prim = lambda t: np.stack([np.polyval(np.polyint(coeff[::-1, j]), t) for j in range(3)], axis=1)
+
+    def poly(t):
+        return np.stack([np.polyval(coeff[::-1, j], t) for j in range(3)], axis=1)
+
+    def prim(t):
+        return np.stack([np.polyval(np.polyint(coeff[::-1, j]), t) for j in range(3)], axis=1)
+
     tq = np.sort(rng.uniform(tn[0], tn[-1], 50))
     tq[0], tq[-1] = tn[0], tn[-1]
     C = _cubics(tn, poly(tn))
@@ -146,8 +151,13 @@ def test_hermite_peak_and_largest_motion():
     nodes = np.append(np.arange(0, t.size, 8), t.size - 1)
     a, b = rng.standard_normal(12), 0.1 * rng.standard_normal(12)
     # largest near t = 0.53, between the nodes 0.5 and 0.583
-    V = lambda s: np.outer(1.0 - 4.0 * (s - 0.53) ** 2, a) + np.outer((s - 0.53) ** 3, b)
-    Vd = lambda s: np.outer(-8.0 * (s - 0.53), a) + np.outer(3.0 * (s - 0.53) ** 2, b)
+
+    def V(s):
+        return np.outer(1.0 - 4.0 * (s - 0.53) ** 2, a) + np.outer((s - 0.53) ** 3, b)
+
+    def Vd(s):
+        return np.outer(-8.0 * (s - 0.53), a) + np.outer(3.0 * (s - 0.53) ** 2, b)
+
     every = V(t)
     ref = np.sqrt(np.max(np.sum(every.reshape(t.size, 4, 3) ** 2, axis=2)))
     got = hermite_peak(t, nodes, V(t[nodes]), Vd(t[nodes]))
@@ -165,17 +175,8 @@ def test_hermite_peak_and_largest_motion():
     assert largest_motion(Zp, rows[:0], T) == 0.0                     # no rows
 
 
-@pytest.fixture(scope="module")
-def reference_scene():
-    from flexbed.dynamics.statics import solve_statics
-    from flexbed.files.scene import load_scene
-    from flexbed.stages.system import compile_scene
-
-    system = compile_scene(load_scene(None))
-    return system, solve_statics(system, tol=1e-11).y
-
-
-def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(reference_scene, monkeypatch):
+def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(
+        reference_system, reference_equilibrium, monkeypatch):
     """The reference scene (rigid bed, 0–1.5 s: the load stops at 1 s; 1 ms
     samples): the defect on every 16th sample, halved to 8 where the local
     cubics need it, gives the estimate, e and the works of the estimate
@@ -187,7 +188,7 @@ def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(reference_s
     of the defect on every sample to 0.5 % and 4 %."""
     from flexbed.dynamics.integrate import Settings
 
-    system, y = reference_scene
+    system, y = reference_system, reference_equilibrium
     st = Settings("rk4", t_end=1.5, output_dt=1e-3)
     lr = linear.run_linear(system, y, y, st)
     est = lr.estimate
@@ -218,10 +219,11 @@ def test_estimate_within_its_tolerance_of_the_defect_on_every_sample(reference_s
             < 4e-2 * np.max(np.abs(ref.estimate.e)))                          # seen 2.7e-2
 
 
-def test_compiled_states_and_rates_of_many_rows_equal_the_numpy_maps(reference_scene):
+def test_compiled_states_and_rates_of_many_rows_equal_the_numpy_maps(reference_system,
+                                                                     reference_equilibrium):
     from flexbed.dynamics.linear.model import Coordinates
 
-    system, y_eq = reference_scene
+    system, y_eq = reference_system, reference_equilibrium
     c = Coordinates(system, y_eq)
     Z = 1e-2 * np.random.default_rng(11).standard_normal((40, c.nz))
     Y = c.to_y(Z)                                          # compiled: > 8 rows
@@ -242,14 +244,14 @@ def test_compiled_states_and_rates_of_many_rows_equal_the_numpy_maps(reference_s
     assert np.max(np.abs(Zd - ref)) < 1e-15 * np.max(np.abs(ref))
 
 
-def test_knots_between_the_samples_keep_few_nodes(reference_scene):
+def test_knots_between_the_samples_keep_few_nodes(reference_system, reference_equilibrium):
     """Output samples every 1.3 ms against the load's 1 ms knots (0–0.5 s):
     the pieces change length at nearly every end, form no long runs, and
     the first nodes stay every 16th end, as on a uniform grid (not every
     end); the estimate is the 1 ms run's."""
     from flexbed.dynamics.integrate import Settings
 
-    system, y = reference_scene
+    system, y = reference_system, reference_equilibrium
     ref = linear.run_linear(system, y, y, Settings("rk4", t_end=0.5, output_dt=1e-3))
     lr = linear.run_linear(system, y, y, Settings("rk4", t_end=0.5, output_dt=1.3e-3))
     assert lr.pieces > 800

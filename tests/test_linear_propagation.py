@@ -115,12 +115,11 @@ def _previous(lin, z0, t_end, output_dt):
     return grid, np.array(Z)[np.searchsorted(t, grid)]
 
 
-def test_sampled_input_as_before():
+def test_sampled_input_as_before(reference_system, reference_equilibrium):
     """The reference scene (its load sampled every 1 ms, a spline): the
     compiled propagation equals the previous implementation to round-off,
     from a displaced start so that every mode moves."""
-    system = compile_scene(load_scene(None))
-    lin = linearise(system, solve_statics(system, tol=1e-11).y)
+    lin = linearise(reference_system, reference_equilibrium)
     z0 = 1e-4 * np.random.default_rng(3).standard_normal(lin.coords.nz)
     t, Z, _ = propagate(lin, z0, 1.5, 1e-3)
     t_old, Z_old = _previous(lin, z0, 1.5, 1e-3)
@@ -129,7 +128,7 @@ def test_sampled_input_as_before():
     assert np.max(np.abs(Z - Z_old) / scale) < 1e-11
 
 
-def test_inputs_from_the_splines_own_coefficients_equal_the_chebyshev_fit():
+def test_inputs_from_the_splines_own_coefficients_equal_the_chebyshev_fit(reference_system):
     """The reference scene's sampled load (a cubic spline, its knots on the
     output grid): the pieces are the grid itself, and the inputs' σ-derivatives
     taken from the spline's coefficients equal those fitted at six Chebyshev
@@ -139,8 +138,7 @@ def test_inputs_from_the_splines_own_coefficients_equal_the_chebyshev_fit():
 
     from flexbed.dynamics.linear.propagation import _inputs_on_pieces
 
-    system = compile_scene(load_scene(None))
-    lin = linearise(system, solve_statics(system, tol=1e-9).y)
+    lin = linearise(reference_system, solve_statics(reference_system, tol=1e-9).y)
     assert lin.channels and all(c.polys for c in lin.channels)
     grid = output_grid(1.5, 1e-3)
     t = _pieces(lin, grid)
@@ -227,14 +225,13 @@ def test_pieces_merge_knots_into_the_grid():
     assert np.all(np.diff(lengths) > 0)
 
 
-def test_a_multiple_of_the_shortest_piece_is_its_power():
+def test_a_multiple_of_the_shortest_piece_is_its_power(reference_system, reference_equilibrium):
     """The propagators of a piece k times the shortest (binary powers of the
     shortest's exponential in t-derivatives) equal the exponential of its own
     augmented matrix to round-off (the reference scene: a sampled load)."""
     from flexbed.dynamics.linear.propagation import _propagators, _sine_terms
 
-    system = compile_scene(load_scene(None))
-    lin = linearise(system, solve_statics(system, tol=1e-11).y)
+    lin = linearise(reference_system, reference_equilibrium)
     terms = _sine_terms(lin)
     Phis, Psis = _propagators(lin, np.array([1e-3, 1e-2, 3e-3]), terms)
     for i, h in ((1, 1e-2), (2, 3e-3)):
@@ -245,7 +242,7 @@ def test_a_multiple_of_the_shortest_piece_is_its_power():
             assert np.max(np.abs(Psis[i][:, col] - ref)) <= 1e-12 * np.max(np.abs(ref)) + 1e-300
 
 
-def test_polynomial_inputs_exponential_by_series_is_scipys():
+def test_polynomial_inputs_exponential_by_series_is_scipys(reference_system, reference_equilibrium):
     """Without sinusoids the augmented exponential is built from Φ = e^{hA}
     and the columns h φ_{m+1}(hA) [B b0] by their series on the balanced A
     (halved and doubled back where ‖hA'‖₁ > 2: 0.01 and 0.1 s here): it
@@ -253,8 +250,7 @@ def test_polynomial_inputs_exponential_by_series_is_scipys():
     block's largest entry (the reference scene, rigid bed)."""
     from flexbed.dynamics.linear.propagation import _Exponential
 
-    system = compile_scene(load_scene(None))
-    lin = linearise(system, solve_statics(system, tol=1e-11).y)
+    lin = linearise(reference_system, reference_equilibrium)
     exponential = _Exponential(lin, [])
     nz = lin.A.shape[0]
     for h in (1e-3, 1e-2, 1e-1):

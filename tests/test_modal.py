@@ -286,6 +286,7 @@ def test_flexible_bed_tends_to_the_rigid_bed_as_its_stiffness_grows():
         assert (np.abs(rest).max() > 0.1) == (k == 18), k
 
 
+@pytest.mark.slow
 def test_modal_and_frf_commands_write_their_files(tmp_path):
     """``flexbed static``, ``modal --equilibrium`` and ``frf`` on the
     one-stage isolator: the files, their schemas, the CSV columns, a

@@ -4,6 +4,7 @@ a modes, equilibrium or results file; ``flexbed scene -o FILE`` names the
 scene after FILE."""
 
 import numpy as np
+import pytest
 
 from flexbed.cli import main as flexbed
 from flexbed.files.modes import read_modes_file
@@ -11,6 +12,7 @@ from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
 
 
+@pytest.mark.slow
 def test_two_scenes_from_flexbed_scene_in_one_folder_do_not_collide(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert flexbed(["scene", "-o", "a.toml"]) == 0

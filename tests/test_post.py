@@ -81,6 +81,7 @@ def test_a_bed_node_moves_by_the_modal_reconstruction(flexible_run):
     assert np.abs(m.position - expect).max() < 1e-13
 
 
+@pytest.mark.slow
 def test_post_command_outputs(flexible_run, capsys):
     folder, _, _, results = flexible_run
     code = main(["post", str(results), "--point", "P=bed:0.2,1.0,0.05", "--relative-to",
@@ -119,6 +120,7 @@ def test_post_refuses_missing_results_and_stale_modes(flexible_run, tmp_path, ca
     assert "made for another bed" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_post_works_from_a_moved_results_folder(tmp_path, capsys):
     """The modes file is found beside the results file by its name, wherever
     the folder goes; the recorded absolute path is gone after the move."""
@@ -175,6 +177,7 @@ def test_post_of_a_flexible_run_needs_no_compiled_dynamics(flexible_run):
     assert p.stdout.splitlines()[-1] == "IMPORTED:"
 
 
+@pytest.mark.slow
 def test_post_plots_the_mount_forces(flexible_run, tmp_path, capsys):
     _, _, _, results = flexible_run
     assert main(["post", str(results), "--mounts", "--plot", str(tmp_path)]) == 0

@@ -17,6 +17,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.readme
+
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
 
@@ -61,6 +65,7 @@ def named_files() -> dict[str, str]:
     return files
 
 
+@pytest.mark.slow
 def test_every_command_line_runs(tmp_path):
     for name, text in named_files().items():
         (tmp_path / name).write_text(text)
@@ -74,6 +79,7 @@ def test_every_command_line_runs(tmp_path):
         assert cp.returncode == 0, f"README: `{cmd}` exited {cp.returncode}:\n{cp.stderr[-2000:]}"
 
 
+@pytest.mark.slow
 def test_every_python_block_runs(tmp_path):
     found = blocks("python")
     assert found

@@ -93,7 +93,7 @@ integrator = "dop853"
 rtol = 1.0e-11
 atol = 1.0e-13
 output_dt = 1.0e-3
-""" + four_mounts(f"""
+""" + four_mounts("""
 law = "linear"
 k = [5.0e4, 7.5e4, 1.25e5]
 """, corners=[(-0.2, -0.3), (0.2, -0.3), (-0.2, 0.3), (0.2, 0.3)], prefix="S")
@@ -128,7 +128,8 @@ def test_body_launched_on_linear_mounts_oscillates_as_the_closed_form(launched, 
     omega = np.sqrt(4 * K_LAUNCH / 50.0)
     exact = r[0] + np.sin(np.outer(t, omega)) * (V_LAUNCH / omega)
     err = np.abs(r - exact).max()
-    print(f"{model}: max |x − v0/ω sin ωt| {err:.2e} m (amplitude {np.max(V_LAUNCH / omega):.3g} m)")
+    print(f"{model}: max |x − v0/ω sin ωt| {err:.2e} m "
+          f"(amplitude {np.max(V_LAUNCH / omega):.3g} m)")
     assert np.allclose(c.get("bodies/velocity")[0, 1], V_LAUNCH, rtol=0, atol=1e-15)
     assert abs(r[0, 2] - (0.5 - 9.81 * 50.0 / (4 * 1.25e5))) < 1e-12     # the equilibrium
     assert err < 2e-11

@@ -29,6 +29,7 @@ def _scene(tmp_path, theory="mindlin", name="shell.toml"):
     return path
 
 
+@pytest.mark.slow
 def test_mindlin_bed_runs_every_stage(tmp_path, capsys):
     scene = _scene(tmp_path)
     assert main(["run", str(scene), "-o", str(tmp_path / "out")]) == 0
@@ -57,6 +58,7 @@ def test_mindlin_bed_runs_every_stage(tmp_path, capsys):
         run.absolute(Point("off", "bed", np.array([0.5, 0.0, 0.0])))
 
 
+@pytest.mark.slow
 def test_static_sag_mindlin_against_kirchhoff(tmp_path):
     """The bed's sag under its own weight and the equipment: the same
     within 1 % for both theories (the bed is slender along its length)."""

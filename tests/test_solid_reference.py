@@ -70,6 +70,7 @@ def test_solid_assembly_is_scikit_fem_linear_elasticity():
     assert rigid[:, 0] @ M @ rigid[:, 0] == pytest.approx(RHO * 0.45 * 0.7 * 0.07, rel=1e-13)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case, coarse, finer", [("cutout", (0, 1), (1, 1)),
                                                  ("stiffened", (0, 1), (0, 2))])
 def test_coarse_solid_converges_to_the_reference(case, coarse, finer):
@@ -89,6 +90,7 @@ def test_coarse_solid_converges_to_the_reference(case, coarse, finer):
     assert np.all(err_b < 0.01)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", ["stiffened", "cutout"])
 def test_mindlin_bed_against_the_3d_solid(case):
     """flexbed's Mindlin bed (element_size 0.05 m; the stiffened one with

@@ -187,7 +187,7 @@ integrator = "dop853"
 rtol = 1.0e-10
 atol = 1.0e-12
 output_dt = 1.0e-3
-""" + four_mounts(f"""
+""" + four_mounts("""
 law = "curve"
 spring_curve = [SPRING, SPRING, SPRING]
 damper_curve = [DAMPER, DAMPER, DAMPER]

@@ -94,7 +94,7 @@ def test_half_sine_against_each_oscillator_integrated():
         for k in range(t.size - 1):
             slope = (u[k + 1] - u[k]) / dt
 
-            def rhs(tt, s_, k=k, slope=slope):
+            def rhs(tt, s_, k=k, slope=slope, w=w):
                 return [s_[1], -w * w * s_[0] - 2 * zeta * w * s_[1] - (u[k] + slope * tt)]
 
             y = solve_ivp(rhs, (0.0, dt), y, method="DOP853", rtol=1e-12, atol=1e-15).y[:, -1]

@@ -42,8 +42,8 @@ def test_table2_of_the_reference_scene():
 def box_on_mounts(laws, gravity=(0, 0, -9.81)):
     bodies = (Body("ground", 1e3, (1, 1, 1), (0, 0, 0)),
               Body("box", 100.0, (9.1, 2.8, 10.4), (0, 0, 1.0)))
-    mounts = tuple(Mount(f"m{n}", "ground", "box", (0.2 * sx, 0.3 * sy, 0.8), (0.2 * sx, 0.3 * sy, -0.2),
-                         np.eye(3), laws)
+    mounts = tuple(Mount(f"m{n}", "ground", "box", (0.2 * sx, 0.3 * sy, 0.8),
+                         (0.2 * sx, 0.3 * sy, -0.2), np.eye(3), laws)
                    for n, (sx, sy) in enumerate([(-1, -1), (-1, 1), (1, -1), (1, 1)]))
     return System(Scene(bodies, Base("fixed"), mounts, gravity, "box"))
 

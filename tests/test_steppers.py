@@ -13,9 +13,7 @@ from flexbed.dynamics import integrate as integrate_module
 from flexbed.dynamics.integrate import Settings, integrate
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
-from flexbed.stages.system import compile_scene
-from flexbed.files.scene import load_scene
-from test_dyn_single_mount import K, M_BODY, Z0, free_vibration, one_mount
+from built_scenes import K, M_BODY, Z0, free_vibration, one_mount
 
 AMP = 0.01
 
@@ -65,8 +63,8 @@ def test_radau_against_the_closed_form(zeta):
     assert run.stats.jacobian_evaluations >= 1 and run.stats.lu_decompositions >= 1
 
 
-def test_radau_follows_scipys_radau_on_the_reference_scene():
-    system = compile_scene(load_scene())
+def test_radau_follows_scipys_radau_on_the_reference_scene(reference_system):
+    system = reference_system
     y0 = solve_statics(system).y
     rtol = 1e-7
     run = integrate(system, y0, Settings("radau", t_end=0.5, rtol=rtol, atol=1e-3 * rtol,
@@ -83,8 +81,8 @@ def test_radau_follows_scipys_radau_on_the_reference_scene():
 @pytest.mark.parametrize("method,setting", [("rk4", {"dt": 1e-3}),
                                             ("dop853", {"rtol": 1e-8, "atol": 1e-11}),
                                             ("radau", {"rtol": 1e-7, "atol": 1e-10})])
-def test_pausing_in_chunks_changes_nothing(method, setting, monkeypatch):
-    system = compile_scene(load_scene())
+def test_pausing_in_chunks_changes_nothing(method, setting, monkeypatch, reference_system):
+    system = reference_system
     y0 = system.initial_state()
     st = Settings(method, t_end=1.2, output_dt=0.01, **setting)
     whole = integrate(system, y0, st)

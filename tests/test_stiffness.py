@@ -85,18 +85,8 @@ def test_same_answer_on_a_damped_flexible_bed(beta20_eigenvalues):
 
 
 @pytest.fixture(scope="module")
-def beta20_eigenvalues(tmp_path_factory):
-    from pathlib import Path
-
-    from flexbed.dynamics.statics import solve_statics
+def beta20_eigenvalues(beta20):
     from flexbed.dynamics.stiffness import motion_eigenvalues
-    from flexbed.files.scene import load_scene
-    from flexbed.stages.modes import ensure_modes
-    from flexbed.stages.system import compile_scene
 
-    sf = load_scene(Path(__file__).parent / "scenes" / "hard_beta20.toml")
-    modes = tmp_path_factory.mktemp("beta20") / "modes.h5"
-    ensure_modes(sf, modes, log=lambda _: None)
-    system = compile_scene(sf, modes)
-    eq = solve_statics(system, tol=sf.solver.static_tol, sag=sf.bed.static_sag)
-    return motion_eigenvalues(system, eq.y)
+    _, _, system, y = beta20
+    return motion_eigenvalues(system, y)

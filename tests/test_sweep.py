@@ -155,6 +155,7 @@ def scheduler(tmp_path_factory):
         log.close()
 
 
+@pytest.mark.slow
 def test_a_study_on_a_scheduler_and_two_workers_equals_single_runs(tmp_path, scheduler,
                                                                     capsys):
     study = study_file(tmp_path, GRID)
@@ -182,6 +183,7 @@ def test_a_study_on_a_scheduler_and_two_workers_equals_single_runs(tmp_path, sch
         assert [float(r[name]) for r in rows] == list(cols[name.split(" [")[0]])
 
 
+@pytest.mark.slow
 def test_an_interrupted_study_keeps_its_finished_rows(tmp_path, scheduler):
     """SIGINT (Ctrl-C) to a running ``flexbed sweep``: exit 130, every row
     finished so far written, the table marked incomplete. (240 points of
@@ -224,6 +226,7 @@ num = 240
     assert np.all(np.isfinite(cols["peak_mount_force.M5"]))
 
 
+@pytest.mark.slow
 def test_a_worker_lost_mid_study_has_its_points_run_again(tmp_path, scheduler):
     """SIGKILL to one worker process once the first row is in: its points
     are run again on the other worker (or its restart); every row ok."""
@@ -270,6 +273,7 @@ def client():
         yield c
 
 
+@pytest.mark.slow
 def test_a_failing_point_keeps_its_message_and_the_study_goes_on(tmp_path, client):
     body = """sampling = "list"
 
@@ -292,6 +296,7 @@ def test_a_failing_point_keeps_its_message_and_the_study_goes_on(tmp_path, clien
     assert list(cols["status"]) == ["ok", "failed"]
 
 
+@pytest.mark.slow
 def test_a_rerun_skips_the_points_done(tmp_path, client):
     body = """sampling = "zip"
 
@@ -319,6 +324,7 @@ values = [[1.0e5, 1.0e5, 1.0e5], [2.0e5, 2.0e5, 2.0e5]]
         {"bed.thickness": 0.09, "mount.M9.k": [3e5, 3e5, 3e5]})["peak_mount_force.M5"]
 
 
+@pytest.mark.slow
 def test_the_local_cluster_is_the_default(tmp_path, capsys):
     """No --scheduler: a local cluster of processes, one per core, started
     and stopped by the command; plots of each metric against the varied
@@ -408,6 +414,7 @@ def test_identical_points_are_one_computation(tmp_path):
     assert plan.analyses == ("static",)
 
 
+@pytest.mark.slow
 def test_a_flexible_bed_s_modes_are_one_task_shared_by_its_points(tmp_path, client):
     """Two points on the same flexible bed (one plate): one modes request;
     the mount force and the compare figure equal single in-process runs."""
@@ -437,6 +444,7 @@ def test_a_flexible_bed_s_modes_are_one_task_shared_by_its_points(tmp_path, clie
         r["peak"] for r in rows if r["equipment"] == "equipment A" and r["case"] == "damped")
 
 
+@pytest.mark.slow
 def test_frequency_metrics_equal_single_modal_and_frf_runs(tmp_path, scheduler):
     """natural_frequency, effective_mass_fraction, transmissibility and
     peak_transmissibility of two points, run by the `dask worker`
@@ -505,6 +513,7 @@ kind = "max_static_deflection"
     assert table["natural_frequency.mode1"][1] > table["natural_frequency.mode1"][0]
 
 
+@pytest.mark.slow
 def test_a_batched_study_equals_an_unbatched_one_row_for_row(tmp_path, client):
     """Three points a task (one of them failing, one a duplicate) give the
     same rows as one point a task; a re-run in batches of two skips the
@@ -547,6 +556,7 @@ def test_a_batched_study_equals_an_unbatched_one_row_for_row(tmp_path, client):
         [["a", "c", "d"], ["b"], ["e"]]
 
 
+@pytest.mark.slow
 def test_kept_results_are_the_commands_files_of_each_point(tmp_path, client, capsys):
     """``--keep-results`` with simulate, modal and frf: each point's files in
     ``results/`` are those ``flexbed simulate -o``, ``flexbed modal -o …

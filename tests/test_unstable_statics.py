@@ -15,7 +15,8 @@ def _scene(k_z: float) -> str:
     """10 kg without gravity on four mounts of vertical stiffness k_z (plus
     a hardening cubic), stiff sideways: the equilibrium at zero deflection
     has vertical stiffness 4 k_z."""
-    return base_and_body("held", gravity=0.0, mass=10.0, inertia="[1.0, 1.0, 1.0]") + four_mounts(f"""
+    held = base_and_body("held", gravity=0.0, mass=10.0, inertia="[1.0, 1.0, 1.0]")
+    return held + four_mounts(f"""
 law = "polynomial"
 stiffness = [[0.0, 1.0e4], [0.0, 1.0e4], [0.0, {k_z}, 0.0, 1.0e8]]
 """)
