@@ -9,7 +9,7 @@ What the room holds
     (:class:`Coordinates`), the one linearisation of the equations of
     motion, ``ż ≈ A z + b0 + B (u(t) − u(0))`` (:func:`linearise`, central
     differences of the one right-hand side; also used by
-    :mod:`flexbed.dynamics.mounted`, :mod:`flexbed.dynamics.stability` and
+    :mod:`flexbed.dynamics.frequency.mounted`, :mod:`flexbed.dynamics.stability` and
     through them the modal and frequency analyses), the base's inputs as
     channels, and A balanced by powers of 2 (LAPACK's ``dgebal`` through
     :func:`scipy.linalg.matrix_balance`, once per :class:`Linearisation`).

@@ -1,5 +1,5 @@
 """Transmissibility of a scene's mounted system: inputs, outputs and the
-sweep (:mod:`flexbed.dynamics.frf`), named and tabulated.
+sweep (:mod:`flexbed.dynamics.frequency.frf`), named and tabulated.
 
 Inputs: a unit base acceleration along X, Y or Z (``"base x"`` …), or a
 unit force along X, Y or Z at a point of a body (``Point`` + axis).
@@ -18,7 +18,7 @@ import numpy as np
 from flexbed.analyses.linear_points import PointJacobians
 from flexbed.analyses.modal import Mounted
 from flexbed.analyses.points import Point
-from flexbed.dynamics import frf as dfrf
+from flexbed.dynamics.frequency import frf as dfrf
 from flexbed.errors import InputError
 
 __all__ = ["FRF", "frequency_response", "parse_input", "frf_csv", "default_band"]

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from flexbed.analyses.points import Point, Run
-from flexbed.dynamics.mounted import MountedSystem
+from flexbed.dynamics.frequency.mounted import MountedSystem
 from flexbed.dynamics.system import System
 from flexbed.files.modes import ModesData
 from flexbed.files.scene import SceneFile

@@ -2,7 +2,7 @@
 
 :func:`mounted` builds the linear mounted system about the static
 equilibrium (solved here, or read from an equilibrium file) with the base
-held; :func:`modal_tables` formats :class:`flexbed.dynamics.modal.Modes`
+held; :func:`modal_tables` formats :class:`flexbed.dynamics.frequency.modal.Modes`
 for the terminal and as CSV.
 """
 
@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.dynamics.modal import Modes, solve_modes
-from flexbed.dynamics.mounted import MountedSystem, mounted_system
+from flexbed.dynamics.frequency.modal import Modes, solve_modes
+from flexbed.dynamics.frequency.mounted import MountedSystem, mounted_system
 from flexbed.dynamics.system import System
 from flexbed.errors import NumericalError
 from flexbed.files.modes import ModesData

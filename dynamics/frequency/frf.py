@@ -3,7 +3,8 @@ frequency grid that resolves every resonance.
 
 Steady state under ``e^{iωt}`` (a response is ``Re(H e^{iωt})``, so the
 phase of H is the response's lead over the input), with
-``G(ω) = K − ω² M + iω C`` (:class:`~dynamics.mounted.MountedSystem`):
+``G(ω) = K − ω² M + iω C``
+(:class:`~flexbed.dynamics.frequency.mounted.MountedSystem`):
 
 - base acceleration of unit amplitude along axis d: the base moves by
   ``x_b = −e_d/ω²``; in the relative coordinates ``u = q − ι x_b``,

@@ -1,7 +1,8 @@
 """Modes of the mounted system: frequencies, damping, shapes, energy tables,
 effective masses.
 
-Undamped modes solve ``K φ = ω² M φ`` (:class:`~dynamics.mounted.MountedSystem`).
+Undamped modes solve ``K φ = ω² M φ``
+(:class:`~flexbed.dynamics.frequency.mounted.MountedSystem`).
 The mounts of eq. 1–6 push along axes fixed in body i, which makes K
 unsymmetric when they carry a preload (their axes turn with the body, the
 force does not add the torque of that turn), so the general eigenproblem is

@@ -29,9 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .linear.model import Coordinates, difference_steps, linearise
-from .rotation import A as rotation_matrix
-from .system import System
+from ..linear.model import Coordinates, difference_steps, linearise
+from ..rotation import A as rotation_matrix
+from ..system import System
 
 __all__ = ["MountedSystem", "mounted_system", "DOF_NAMES"]
 

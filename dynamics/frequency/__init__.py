@@ -1,0 +1,15 @@
+"""The mounted system in the frequency domain, about its static equilibrium.
+
+- :mod:`.mounted`: the second-order matrices ``M q̈ + C q̇ + K q = 0`` (base
+  held) and the mounts' and base's output matrices, from the one
+  linearisation of the right-hand side (:mod:`flexbed.dynamics.linear.model`);
+- :mod:`.modal`: natural frequencies, damping ratios, mode shapes, the
+  kinetic- and strain-energy tables and modal effective masses;
+- :mod:`.frf`: transmissibility and mount forces per frequency, on a grid
+  refined until every resonance is resolved.
+
+May import NumPy, SciPy and, from :mod:`flexbed.dynamics`, the compiled
+system, the rotations and the linear room's linearisation; never ``fem``
+or ``pipeline``. Names, tables and files of these results are
+:mod:`flexbed.analyses.modal` and :mod:`flexbed.analyses.frf`.
+"""
