@@ -31,6 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .tables import freeze_arrays
+
 __all__ = ["DOP853Tableau", "DOP853", "N_STAGES", "N_STAGES_EXTENDED", "INTERPOLATOR_POWER",
            "ORDER"]
 
@@ -77,13 +79,7 @@ class DOP853Tableau:
         shapes = {"A": (N_STAGES_EXTENDED, N_STAGES_EXTENDED), "C": (N_STAGES_EXTENDED,),
                   "E3": (N_STAGES + 1,), "E5": (N_STAGES + 1,),
                   "D": (INTERPOLATOR_POWER - 3, N_STAGES_EXTENDED)}
-        for name, shape in shapes.items():
-            value = np.array(getattr(self, name), dtype=np.float64)
-            if value.shape != shape or not np.all(np.isfinite(value)):
-                raise ValueError(f"DOP853 {name}: expected finite values of shape {shape}, got "
-                                 f"shape {value.shape}")
-            value.setflags(write=False)
-            object.__setattr__(self, name, value)
+        freeze_arrays(self, "DOP853", shapes)
         A, C = self.A, self.C
         if np.any(np.triu(A) != 0.0):
             raise ValueError("DOP853 A: not strictly lower triangular (an explicit method's is)")

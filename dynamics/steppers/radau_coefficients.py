@@ -35,6 +35,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .tables import freeze_arrays
+
 __all__ = ["RadauIIA5", "RADAU", "S6"]
 
 S6 = 6 ** 0.5
@@ -77,14 +79,8 @@ class RadauIIA5:
     MU_COMPLEX: complex
 
     def __post_init__(self):
-        for name, shape in (("A", (3, 3)), ("C", (3,)), ("E", (3,)), ("P", (3, 3)),
-                            ("T", (3, 3)), ("TI", (3, 3))):
-            value = np.array(getattr(self, name), dtype=np.float64)
-            if value.shape != shape or not np.all(np.isfinite(value)):
-                raise ValueError(f"Radau {name}: expected finite values of shape {shape}, got "
-                                 f"shape {value.shape}")
-            value.setflags(write=False)
-            object.__setattr__(self, name, value)
+        freeze_arrays(self, "Radau", {"A": (3, 3), "C": (3,), "E": (3,), "P": (3, 3),
+                                      "T": (3, 3), "TI": (3, 3)})
         object.__setattr__(self, "MU_REAL", float(self.MU_REAL))
         object.__setattr__(self, "MU_COMPLEX", complex(self.MU_COMPLEX))
         A, C, E, P, T, TI = self.A, self.C, self.E, self.P, self.T, self.TI
