@@ -132,7 +132,10 @@ def _damped(ms: MountedSystem):
     rates = np.sort(-lam[real].real)
     lam, V = lam[osc], V[:n, osc]
     wn = np.abs(lam)
-    zeta = -lam.real / wn
+    # a decay rate at the eigensolver's round-off (|Re λ| ≤ 1e-12 max|λ|, the
+    # bound that tells oscillating from real eigenvalues above) is no damping:
+    # such a mode is undamped (ζ = 0), not damped or growing by ±1e-16
+    zeta = np.where(np.abs(lam.real) <= 1e-12 * scale, 0.0, -lam.real / wn)
     order = np.argsort(wn, kind="stable")
     return wn[order], zeta[order], lam.imag[order], _unit_phase(V[:, order].T), rates
 
