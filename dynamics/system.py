@@ -170,6 +170,9 @@ class System:
                                  f"System from a changed scene)")
         object.__setattr__(self, name, value)
 
+    def __delattr__(self, name):
+        raise AttributeError(f"a System is immutable: '{name}' cannot be deleted")
+
     def _flexible(self, flex: dict) -> tuple:
         """Per flexible body: its equations and where its modes sit in y."""
         lay = self.layout

@@ -23,6 +23,9 @@ def system():
 def test_a_system_cannot_be_changed(system):
     with pytest.raises(AttributeError, match="immutable"):
         system.nb = 1
+    with pytest.raises(AttributeError, match="immutable"):
+        del system.nb
+    assert system.nb == 4                          # base, bed and two pieces of equipment
     assert not hasattr(system, "set_segment")
     for a in (system.mass, system.J, system.S, system.U, system.d0, system.data.S,
               system.data.lin_kc, system.inputs.support):
