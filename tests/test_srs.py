@@ -128,7 +128,7 @@ def test_srs_of_a_run_command_and_api(tmp_path):
     scene = flexbed.load_scene(Path(__file__).parent / "scenes" / "linear_sdof.toml")
     run = flexbed.simulate(scene, output_dt=1e-4, rtol=1e-11, atol=1e-13, integrator="dop853")
     fn = math.sqrt(5e5 / 50.0) / (2 * math.pi)
-    s = flexbed.srs(run, point="c=mass:0,0,0", q=1e6, fmin=fn, fmax=fn)
+    s = flexbed.srs(run, point=("c", "mass", [0, 0, 0]), q=1e6, fmin=fn, fmax=fn)
     az = run.acceleration[:, 1, 2]
     assert s.input.positive[0, 2] == pytest.approx(az.max(), rel=1e-4)
     assert s.input.negative[0, 2] == pytest.approx(-az.min(), rel=1e-4)

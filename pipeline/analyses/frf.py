@@ -21,7 +21,18 @@ from flexbed.analyses.points import Point
 from flexbed.dynamics.frequency import frf as dfrf
 from flexbed.errors import InputError
 
-__all__ = ["FRF", "frequency_response", "parse_input", "frf_csv", "default_band"]
+__all__ = ["FRF", "frequency_response", "parse_input", "frf_csv", "default_band", "MAX_GRID",
+           "BAND_LIMITS"]
+
+#: the most frequencies of a base grid (``n``) or of a given list: each is a
+#: solve of the dynamic stiffness and a row of outputs, so 10^5 is minutes
+#: of work and hundreds of MB on a large scene; beyond it a request is a slip
+MAX_GRID = 100_000
+#: [Hz] the band a response may be asked over: below 1 µHz a period is
+#: 11 days, above 10 MHz no mount model means anything, and outside these
+#: the dynamic stiffness's terms (ω² M against K) differ by more than the
+#: doubles can hold
+BAND_LIMITS = (1e-6, 1e7)
 
 _AXES = "xyz"
 
@@ -157,6 +168,7 @@ def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Poin
     f_lo, f_hi = band if band is not None else default_band(md.frequency)
     if not (0.0 < f_lo < f_hi):
         raise InputError(f"band {f_lo!r}–{f_hi!r} Hz must satisfy 0 < f_min < f_max")
+    check_request((f_lo, f_hi), n, frequencies)
     t0 = time.process_time()
     sw = dfrf.sweep(ms, md, inp, dfrf.Outputs(positions, forces, rates), f_lo, f_hi, n,
                     frequencies=frequencies)
@@ -166,6 +178,26 @@ def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Poin
     return FRF(sw.frequency, tuple(names), tuple(units), H, label, md.frequency[inband],
                md.damping_ratio[inband], sw.peaks, np.array(iso, dtype=bool), cpu,
                sw.evaluations)
+
+
+def check_request(band: tuple[float, float], n: int, frequencies: np.ndarray | None) -> None:
+    """Refuse, before any work, a request beyond :data:`MAX_GRID` or
+    :data:`BAND_LIMITS` (InputError naming the limit)."""
+    lo, hi = BAND_LIMITS
+    if frequencies is not None:
+        if frequencies.size > MAX_GRID:
+            raise InputError(f"{frequencies.size:,} frequencies given; the limit is "
+                             f"{MAX_GRID:,}")
+        f = frequencies
+        if not np.all((f >= lo) & (f <= hi)):
+            bad = f[~((f >= lo) & (f <= hi))][0]
+            raise InputError(f"frequency {bad:g} Hz is outside {lo:g} – {hi:g} Hz")
+        return
+    if not 2 <= n <= MAX_GRID:
+        raise InputError(f"n = {n:,} frequencies: from 2 to {MAX_GRID:,}")
+    if not (lo <= band[0] and band[1] <= hi):
+        raise InputError(f"band {band[0]:g}–{band[1]:g} Hz: a response is computed within "
+                         f"{lo:g} – {hi:g} Hz")
 
 
 def frf_csv(r: FRF) -> str:

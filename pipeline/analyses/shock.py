@@ -90,6 +90,13 @@ def _uniform(t: np.ndarray, where: Path) -> tuple[float, int]:
     return dt, n
 
 
+#: the finest grid asked for: 1/1000 octave is 0.07 % apart, far below any
+#: oscillator's bandwidth at the Q in use
+MAX_PER_OCTAVE = 1000
+#: the most oscillators of one spectrum (each a pass over the record)
+MAX_FREQUENCIES = 20_000
+
+
 def spectra(run: Run, points: list[Point], *, q: float = 10.0, fmin: float = 1.0,
             fmax: float | None = None, per_octave: int = 12) -> Spectra:
     """SRS of each point's absolute acceleration (and of a driven base's).
@@ -117,8 +124,12 @@ def spectra(run: Run, points: list[Point], *, q: float = 10.0, fmin: float = 1.0
     if fmax > FMAX_SHARE * fs * (1 + 1e-12):
         raise InputError(f"--fmax {fmax:g} Hz: above a quarter of {run.path}'s sampling rate "
                          f"({fs:g} Hz); at most {FMAX_SHARE * fs:g} Hz")
-    if per_octave < 1:
-        raise InputError(f"--per-octave {per_octave!r}: must be a positive integer")
+    if not 1 <= per_octave <= MAX_PER_OCTAVE:
+        raise InputError(f"--per-octave {per_octave!r}: from 1 to {MAX_PER_OCTAVE}")
+    count = per_octave * (math.log2(fmax) - math.log2(fmin)) + 1
+    if count > MAX_FREQUENCIES:
+        raise InputError(f"--fmin {fmin:g} Hz to --fmax {fmax:g} Hz at {per_octave} per octave "
+                         f"is {count:.3g} frequencies; the limit is {MAX_FREQUENCIES:,}")
     f = frequency_grid(fmin, fmax, per_octave)
 
     def axes(acc):

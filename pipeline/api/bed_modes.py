@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from flexbed.api.arguments import Arguments
 from flexbed.dynamics.system import System
 from flexbed.files.modes import ModesData, modes_data
 from flexbed.files.scene import SceneFile
@@ -60,8 +61,12 @@ def modes(scene: SceneFile, *, file: str | Path | None = None, force: bool = Fal
         Frequencies [Hz], nodal shapes, invariants (``path`` is None when
         computed in memory).
     """
+    check = Arguments("modes")
+    scene = check.scene(scene)
+    file = check.path(file, "file")
+    force = check.flag(force, "force")
     if file is not None:
-        data, _ = ensure_modes(scene, Path(file), force=force, log=lambda m: None)
+        data, _ = ensure_modes(scene, file, force=force, log=lambda m: None)
         return data
     return _modes_in_memory(scene)
 

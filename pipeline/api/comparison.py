@@ -14,6 +14,7 @@ import dataclasses
 from flexbed.analyses.compare import CASES, LABELS, case_run, comparison_rows, markdown_table, \
     solve_case
 from flexbed.api import bed_modes
+from flexbed.api.arguments import Arguments
 from flexbed.api.results import Results
 from flexbed.api.simulation import solver_with
 from flexbed.errors import NumericalError
@@ -47,8 +48,10 @@ def compare(scene: SceneFile, *, modes: ModesData | None = None, **settings) -> 
     """Run the scene with its bed rigid, flexible undamped and flexible with
     its damping, each from its own static equilibrium (``**settings`` as in
     :func:`flexbed.simulate`)."""
+    check = Arguments("compare")
+    scene, modes = check.scene(scene), check.modes(modes)
     if settings:
-        scene = dataclasses.replace(scene, solver=solver_with(scene, settings))
+        scene = dataclasses.replace(scene, solver=solver_with(scene, settings, "compare"))
     if modes is None:
         flexible = dataclasses.replace(scene, bed=dataclasses.replace(scene.bed,
                                                                       model="flexible"))

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbed.api.arguments import Arguments
 from flexbed.api.bed_modes import compiled
 from flexbed.dynamics.rotation import angles_from_p
 from flexbed.dynamics.statics import Equilibrium
@@ -83,5 +84,9 @@ def statics(scene: SceneFile, *, modes: ModesData | None = None, tol: float | No
 
     Raises NumericalError when no equilibrium is found.
     """
+    check = Arguments("statics")
+    scene, modes = check.scene(scene), check.modes(modes)
+    tol = check.real(tol, "tol", positive=True)
+    sag = check.flag(sag, "sag", optional=True)
     system = compiled(scene, modes)
     return _statics_of(scene, system, equilibrium(scene, system, tol=tol, sag=sag))

@@ -20,10 +20,12 @@ from typing import Sequence
 import numpy as np
 
 from flexbed.analyses import frf as afrf
+from flexbed.analyses.frf import MAX_GRID
 from flexbed.analyses import modal as amodal
 from flexbed.analyses.points import Point
 from flexbed.api import bed_modes
-from flexbed.errors import InputError
+from flexbed.api.arguments import Arguments
+from flexbed.api.equilibrium import Statics
 from flexbed.files.destination import check_destination, write_text
 from flexbed.files.frequency import frf_contents, modal_contents, write_frf_contents, \
     write_modal_contents
@@ -134,10 +136,20 @@ def _save(prefix, files: dict) -> list[Path]:
     return paths
 
 
-def _mounted(scene: SceneFile, modes: ModesData | None, equilibrium) -> amodal.Mounted:
+def _mounted(scene: SceneFile, modes: ModesData | None, equilibrium,
+             check: Arguments) -> amodal.Mounted:
+    if not (equilibrium is None or isinstance(equilibrium, (Modal, Statics, str, Path))):
+        check.bad("equilibrium", equilibrium, "a Statics from flexbed.statics, an "
+                                              "equilibrium file, a Modal, or None")
+    if isinstance(equilibrium, Statics) and \
+            equilibrium.scene.statics_digest != scene.statics_digest:
+        check.fail("", f"equilibrium: it is the equilibrium of another scene "
+                       f"({equilibrium.scene.source.name}: its bodies, mounts or bed differ)")
+    if isinstance(equilibrium, (str, Path)):
+        equilibrium = check.path(equilibrium, "equilibrium")
     if isinstance(equilibrium, Modal):           # its linearisation and modes, as they are
         if equilibrium.scene.digest != scene.digest:
-            raise InputError("equilibrium: the Modal given is of another scene")
+            check.fail("", "equilibrium: the Modal given is of another scene")
         return equilibrium.mounted
     if scene.bed.flexible and modes is None:
         modes = bed_modes.modes(scene)
@@ -161,7 +173,9 @@ def modal(scene: SceneFile, *, modes: ModesData | None = None, equilibrium=None)
         From :func:`flexbed.statics`, or an equilibrium file (default:
         solved here).
     """
-    return Modal(scene, _mounted(scene, modes, equilibrium))
+    check = Arguments("modal")
+    scene, modes = check.scene(scene), check.modes(modes)
+    return Modal(scene, _mounted(scene, modes, equilibrium, check))
 
 
 @limited()
@@ -190,27 +204,33 @@ def frf(scene: SceneFile, *, input: str = "base z",
         this scene's :class:`Modal` (its linearisation and modes reused:
         the same numbers as solving them again, without the cost).
     """
-    pts = None
-    if points is not None:
-        pts = []
-        for p in points:
-            if len(p) not in (3, 4):
-                raise InputError(f"point {p!r}: expected (name, body, position[, relative_to])")
-            xyz = np.asarray(p[2], dtype=float)
-            if xyz.shape != (3,) or not np.all(np.isfinite(xyz)):
-                raise InputError(f"point {p[0]!r}: position {p[2]!r} must be 3 finite numbers")
-            pts.append((Point(str(p[0]), str(p[1]), xyz), p[3] if len(p) == 4 else None))
+    check = Arguments("frf")
+    scene, modes = check.scene(scene), check.modes(modes)
+    input = check.string("", "input", input)
+    pts = check.points(points, "points")
     at = None
     if force_at is not None:
-        xyz = np.asarray(force_at[1], dtype=float) if len(force_at) == 2 else None
-        if xyz is None or xyz.shape != (3,) or not np.all(np.isfinite(xyz)):
-            raise InputError(f"force_at {force_at!r}: expected (body, [x, y, z]) in metres")
-        at = Point("force", str(force_at[0]), xyz)
-    if n < 2:
-        raise InputError(f"n = {n!r}: needs at least 2 frequencies")
-    freqs = None if frequencies is None else np.asarray(frequencies, dtype=float)
-    if freqs is not None and not (freqs.ndim == 1 and freqs.size and np.all(freqs > 0)):
-        raise InputError("frequencies must be a non-empty list of positive numbers [Hz]")
-    mt = _mounted(scene, modes, equilibrium)
+        if isinstance(force_at, (str, bytes)) or not isinstance(force_at, (tuple, list)) \
+                or len(force_at) != 2:
+            check.bad("force_at", force_at, "(body, [x, y, z]), metres in the body's frame")
+        at = Point("force", check.name(force_at[0], "force_at body"),
+                   check.position(force_at[1], "force_at position"))
+    band = check.band(band)
+    n = check.integer(n, "n", minimum=2, maximum=MAX_GRID)
+    freqs = None
+    if frequencies is not None:
+        if isinstance(frequencies, (str, bytes)) or not hasattr(frequencies, "__len__") \
+                or not 0 < len(frequencies) <= MAX_GRID:
+            check.bad("frequencies", frequencies, f"a list of 1 to {MAX_GRID:,} frequencies "
+                                                  f"[Hz]")
+        freqs = np.array([check.real(f, f"frequencies[{i}]", positive=True, optional=False)
+                          for i, f in enumerate(frequencies)])
+    names = [b.name for b in scene.scene.bodies]
+    for key, body in ([("force_at body", at.body)] if at else []) + \
+            [(f"points[{i}] body", p.body) for i, (p, _) in enumerate(pts or [])] + \
+            [(f"points[{i}] relative_to", r) for i, (_, r) in enumerate(pts or []) if r]:
+        if body not in names:
+            check.bad(key, body, f"a body of {scene.source.name} ({', '.join(names)})")
+    mt = _mounted(scene, modes, equilibrium, check)
     return Transmissibility(scene, afrf.frequency_response(
         scene, mt, input=input, force_at=at, points=pts, band=band, n=n, frequencies=freqs))

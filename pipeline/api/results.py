@@ -122,9 +122,16 @@ class Results:
             ``position``, ``velocity``, ``acceleration`` (k, 3) [m, m/s, m/s²],
             inertial or in ``relative_to``'s frame.
         """
-        xyz = np.asarray(position, dtype=float)
-        if xyz.shape != (3,) or not np.all(np.isfinite(xyz)):
-            raise InputError(f"point {name!r}: position {position!r} must be 3 finite numbers [m]")
+        from flexbed.api.arguments import Arguments
+
+        check = Arguments("Results.point")
+        body = check.name(body, "body")
+        xyz = check.position(position, "position")
+        relative_to = None if relative_to is None else check.name(relative_to, "relative_to")
+        name = check.name(name, "name")
+        for key, b in (("body", body), ("relative_to", relative_to)):
+            if b is not None and b not in self.body_names:
+                check.bad(key, b, f"a body of this run ({', '.join(self.body_names)})")
         run = self._run()
         pt = Point(name=name, body=body, position=xyz)
         return run.relative(pt, relative_to) if relative_to else run.absolute(pt)
@@ -152,13 +159,17 @@ def open_results(path: str | Path, *, modes: ModesData | str | Path | None = Non
     a modes file); default the modes file the run used, looked for beside
     the results file, then where the run recorded it (checked by the
     plate's hash)."""
+    from flexbed.api.arguments import Arguments
+
+    check = Arguments("open_results")
+    path = check.path(path, "path", optional=False)
     if isinstance(modes, (str, Path)):
-        return Results(read_results(path), modes_file=modes)
-    return Results(read_results(path), modes=modes)
+        return Results(read_results(path), modes_file=check.path(modes, "modes"))
+    return Results(read_results(path), modes=check.modes(modes))
 
 
 def srs(results: Results | str | Path, *,
-        point: str | Point | Sequence[str | Point] | None = None, q: float = 10.0,
+        point: tuple | Point | Sequence[tuple | Point] | None = None, q: float = 10.0,
         fmin: float = 1.0, fmax: float | None = None,
         per_octave: int = 12):
     """Shock response spectra of points' absolute accelerations (as ``flexbed srs``).
@@ -166,8 +177,9 @@ def srs(results: Results | str | Path, *,
     Parameters
     ----------
     results : Results or path of a results file
-    point : "NAME=BODY:x,y,z", a :class:`Point`, or a list of them;
-        default the scene's ``[[point]]`` tables
+    point : (name, body, [x, y, z]) [m, body frame], a :class:`Point`, or a
+        list of them (the form :func:`flexbed.frf` takes); default the
+        scene's ``[[point]]`` tables
     q : quality factor Q = 1/(2ζ) [1]
     fmin, fmax : band [Hz] (``fmax``: default a tenth of the sampling
         rate, at most a quarter)
@@ -181,16 +193,25 @@ def srs(results: Results | str | Path, *,
         (n, 3) [m/s], columns X, Y, Z; ``input``: the same for a driven
         base's acceleration, else None.
     """
-    from flexbed.analyses.points import parse_point
-    from flexbed.analyses.shock import spectra
+    from flexbed.analyses.shock import MAX_PER_OCTAVE, spectra
+    from flexbed.api.arguments import POINT_FORM, Arguments
 
+    check = Arguments("srs")
+    if not isinstance(results, (Results, str, Path)):
+        check.bad("results", results, "a Results from flexbed.simulate, or a results file")
+    q = check.real(q, "q", positive=True, optional=False)
+    fmin = check.real(fmin, "fmin", positive=True, optional=False)
+    fmax = check.real(fmax, "fmax", positive=True)
+    per_octave = check.integer(per_octave, "per_octave", minimum=1, maximum=MAX_PER_OCTAVE)
     r = open_results(results) if isinstance(results, (str, Path)) else results
     run = r._run()
-    given = [point] if isinstance(point, (str, Point)) else list(point or [])
-    points = [parse_point(p) if isinstance(p, str) else p for p in given]
+    points = [p for p, _ in check.points(point, "point") or []]
+    for i, p in enumerate(points):
+        if p.body not in r.body_names:
+            check.bad("point body" if len(points) == 1 else f"point[{i}] body", p.body,
+                      f"a body of this run ({', '.join(r.body_names)})")
     if not points:
         points = list(run.scene_points)
     if not points:
-        raise InputError("srs: give point=\"NAME=BODY:x,y,z\" (the scene has no [[point]] "
-                         "tables)")
+        check.fail("", f"give point = {POINT_FORM} (the scene has no [[point]] tables)")
     return spectra(run, points, q=q, fmin=fmin, fmax=fmax, per_octave=per_octave)

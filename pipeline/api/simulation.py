@@ -11,13 +11,16 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, Mapping
 
+import numpy as np
+
 from flexbed.api import bed_modes
+from flexbed.api.arguments import Arguments
 from flexbed.api.equilibrium import Statics
 from flexbed.api.results import Results
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData
 from flexbed.files.results import results_contents
-from flexbed.files.scene import SceneFile
+from flexbed.files.scene import MODELS, SceneFile, read_solver
 from flexbed.files.store import in_memory
 from flexbed.stages.simulation import simulate_system
 from flexbed.threads import limited
@@ -28,19 +31,17 @@ __all__ = ["simulate", "solver_with", "SETTINGS"]
 SETTINGS = ("integrator", "t_end", "dt", "rtol", "atol", "output_dt")
 
 
-def solver_with(scene: SceneFile, settings: Mapping[str, Any]):
+def solver_with(scene: SceneFile, settings: Mapping[str, Any], function: str = "simulate"):
     """The scene's ``[solver]`` with ``settings`` (names of :data:`SETTINGS`)
-    replaced, checked."""
+    replaced, checked as the scene file's ``[solver]`` is (messages start
+    ``flexbed.<function>:``)."""
     unknown = sorted(set(settings) - set(SETTINGS))
     if unknown:
-        raise InputError(f"unknown setting(s) {', '.join(unknown)} (known: "
-                         f"{', '.join(SETTINGS)})")
-    try:
-        solver = dataclasses.replace(scene.solver, **settings)
-        solver.settings()
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"settings {dict(settings)!r}: {exc}") from None
-    return solver
+        raise InputError(f"flexbed.{function}: unknown setting(s) {', '.join(unknown)} "
+                         f"(known: {', '.join(SETTINGS)})")
+    table = dataclasses.asdict(scene.solver)
+    table.update({k: v.item() if isinstance(v, np.generic) else v for k, v in settings.items()})
+    return read_solver(table, f"flexbed.{function}", where="")
 
 
 @limited()
@@ -72,10 +73,24 @@ def simulate(scene: SceneFile, *, modes: ModesData | None = None,
     Results
         ``complete`` False (with ``message``) when the run stopped early.
     """
+    check = Arguments("simulate")
+    scene = check.scene(scene)
+    modes = check.modes(modes)
+    if equilibrium is not None and not isinstance(equilibrium, Statics):
+        check.bad("equilibrium", equilibrium, "the scene's equilibrium from flexbed.statics, "
+                                              "or None")
+    if equilibrium is not None and equilibrium.scene.statics_digest != scene.statics_digest:
+        check.fail("", f"equilibrium: it is the equilibrium of another scene "
+                       f"({equilibrium.scene.source.name}: its bodies, mounts or bed differ)")
+    start = check.choice(start, "start", ("equilibrium", "initial"))
+    model = check.choice(model, "model", MODELS)
+    linear_tol = check.real(linear_tol, "linear_tol", positive=True)
+    progress = check.callback(progress, "progress")
     solver = solver_with(scene, settings)
     if scene.bed.flexible and modes is None:
         modes = bed_modes.modes(scene)
-    system = equilibrium.system if equilibrium is not None else bed_modes.compiled(scene, modes)
+    same = equilibrium is not None and equilibrium.scene.digest == scene.digest
+    system = equilibrium.system if same else bed_modes.compiled(scene, modes)
     sim = simulate_system(scene, system, solver.settings(), start=start or solver.start,
                           model=model or solver.model,
                           linear_tol=solver.linear_tol if linear_tol is None else linear_tol,

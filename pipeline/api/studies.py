@@ -10,8 +10,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from flexbed.errors import InputError
-
 __all__ = ["sweep"]
 
 
@@ -55,13 +53,27 @@ def sweep(study, scheduler=None, *, output: str | Path | None = None, workers: i
         anything runs.
     """
     from flexbed.study.plan import make_plan
-    from flexbed.study.runner import run_plan
+    from flexbed.study.runner import PlanProgress, run_plan
     from flexbed.study.spec import Study, read_study
     from flexbed.study.table import check_folder
 
-    if batch is not None and (isinstance(batch, bool) or not isinstance(batch, int) or batch < 1):
-        raise InputError(f"batch = {batch!r} must be an integer >= 1")
-    plan = make_plan(study if isinstance(study, Study) else read_study(study))
+    from flexbed.api.arguments import Arguments
+
+    check = Arguments("sweep")
+    if not isinstance(study, Study):
+        path = check.path(study, "study", optional=False)
+    if not (scheduler is None or isinstance(scheduler, str) or hasattr(scheduler, "submit")):
+        check.bad("scheduler", scheduler, "'tcp://HOST:PORT', a distributed.Client, or None")
+    output = check.path(output, "output")
+    workers = check.integer(workers, "workers", minimum=1, maximum=1024, optional=True)
+    keep_results, retry_failed, progress, plots = (
+        check.flag(v, k) for k, v in (("keep_results", keep_results),
+                                      ("retry_failed", retry_failed), ("progress", progress),
+                                      ("plots", plots)))
+    batch = check.integer(batch, "batch", minimum=1, maximum=10_000, optional=True)
+    if not isinstance(study, Study):
+        study = read_study(path)
+    plan = make_plan(study, PlanProgress(progress))
     folder = check_folder(output) if output is not None else None
     return run_plan(plan, scheduler=scheduler, workers=workers, folder=folder,
                     keep_results=keep_results, retry_failed=retry_failed, progress=progress,

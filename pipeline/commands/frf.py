@@ -69,7 +69,8 @@ def _band(text):
 
 
 def run(args: argparse.Namespace) -> int:
-    from flexbed.analyses.frf import frequency_response, frf_csv, parse_input
+    from flexbed.analyses.frf import MAX_GRID, check_request, frequency_response, frf_csv, \
+        parse_input
     from flexbed.analyses.points import parse_point
     from flexbed.files.destination import write_text
     from flexbed.files.frequency import write_frf
@@ -77,13 +78,26 @@ def run(args: argparse.Namespace) -> int:
     sf = load_scene(args.scene)
     kind, axis = parse_input(args.input)
     band = _band(args.band)
-    if args.n < 2:
-        raise InputError(f"-n {args.n}: needs at least 2 frequencies")
+    if not 2 <= args.n <= MAX_GRID:
+        raise InputError(f"-n {args.n}: from 2 to {MAX_GRID:,} frequencies")
+    if band is not None:
+        check_request(band, args.n, None)
     force_at = None
     if kind == "force":
         if args.force_at is None:
             raise InputError("--input force needs --force-at BODY:x,y,z")
-        force_at = parse_point(f"force={args.force_at}")
+        try:
+            force_at = parse_point(f"force={args.force_at}")
+        except InputError:
+            raise InputError(f"--force-at {args.force_at!r}: expected BODY:x,y,z (metres, "
+                             f"body frame)") from None
+    names = [b.name for b in sf.scene.bodies]
+    for option, body in ([("--force-at", force_at.body)] if force_at else []) + \
+            [("--point", parse_point(p).body) for p in args.point] + \
+            [("--relative-to", args.relative_to)] * (args.relative_to is not None):
+        if body not in names:
+            raise InputError(f"{option}: body {body!r} is not a body of {sf.source.name} "
+                             f"(bodies: {', '.join(names)})")
     points = [(parse_point(p), args.relative_to) for p in args.point] or None
     prefix = args.output or f"{sf.output_name}-frf"
     out = {"h5": check_destination(Path(prefix + ".h5")),

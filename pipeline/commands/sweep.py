@@ -42,7 +42,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from flexbed.study.plan import make_plan
-    from flexbed.study.runner import run_plan
+    from flexbed.study.runner import PlanProgress, run_plan
     from flexbed.study.spec import read_study
     from flexbed.study.table import check_folder
 
@@ -55,7 +55,8 @@ def run(args: argparse.Namespace) -> int:
                          "own workers run the study")
     study = read_study(args.study)
     folder = check_folder(args.output if args.output else f"{Path(args.study).stem}-study")
-    plan = make_plan(study)           # every path, point and metric checked: nothing ran yet
+    # every path, point and metric checked: nothing ran yet
+    plan = make_plan(study, PlanProgress(not args.no_progress))
     n_keys = len({p.key for p in plan.points})
     print(f"study '{study.name}': {len(plan.points)} points ({n_keys} distinct scenes), "
           f"analyses {', '.join(plan.analyses)}, {len(plan.metric_columns)} metric columns")

@@ -37,7 +37,7 @@ from flexbed.errors import InputError
 from flexbed.files.sanity import warn_far_points
 
 __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse_scene",
-           "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
+           "read_solver", "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
 
 
 _TOP = ("scene", "body", "base", "bed", "mount", "solver", "point")
@@ -131,6 +131,13 @@ def load_scene(path: str | Path | None = None) -> SceneFile:
     except UnicodeDecodeError:
         raise InputError(f"{path.name}: not a UTF-8 text file") from None
     return parse_scene(text, path)
+
+
+def read_solver(table: dict, label: str, where: str = "solver") -> SolverSection:
+    """A ``[solver]`` table checked as a scene file's is; messages start
+    ``label: where:`` (the API's settings use the function's name and no
+    ``where``)."""
+    return _Reader(label, Path.cwd()).solver(table, where)
 
 
 def parse_scene(text: str, source: Path) -> SceneFile:
@@ -342,8 +349,7 @@ class _Reader(ShapeReader):
             out.append(self.numbers(where, f"{key}[{d}]", row))
         return out
 
-    def solver(self, t: dict) -> SolverSection:
-        where = "solver"
+    def solver(self, t: dict, where: str = "solver") -> SolverSection:
         self.keys(where, t, _SOLVER_KEYS)
         args: dict[str, Any] = {}
         for key in ("t_end", "dt", "rtol", "atol", "output_dt", "static_tol", "linear_tol"):

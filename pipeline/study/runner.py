@@ -143,6 +143,33 @@ class StudyProgress:
             self.stream.flush()
 
 
+class PlanProgress:
+    """``progress(i, n)`` for :func:`flexbed.study.plan.make_plan`: a line on
+    stderr, drawn only when planning has taken a second, at most 4 times a
+    second, ended when the last point is planned."""
+
+    def __init__(self, enabled: bool, stream=None):
+        self.enabled = enabled
+        self.stream = stream if stream is not None else sys.stderr
+        self.t0 = time.perf_counter()
+        self.last = -1.0
+        self.shown = False
+
+    def __call__(self, i: int, n: int) -> None:
+        if not self.enabled:
+            return
+        now = time.perf_counter()
+        if i < n and (now - self.t0 < 1.0 or now - self.last < 0.25):
+            return
+        if i == n and not self.shown:
+            return
+        self.last = now
+        self.stream.write(f"\rsweep: checking the points' scenes, {i}/{n}, "
+                          f"{_duration(now - self.t0)}   " + ("\n" if i == n else ""))
+        self.stream.flush()
+        self.shown = True
+
+
 def _duration(s: float) -> str:
     if s < 90:
         return f"{s:.0f} s"

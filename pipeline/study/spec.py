@@ -18,10 +18,14 @@ from typing import Any
 
 from flexbed.errors import InputError
 
-__all__ = ["Study", "Parameter", "MetricTable", "SAMPLINGS", "SCALES", "read_study",
-           "parse_study"]
+__all__ = ["Study", "Parameter", "MetricTable", "SAMPLINGS", "SCALES", "MAX_POINTS",
+           "point_count", "read_study", "parse_study"]
 
 SAMPLINGS = ("grid", "zip", "list", "lhs")
+#: the most points one study may have: each is a scene checked and kept in
+#: memory while the study plans (about 1 ms and tens of kB each), and a
+#: solve of tens of ms on a worker; 10^5 points is hours on a laptop
+MAX_POINTS = 100_000
 SCALES = ("linear", "log")
 
 _TOP = ("study", "parameter", "point", "metric")
@@ -153,6 +157,7 @@ def parse_study(text: str, source: Path) -> Study:
                        for i, t in enumerate(_tables(data, "parameter", where)))
     points = tuple(_point(where, i + 1, t) for i, t in enumerate(_tables(data, "point", where)))
     _check_sampling(where, sampling, parameters, points)
+    _check_size(where, sampling, parameters, len(points), samples)
     metrics = tuple(_metric(where, i + 1, t) for i, t in enumerate(_tables(data, "metric", where)))
     if not metrics:
         raise InputError(f"{where}: no [[metric]]: name at least one metric to keep")
@@ -251,6 +256,27 @@ def _point(where: str, i: int, t: dict) -> tuple:
     if not t:
         raise InputError(f"{where}: point {i}: empty (give path = value pairs)")
     return tuple(t.items())
+
+
+def point_count(sampling: str, parameters, n_points: int, samples: int | None) -> int:
+    """The number of points a study's sampling makes (exact; before any is
+    made)."""
+    if sampling == "list":
+        return n_points
+    if sampling == "lhs":
+        return samples if parameters else 1
+    sizes = [len(p.values) if p.values is not None else p.num for p in parameters]
+    if sampling == "zip":
+        return min(sizes) if sizes else 1
+    return math.prod(sizes)
+
+
+def _check_size(where, sampling, parameters, n_points, samples) -> None:
+    n = point_count(sampling, parameters, n_points, samples)
+    if n > MAX_POINTS:
+        shown = f"{n:,}" if n < 10 ** 15 else f"{n:.3g}"
+        raise InputError(f"{where}: the study has {shown} points; the limit is {MAX_POINTS:,} "
+                         f"(split it, or sample it: sampling = \"lhs\")")
 
 
 def _check_sampling(where, sampling, parameters, points) -> None:
