@@ -34,20 +34,23 @@ from flexbed.files.bed_points import points_on_bed
 from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
 from flexbed.files.drives import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
+from flexbed.files.limits import BODY_LIMIT_KEYS, MOUNT_LIMIT_KEYS, Limits, read_limits
 from flexbed.files.sanity import warn_far_points
 
 __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse_scene",
            "read_solver", "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
 
 
-_TOP = ("scene", "body", "base", "bed", "mount", "solver", "point")
+_TOP = ("scene", "body", "base", "bed", "mount", "solver", "point", "clearance")
 _SCENE_KEYS = ("name", "description", "gravity")
 _BODY_KEYS = ("name", "mass", "inertia", "position", "orientation_deg", "velocity",
-              "angular_velocity")
+              "angular_velocity") + BODY_LIMIT_KEYS
 _VELOCITY_KEYS = ("velocity", "angular_velocity")
 _BASE_KEYS = ("motion", "support", "drive", "force")
 _MOUNT_KEYS = ("name", "body_i", "body_j", "point_i", "point_j", "axes_deg", "axes", "law",
                "k", "c", "stiffness", "damping", "spring_curve", "damper_curve")
+_LAW_ENTRY_KEYS = _MOUNT_KEYS[9:]
+_MOUNT_KEYS += MOUNT_LIMIT_KEYS
 _LAW_KEYS = {"linear": ("k", "c"), "polynomial": ("stiffness", "damping"),
              "curve": ("spring_curve", "damper_curve")}
 _SOLVER_KEYS = ("t_end", "integrator", "dt", "rtol", "atol", "output_dt", "start", "static_tol",
@@ -98,7 +101,8 @@ class SceneFile:
     digest : str (sha256 of the canonical JSON of the parsed data plus the
     referenced CSV files); statics_digest : str (the same over only what the
     static equilibrium depends on: gravity, bodies, mounts, bed and
-    static_tol).
+    static_tol); limits : Limits (stroke, load, fragility and clearance
+    limits: :mod:`flexbed.files.limits`).
     """
 
     scene: Scene
@@ -109,6 +113,7 @@ class SceneFile:
     text: str
     digest: str
     statics_digest: str
+    limits: Limits = Limits()
 
     @property
     def output_name(self) -> str:
@@ -178,6 +183,8 @@ class _Reader(ShapeReader):
             self.fail("bed", f"body = {bed.body!r} is not a body (bodies: {', '.join(names)})")
         solver = self.solver(data.get("solver", {}))
         points = self.points(data.get("point", []), names)
+        limits = read_limits(self, data, names, names[at] if at is not None else None,
+                             _off_bed(bed))
         if at is not None:
             mounts, points = points_on_bed(bed, names[at], mounts, points, self.fail)
         try:
@@ -189,12 +196,15 @@ class _Reader(ShapeReader):
         if bed.auto == ():
             bed = self.resolve_auto_modes(scene, bed, solver)
         digest = _digest(data, self.csv)
-        at_rest = [{k: v for k, v in b.items() if k not in _VELOCITY_KEYS} for b in bodies_raw]
-        statics = {"gravity": gravity, "body": at_rest, "mount": data.get("mount", []),
+        at_rest = [{k: v for k, v in b.items() if k not in _VELOCITY_KEYS + BODY_LIMIT_KEYS}
+                   for b in bodies_raw]
+        mounts_raw = [{k: v for k, v in m.items() if k not in MOUNT_LIMIT_KEYS}
+                      for m in data.get("mount", [])]
+        statics = {"gravity": gravity, "body": at_rest, "mount": mounts_raw,
                    "bed": data.get("bed", {}), "static_tol": solver.static_tol}
         return SceneFile(scene=scene, bed=bed, solver=solver, points=tuple(points),
                          source=path, text=text, digest=digest,
-                         statics_digest=_digest(statics, {}))
+                         statics_digest=_digest(statics, {}), limits=limits)
 
     def resolve_auto_modes(self, scene: Scene, bed: BedSection, solver) -> BedSection:
         """``[bed] modes = "auto"`` → fmax = f_cut (see :mod:`flexbed.stages.modes_auto`)."""
@@ -296,7 +306,7 @@ class _Reader(ShapeReader):
             ang = self.numbers(where, "axes_deg", t.get("axes_deg", [0, 0, 0]), 3)
             U = rotation_matrix(p_from_angles(*np.radians(ang))).T
         law = self.string(where, "law", t["law"], tuple(_LAW_KEYS))
-        for key in _MOUNT_KEYS[9:]:
+        for key in _LAW_ENTRY_KEYS:
             if key in t and key not in _LAW_KEYS[law]:
                 self.fail(where, f"key '{key}' does not apply to law = {law!r} "
                                  f"(it takes {', '.join(_LAW_KEYS[law])})")
@@ -402,6 +412,16 @@ def _bed_index(bodies: list, bed: BedSection) -> int | None:
         if isinstance(t, dict) and t.get("name") == bed.body:
             return i if i > 0 else None
     return None
+
+
+def _off_bed(bed: BedSection):
+    """``off_bed(point)`` for points on the bed (drawing frame), or None
+    where any body-fixed point is taken (a rigid plain rectangle), as
+    :func:`~flexbed.files.bed_points.points_on_bed` decides."""
+    if not (bed.flexible or bed.plate.geometry is not None):
+        return None
+    from flexbed.fem.layout import off_bed
+    return lambda point: bool(off_bed(bed.plate, np.array(point)[None, :])[0])
 
 
 def _digest(data: Any, csv: dict[str, str]) -> str:
