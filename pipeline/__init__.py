@@ -40,12 +40,13 @@ and ``scenes/`` (the built-in reference scene).
 from __future__ import annotations
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-           "modal", "frf", "srs", "sweep", "Statics", "Results", "Comparison", "Modal",
-           "Transmissibility", "InputError", "NumericalError", "__version__"]
+           "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
+           "Modal", "Transmissibility", "Qualification", "InputError", "NumericalError",
+           "__version__"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-        "modal", "frf", "srs", "sweep", "Statics", "Results", "Comparison", "Modal",
-        "Transmissibility"}
+        "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison", "Modal",
+        "Transmissibility", "Qualification"}
 
 
 def __getattr__(name: str):

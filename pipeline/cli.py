@@ -3,7 +3,8 @@
 Every subcommand lives in its own module ``flexbed.commands.<name>`` with
 ``add_args(parser)`` and ``run(args) -> int``. Failures the user can act on
 come up as :class:`flexbed.errors.FlexbedError` and leave as one line on
-stderr and an exit code: 0 success, 1 numerical failure, 2 bad input, 130
+stderr and an exit code: 0 success, 1 numerical failure, 2 bad input, 3 a
+verdict of FAIL (``flexbed qualify``), 130
 interrupted by SIGINT (Ctrl-C), 143 by SIGTERM (both keep what was computed,
 marked incomplete: :mod:`flexbed.interrupts`), 141 output pipe closed
 (``flexbed post … | head``: the reader stopped; nothing is printed, as
@@ -44,6 +45,7 @@ COMMANDS = {
     "compare": "rigid vs flexible vs damped flexible bed -> tables and plots",
     "post": "points of interest and mount forces from a results file",
     "srs": "shock response spectra of points from a results file",
+    "qualify": "shock verdict against the scene's limits (exit 3: FAIL)",
     "run": "the whole pipeline on one scene, into one folder",
     "bench": "benchmarks: speed against error, written as a report",
     "sweep": "a design study of many variants on Dask -> one table and plots",

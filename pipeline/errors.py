@@ -1,7 +1,8 @@
 """Errors the command line turns into one clear line and an exit code.
 
 Exit codes shared by every subcommand: 0 success, 1 numerical failure,
-2 bad input (scene, options or files).
+2 bad input (scene, options or files); and ``flexbed qualify``'s 3, a
+verdict of FAIL (the run succeeded, the design did not).
 """
 
 import errno
@@ -9,6 +10,7 @@ import errno
 EXIT_OK = 0
 EXIT_NUMERICAL = 1
 EXIT_INPUT = 2
+EXIT_FAIL = 3
 
 
 class FlexbedError(Exception):

@@ -81,7 +81,7 @@ def test_help_lists_every_command_and_each_commands_options(capsys):
                 "post": "--modes-file", "bench": "--quick", "modes": "--fmax",
                 "static": "--tol", "scene": "--output", "modal": "--equilibrium",
                 "frf": "--relative-to",
-                "srs": "--per-octave",
+                "srs": "--per-octave", "qualify": "--results",
                 "sweep": "--scheduler"}
     assert set(expected) == set(COMMANDS)
     for name, option in expected.items():

@@ -31,6 +31,8 @@ The room holds one module per idea, each exported here and as ``flexbed.NAME``:
 - :mod:`~flexbed.api.comparison`: :func:`compare` and :class:`Comparison`;
 - :mod:`~flexbed.api.frequency`: :func:`modal`, :func:`frf` and their
   :class:`Modal` and :class:`Transmissibility`;
+- :mod:`~flexbed.api.qualification`: :func:`qualify` and
+  :class:`Qualification`, the verdict against the scene's limits;
 - :mod:`~flexbed.api.studies`: :func:`sweep`;
 - :func:`load_scene` and :func:`vary` are :mod:`flexbed.files`' own.
 
@@ -47,6 +49,7 @@ from flexbed.api.bed_modes import modes
 from flexbed.api.comparison import Comparison, compare
 from flexbed.api.equilibrium import Statics, statics
 from flexbed.api.frequency import Modal, Transmissibility, frf, modal
+from flexbed.api.qualification import Qualification, qualify
 from flexbed.api.results import Results, open_results, srs
 from flexbed.api.simulation import simulate
 from flexbed.api.studies import sweep
@@ -54,5 +57,5 @@ from flexbed.files.scene import load_scene
 from flexbed.files.variants import vary
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
-           "modal", "frf", "srs", "sweep", "Statics", "Results", "Comparison", "Modal",
-           "Transmissibility"]
+           "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
+           "Modal", "Transmissibility", "Qualification"]
