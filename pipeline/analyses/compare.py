@@ -6,7 +6,10 @@ static equilibrium (the flexible ones with the bed's sag unless the scene
 says otherwise). Per piece of equipment (every body after the bed), the
 vertical motion relative to the base, d(t) = (z_e − z_base)(t) − (z_e −
 z_base)(0), is summarised by its peak, RMS, dominant frequency, its delay
-against the rigid case and its decay once the loads have ended.
+against the rigid case and its decay once the loads have ended. Each case
+also carries its verdict against the scene's limits
+(:mod:`flexbed.analyses.verdict`, side by side in
+:mod:`flexbed.analyses.compare_verdict`).
 
 The delay is the shift that maximises the cross-correlation with the rigid
 case, searched over ± half the period of the rigid response's dominant
@@ -23,8 +26,11 @@ from pathlib import Path
 import numpy as np
 
 
+from flexbed.analyses.points import Run
+from flexbed.analyses.verdict import judge
 from flexbed.stages.system import compile_scene
 from flexbed.errors import NumericalError
+from flexbed.files.store import in_memory
 from flexbed.files.modes import ModesData
 from flexbed.stages.simulation import equilibrium, simulate_system
 from flexbed.files.results import results_contents
@@ -52,6 +58,8 @@ class CaseRun:
     rhs_evaluations: int
     wall_time: float
     load_end: float
+    verdict: object = None         # flexbed.analyses.verdict.Verdict
+    relative: dict | None = None   # point name -> (k, 3) motion relative to its body [m]
 
 
 @dataclass(frozen=True)
@@ -59,7 +67,8 @@ class CaseSolution:
     """One case solved in memory: its scene variant, compiled system, static
     equilibrium, motion, and its results file's contents (datasets, attrs);
     ``interrupt``: the SIGINT or SIGTERM that stopped it (the contents are
-    then marked incomplete), else None."""
+    then marked incomplete), else None; ``modes``: the flexible bed's modes
+    (None for the rigid case)."""
 
     case: str
     scene: SceneFile
@@ -68,6 +77,7 @@ class CaseSolution:
     motion: object
     contents: tuple
     interrupt: BaseException | None = None
+    modes: ModesData | None = None
 
 
 def solve_case(sf: SceneFile, data: ModesData | None, case: str) -> CaseSolution:
@@ -95,19 +105,27 @@ def solve_case(sf: SceneFile, data: ModesData | None, case: str) -> CaseSolution
         csf, system, motion.run, start=start, equilibrium=eq if start == "equilibrium" else None,
         modes_path=data.path if (case != "rigid" and data) else None, model=motion.attrs()),
         motion.run.interrupt)
-    return CaseSolution(case, csf, system, eq, motion, (ds, attrs), interrupt)
+    return CaseSolution(case, csf, system, eq, motion, (ds, attrs), interrupt,
+                        data if case != "rigid" else None)
 
 
 def case_run(sol: CaseSolution, path: Path | None = None) -> CaseRun:
-    """The figures :func:`comparison_rows` needs from a solved case."""
+    """The figures :func:`comparison_rows` needs from a solved (complete)
+    case, with its verdict against the scene's limits and its points of
+    interest's motion relative to their ``relative_to`` bodies."""
     ds = sol.contents[0]
     st = sol.motion.run.stats
+    post = Run(in_memory(*sol.contents), modes=sol.modes)
+    rest = sol.system.observe(0.0, sol.equilibrium.y)
+    relative = {p.name: post.relative(p, p.relative_to).position
+                for p in post.scene_points if p.relative_to}
     return CaseRun(case=sol.case, path=path, t=np.asarray(ds["time"].data),
                    position=np.asarray(ds["bodies/position"].data),
                    base_acceleration=np.asarray(ds["bodies/acceleration"].data)[:, 0, :],
                    static_position=sol.system.observe(0.0, sol.equilibrium.y).r.copy(),
                    steps=st.steps, rhs_evaluations=st.rhs_evaluations,
-                   wall_time=st.wall_time, load_end=max(sol.system.breakpoints, default=0.0))
+                   wall_time=st.wall_time, load_end=max(sol.system.breakpoints, default=0.0),
+                   verdict=judge(post, sol.scene.limits, rest.dx, rest.f), relative=relative)
 
 
 def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=print) -> CaseRun:

@@ -13,6 +13,7 @@ import dataclasses
 
 from flexbed.analyses.compare import CASES, LABELS, case_run, comparison_rows, markdown_table, \
     solve_case
+from flexbed.analyses.compare_verdict import verdict_markdown, verdict_rows
 from flexbed.api import bed_modes
 from flexbed.api.arguments import Arguments
 from flexbed.api.results import Results
@@ -32,15 +33,27 @@ class Comparison:
 
     rows : list of dict — per equipment and case: ``static_z`` [m], ``peak``
     and ``rms`` of d(t) [m], ``frequency`` [Hz], ``delay`` [s], ``decay``
-    [–] (as ``flexbed compare`` reports them); runs : dict case → Results.
+    [–] (as ``flexbed compare`` reports them); runs : dict case → Results;
+    verdicts : dict case → Verdict (:mod:`flexbed.analyses.verdict`),
+    each case against the scene's limits.
     """
 
     rows: list
     runs: dict
+    verdicts: dict = dataclasses.field(default_factory=dict)
 
     def table(self) -> str:
         """The rows as a Markdown table (mm and ms, as ``flexbed compare``)."""
         return markdown_table(self.rows)
+
+    def verdict_rows(self) -> list:
+        """The verdict's figures per case, SI
+        (:func:`~flexbed.analyses.compare_verdict.verdict_rows`)."""
+        return verdict_rows(self.verdicts, CASES)
+
+    def verdict_table(self) -> str:
+        """The verdict's figures per case as a Markdown table (g, %, mm, N)."""
+        return verdict_markdown(self.verdict_rows(), CASES, LABELS)
 
 
 @limited()
@@ -70,4 +83,5 @@ def compare(scene: SceneFile, *, modes: ModesData | None = None, **settings) -> 
     names = [b.name for b in scene.scene.bodies]
     bed = scene.bed.body or names[1]
     equipment = [i for i in range(1, len(names)) if names[i] != bed]
-    return Comparison(comparison_rows(cases, names, equipment), runs)
+    return Comparison(comparison_rows(cases, names, equipment), runs,
+                      {c: r.verdict for c, r in cases.items()})

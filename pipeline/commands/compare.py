@@ -1,7 +1,10 @@
 """``flexbed compare [SCENE] [-o DIR] [--integrator NAME] [--t-end T] [--force]``:
 the scene with a rigid bed, a flexible bed (α = β = 0) and a damped flexible
 bed (the scene's damping), compared per piece of equipment, with plots (the
-paper's Figs. 10–12)."""
+paper's Figs. 10–12); and the verdict's figures (peak g per body, stroke used
+and peak force per mount, points of interest relative to their bodies,
+clearances, PASS/FAIL) per case, with a plot per point of interest and axis
+of its motion relative to its ``relative_to`` body."""
 
 from __future__ import annotations
 
@@ -14,6 +17,7 @@ from pathlib import Path
 from flexbed.commands.arguments import add_scene_arg
 from flexbed.analyses.compare import (CASES, LABELS, comparison_rows, csv_table, markdown_table,
                                       relative_vertical, run_case)
+from flexbed.analyses.compare_verdict import verdict_csv, verdict_markdown, verdict_rows
 from flexbed.files.destination import make_folder, write_text
 from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile, load_scene
@@ -81,11 +85,30 @@ def compare_scene(sf: SceneFile, out: Path, *, force: bool = False, log=print) -
         files.append(plot_responses(out / f"{name}-{safe}-z.png",
                                     f"{names[i]}: vertical motion relative to the base",
                                     curves, LABELS, "z − z_base − static [mm]"))
+    verdicts = verdict_rows({c: runs[c].verdict for c in CASES}, CASES)
+    write_text(out / f"{name}-compare-verdict.csv", verdict_csv(verdicts, CASES))
+    files.append(out / f"{name}-compare-verdict.csv")
+    for point in runs["rigid"].relative:
+        curves = {c: (runs[c].t, 1e3 * (runs[c].relative[point] - runs[c].relative[point][0]))
+                  for c in CASES}
+        safe = point.replace(" ", "_")
+        for k, axis in enumerate("xyz"):
+            files.append(plot_responses(
+                out / f"{name}-{safe}-relative-{axis}.png",
+                f"{point}: {axis} motion relative to {_relative_to(sf, point)}",
+                {c: (t, d[:, k]) for c, (t, d) in curves.items()}, LABELS,
+                f"{axis} − {axis}(0), {_relative_to(sf, point)}'s frame [mm]"))
     rigid = runs["rigid"]
     files.append(plot_series(out / f"{name}-base-acceleration.png",
                              "base: vertical acceleration", rigid.t,
                              rigid.base_acceleration[:, 2], "z acceleration [m/s²]"))
-    return {"rows": rows, "table": table, "runs": runs, "files": files, "modes": data}
+    return {"rows": rows, "table": table, "runs": runs, "files": files, "modes": data,
+            "verdict_rows": verdicts,
+            "verdict_table": verdict_markdown(verdicts, CASES, LABELS)}
+
+
+def _relative_to(sf: SceneFile, point: str) -> str:
+    return next(p.relative_to for p in sf.points if p.name == point)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -96,6 +119,8 @@ def run(args: argparse.Namespace) -> int:
           f"0-{sf.solver.t_end:g} s, {sf.solver.integrator} -> {out}/")
     res = compare_scene(sf, out, force=args.force)
     print(res["table"])
+    print("\nThe verdict's figures (against the scene's limits, if it gives any):")
+    print(res["verdict_table"])
     for f in res["files"]:
         print(f"wrote {f}")
     print(f"done in {time.perf_counter() - t0:.1f} s")
