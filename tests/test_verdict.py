@@ -138,7 +138,7 @@ def test_each_limit_kind_passes_just_above_and_fails_just_below_its_figure(quali
         "extension": lambda s: dict(mounts=_mounts(extension=(1, 1, e3 * s))),
         "rated_load": lambda s: dict(mounts=_mounts(rated_load=load * s)),
         "max_force": lambda s: dict(mounts=_mounts(max_force=peak * s)),
-        "fragility": lambda s: dict(fragility=(Fragility("mass", acc * s, "g"),)),
+        "fragility": lambda s: dict(fragility=(Fragility("mass", acc * s, "m/s2"),)),
         "clearance": lambda s: dict(clearances=(dataclasses.replace(plane,
                                                                     minimum=lowest / s),)),
     }

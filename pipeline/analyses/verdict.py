@@ -73,6 +73,26 @@ class MountVerdict:
     def passed(self) -> bool:
         return not self.reasons
 
+    def usage(self) -> dict:
+        """How much of each given limit the run used: ``{"stroke": (used,
+        when), "load": (static load / rated, nan), "force": (peak / max,
+        when)}`` [1, s], only the kinds the mount has a limit of."""
+        out = {}
+        if np.any(np.isfinite(self.stroke_used)):
+            k = int(np.nanargmax(self.stroke_used))
+            ratios = {}
+            if self.limits.compression is not None:
+                ratios[self.compression_time[k]] = self.compression[k] / self.limits.compression[k]
+            if self.limits.extension is not None:
+                ratios[self.extension_time[k]] = self.extension[k] / self.limits.extension[k]
+            when = max(ratios, key=ratios.get)
+            out["stroke"] = (float(self.stroke_used[k]), float(when))
+        if self.limits.rated_load is not None:
+            out["load"] = (self.static_load / self.limits.rated_load, float("nan"))
+        if self.limits.max_force is not None:
+            out["force"] = (self.peak_force / self.limits.max_force, self.peak_force_time)
+        return out
+
 
 @dataclass(frozen=True)
 class BodyVerdict:

@@ -19,7 +19,8 @@ repeats. A target writes a part only, as
 - ``linear``: the integrators on every case and the linear fast path
   against them at equal accuracy;
 - ``beds``: the reference bed, Kirchhoff and Mindlin, against a 3D solid,
-  and the modes of large Mindlin beds (grid, imported quads and triangles).
+  and the modes of large Mindlin beds (grid, imported quads and triangles);
+- ``verdict``: the CPU cost of the worked shock verdict (docs/shock-verdict.md).
 
 The report is also printed on stdout; progress goes to stderr.
 """
@@ -47,6 +48,7 @@ TARGETS = {
     "linear": (["integrators", "linear"], None),
     "inputs": (["inputs"], None),
     "beds": (["beds"], None),
+    "verdict": (["verdict"], None),
 }
 
 

@@ -68,20 +68,20 @@ class MountLimits:
 class Fragility:
     """A body's fragility: its largest allowed absolute acceleration.
 
-    peak : float [m/s²]; units : "g" or "m/s2", as the scene gave it;
-    point : 3 floats [m] in the body's frame (the bed's: its drawing
-    frame, as for ``[[point]]``), or None for the centre of mass.
+    given : float, the peak as the scene gives it, in ``units`` ("g" or
+    "m/s2"); point : 3 floats [m] in the body's frame (the bed's: its
+    drawing frame, as for ``[[point]]``), or None for the centre of mass.
     """
 
     body: str
-    peak: float
+    given: float
     units: str = "m/s2"
     point: tuple | None = None
 
     @property
-    def given(self) -> float:
-        """The peak in the scene's units."""
-        return self.peak / UNITS[self.units]
+    def peak(self) -> float:
+        """The peak [m/s²]."""
+        return self.given * UNITS[self.units]
 
 
 @dataclass(frozen=True, slots=True)
@@ -192,7 +192,7 @@ def _fragility(reader, where, value, body, index, bed_name, off_bed) -> Fragilit
     if "point" in value:
         point = tuple(reader.numbers(where, f"{key}.point", value["point"], 3))
         _on_bed(reader, where, f"{key}.point", point, body, bed_name, off_bed)
-    return Fragility(body, peak * UNITS[units], units, point)
+    return Fragility(body, peak, units, point)
 
 
 def _clearance(reader, i, t, names, bed_name, off_bed) -> Clearance:

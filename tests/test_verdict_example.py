@@ -1,0 +1,51 @@
+"""The worked shock verdict (docs/shock-verdict.md): its scene, its script,
+whose output the page quotes, and its ``flexbed bench verdict`` entry."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from flexbed.bench.verdict import skid_scene
+from flexbed.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+PAGE = (ROOT / "docs" / "shock-verdict.md").read_text()
+
+
+def test_the_skid_scene_carries_every_kind_of_limit():
+    sf = skid_scene()
+    lim = sf.limits
+    shock = [lim.mount(f"S{i}") for i in range(1, 5)]
+    assert all(m.compression == (0.035, 0.035, 0.05) and m.rated_load == 2000.0 for m in shock)
+    assert [lim.mount(f"P{i}").max_force for i in range(1, 5)] == [14000.0] * 4
+    assert {f.body: f.given for f in lim.fragility} == {"pump": 15.0, "motor": 15.0}
+    assert [c.name for c in lim.clearances] == ["pump to bulkhead"]
+
+
+@pytest.mark.slow
+def test_the_script_prints_what_the_page_quotes(tmp_path):
+    cp = subprocess.run([sys.executable, str(ROOT / "docs" / "shock_verdict.py")],
+                        cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert cp.returncode == 0, cp.stderr
+    lines = cp.stdout.splitlines()
+    ranking = lines[:7]                       # the rigid verdict and what comes closest
+    assert ranking[0] == "rigid bed: PASS"
+    assert "\n".join(ranking) in PAGE
+    quoted = [ln for ln in lines if ln.startswith(("flexible:", "damped:", "| all |",
+                                                    "| P2 | peak force", "| pump top"))]
+    assert len(quoted) == 5
+    for ln in quoted:
+        assert ln in PAGE, ln
+
+
+@pytest.mark.slow
+def test_bench_verdict_reports_the_three_parts(tmp_path, capsys):
+    assert main(["bench", "verdict", "--quick", "-o", str(tmp_path)]) == 0
+    text = (tmp_path / "benchmarks-verdict.md").read_text()
+    assert "## The shock verdict" in text and "verdict PASS" in text
+    for part in ("static equilibrium", "transient (", "verdict (extremes", "**total**"):
+        assert part in text
