@@ -81,6 +81,7 @@ import numpy as np
 
 from . import steppers
 from .steppers import N_COUNTS
+from .contacts import Contacts
 from .method_choice import auto_method
 from .stiffness import jacobian_columns, motion_eigenvalues, segments, stable_step, stiff_message
 from .system import System
@@ -195,7 +196,9 @@ class Run:
     t_reached : float [s] last time the solution reached; interrupt : the
     KeyboardInterrupt (or subclass: a SIGTERM the command line turned into
     one) that stopped the run, None otherwise — a caller that keeps the
-    samples raises it again once they are safe.
+    samples raises it again once they are safe; events : the bump stops'
+    contacts that began or ended (:class:`flexbed.dynamics.contacts.ContactEvent`),
+    in time order.
     """
 
     t: np.ndarray
@@ -206,6 +209,7 @@ class Run:
     settings: Settings
     t_reached: float
     interrupt: BaseException | None = None
+    events: tuple = ()
 
 
 
@@ -321,6 +325,7 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     state = {"t": 0.0, "k_out": 1}
     counts = np.zeros(N_COUNTS, dtype=np.int64)
     complete, message, interrupt = True, "completed", None
+    contacts = Contacts(system)
     try:
         refusal = too_many_steps(system, settings)
         if refusal:
@@ -337,12 +342,16 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
         stats.method = method
         stats.rejected_source = {"rk4": "none (fixed step)", "dop853": "exact", "radau": "exact"
                                  }.get(method, "counted from distinct trial times")
-        if method in _COMPILED:
-            load_time += _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol,
-                                       counts, state, stats, project, progress)
-        else:
-            _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, stats,
-                       project, progress)
+        if contacts:
+            contacts.start(0.0, y, bounds[0] if bounds else math.inf)
+        with contacts.held():
+            if method in _COMPILED:
+                load_time += _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol,
+                                           atol, counts, state, stats, project, progress,
+                                           contacts)
+            else:
+                _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, stats,
+                           project, progress, contacts)
     except _Stop as exc:
         complete, message = False, str(exc)
     except KeyboardInterrupt as exc:
@@ -361,7 +370,8 @@ def integrate(system: System, y0: np.ndarray, settings: Settings, *,
     stats.wall_time = time.perf_counter() - load0 - load_time
     k_out = state["k_out"]
     return Run(t=grid[:k_out].copy(), y=Y[:k_out].copy(), complete=complete, message=message,
-               stats=stats, settings=requested_settings, t_reached=state["t"], interrupt=interrupt)
+               stats=stats, settings=requested_settings, t_reached=state["t"], interrupt=interrupt,
+               events=tuple(contacts.events))
 
 
 def _load_kernel(system: System, method: str) -> None:
@@ -401,11 +411,13 @@ def _first_step(system: System, t: float, tb: float) -> tuple[float, float]:
 
 
 def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, counts, state,
-                  stats, project, progress):
+                  stats, project, progress, contacts):
     """The compiled steppers (:mod:`flexbed.dynamics.steppers`), segment by segment,
-    in chunks of at most CHUNK_STEPS accepted steps. Returns the time [s]
-    spent loading (or compiling) the stepper, by a call that takes no step,
-    before the first one."""
+    in chunks of at most CHUNK_STEPS accepted steps (one step at a time
+    with bump stops, whose contacts are located after each,
+    :mod:`flexbed.dynamics.contacts`). Returns the time [s] spent loading
+    (or compiling) the stepper, by a call that takes no step, before the
+    first one."""
     method = settings.method
     step = getattr(steppers, _COMPILED[method])
     lay = system.layout
@@ -418,6 +430,7 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
     step(0.0, 0.0, z, shift, kernel, rtol, atol, 0.0, math.inf, grid, Y, 1, 1, p_idx, n_motion,
          counts, work)
     load_time = time.perf_counter() - load0
+    chunk = 1 if contacts else CHUNK_STEPS
     for tb in bounds:
         t = state["t"]
         stats.segments += 1
@@ -429,10 +442,12 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
         if method == "radau":
             steppers.radau_reset(work)
         while True:
-            budget = min(CHUNK_STEPS, settings.max_steps - int(counts[1]))
+            budget = min(chunk, settings.max_steps - int(counts[1]))
             if budget <= 0:
                 raise _Stop(f"the maximum number of steps ({settings.max_steps}) was reached "
                             f"at t = {t:.6g} s; raise max_steps or loosen the tolerances")
+            if contacts:
+                t0, z0, k0 = t, z.copy(), state["k_out"]
             status, t, h, k_out = step(t, tb, z, shift, kernel, rtol, atol, h, hmax, grid,
                                        Y, state["k_out"], budget, p_idx, n_motion, counts, work)
             state["t"], state["k_out"] = float(t), int(k_out)
@@ -442,80 +457,172 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
                 raise _Stop(state["watch"].collapsed(method, float(t), float(h), z + shift, tb))
             if status != -2:
                 state["watch"].check(float(t), z + shift, tb)
-            if status == 0:
-                break
             if status == -2:
                 raise _Stop(f"{method}: the state became non-finite at t = {t:.6g} s "
                             f"(unstable step; try a smaller step or an implicit method)")
+            if contacts and float(t) > t0:
+                which = contacts.crossed(float(t), z + shift, tb)
+                if which.size:
+                    t = _contact_restart(step, system, contacts, which, t0, float(t), z0, z,
+                                         shift, kernel, rtol, atol, hmax, grid, Y, k0, p_idx,
+                                         n_motion, counts, work, settings, tb, state, stats)
+                    project(z)
+                    h = settings.dt if method == "rk4" else _first_step(system, t, tb)[1]
+                    if method == "radau":
+                        steppers.radau_reset(work)
+                    if t < tb:
+                        continue
+                    break
+            if status == 0:
+                break
     return load_time
 
 
+def _contact_restart(step, system, contacts, which, t0, t1, z0, z, shift, kernel, rtol, atol,
+                     hmax, grid, Y, k0, p_idx, n_motion, counts, work, settings, tb, state,
+                     stats) -> float:
+    """A step from t0 (state z0, output rows from k0) to t1 crossed a stop's
+    gap (entries ``which``): locate the earliest crossing by re-stepping
+    from t0 (scratch output, counted as right-hand sides only), step from
+    t0 to it for real (z and the rows up to it), switch that contact.
+    Returns the instant [s]."""
+    trial_counts = np.zeros_like(counts)
+    trial_work = steppers.radau_workspace(z.size) if settings.method == "radau" else ()
+    no_grid, no_rows = np.zeros(0), np.zeros((0, z.size))
+    h0 = settings.dt if settings.method == "rk4" else 0.0
+
+    def state_at(tau: float) -> np.ndarray:
+        zt = z0.copy()
+        if tau > t0:
+            if settings.method == "radau":
+                steppers.radau_reset(trial_work)
+            step(t0, tau, zt, shift, kernel, rtol, atol, h0 or (tau - t0), hmax, no_grid,
+                 no_rows, 0, settings.max_steps, p_idx, n_motion, trial_counts, trial_work)
+        return zt + shift
+
+    tau, j, _ = contacts.locate(which, t0, t1, state_at, tb)
+    z[:] = z0
+    if settings.method == "radau":
+        steppers.radau_reset(work)
+    counts[1] -= 1              # the step that crossed is replaced by the step(s) to tau
+    status, t, _, k_out = step(t0, tau, z, shift, kernel, rtol, atol, h0 or (tau - t0), hmax,
+                               grid, Y, k0, settings.max_steps, p_idx, n_motion, counts, work)
+    counts[0] += trial_counts[0]
+    if status != 0:
+        raise _Stop(f"{settings.method}: could not step to the bump stop's contact at "
+                    f"t = {tau:.6g} s (status {status})")
+    # rows after tau written by the step that crossed: rewritten from here on
+    Y[k_out:][grid[k_out:] <= t1 + 1e-12 * max(1.0, t1)] = np.nan
+    state["t"], state["k_out"] = float(t), int(k_out)
+    try:
+        contacts.switch(j, float(t), z + shift, tb)
+    except RuntimeError as exc:
+        raise _Stop(str(exc)) from None
+    stats.segments += 1
+    return float(t)
+
+
 def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, stats, project,
-               progress):
-    """SciPy's LSODA (adams) and BDF, one step at a time."""
-    method = settings.method
+               progress, contacts):
+    """SciPy's LSODA (adams) and BDF, one step at a time (a bump stop's
+    contact located on the step's dense output, and the stepper built anew
+    from there)."""
     lay = system.layout
     project_y = _Projector(system)
     n_motion = lay.nq + lay.nv
     stepper = None
     try:
         for tb in bounds:
-            t = state["t"]
-            stats.segments += 1
-            project(z)
-            fun = _shifted_rhs(system, shift, tb)
-            trial = _TrialTimes(fun)
-            hmax, h0 = _first_step(system, t, tb)
-            extra = {"max_step": hmax, "first_step": h0} if h0 > 0 else {}
-            if method == "bdf":
-                extra["jac"] = _difference_jacobian(fun, shift, n_motion)
-            stepper = _scipy_stepper(method)(trial, t, z, tb, rtol=rtol, atol=atol, **extra)
-            while stepper.status == "running":
-                if stats.steps >= settings.max_steps:
-                    raise _Stop(f"the maximum number of steps ({settings.max_steps}) was "
-                                f"reached at t = {stepper.t:.6g} s; raise max_steps or loosen "
-                                f"the tolerances")
-                t_old = stepper.t
-                msg = stepper.step()
-                if stepper.status == "failed":
-                    if "step size" in str(msg):
-                        raise _Stop(state["watch"].collapsed(method, stepper.t,
-                                                             stepper.step_size or 0.0,
-                                                             stepper.y + shift, tb))
-                    raise _Stop(f"{method} failed at t = {stepper.t:.6g} s: {msg}")
-                stats.steps += 1
-                stats.rejected += trial.attempts_since(t_old) - 1
-                t_new = stepper.t
-                y_new = stepper.y
-                if not np.all(np.isfinite(y_new)):
-                    raise _Stop(f"{method}: the state became non-finite at t = {t_new:.6g} s "
-                                f"(unstable step; try a smaller step or an implicit method)")
-                state["watch"].check(t_new, y_new + shift, tb)
-                # samples in (t_old, t_new]
-                k_out = state["k_out"]
-                k_end = k_out
-                while k_end < grid.size and grid[k_end] <= t_new + 1e-12 * max(1.0, t_new):
-                    k_end += 1
-                if k_end > k_out:
-                    ts = grid[k_out:k_end]
-                    inside = ts < t_new - 1e-12 * max(1.0, t_new)
-                    if np.any(inside):
-                        Y[k_out:k_end][inside] = stepper.dense_output()(ts[inside]).T + shift
-                    Y[k_out:k_end][~inside] = y_new + shift
-                    for k in range(k_out, k_end):
-                        project_y(Y[k])
-                    state["k_out"] = k_end
-                state["t"] = t_new
-                if progress is not None:
-                    progress(t_new)
-            z[:] = stepper.y
-            stats.jacobian_evaluations += int(getattr(stepper, "njev", 0) or 0)
-            stats.lu_decompositions += int(getattr(stepper, "nlu", 0) or 0)
-            stepper = None
+            while state["t"] < tb:
+                stepper = _scipy_segment(system, z, shift, settings, grid, Y, tb, rtol, atol,
+                                         state, stats, project, project_y, n_motion, progress,
+                                         contacts)
+                stats.jacobian_evaluations += int(getattr(stepper, "njev", 0) or 0)
+                stats.lu_decompositions += int(getattr(stepper, "nlu", 0) or 0)
+                stepper = None
     finally:
         if stepper is not None:
             stats.jacobian_evaluations += int(getattr(stepper, "njev", 0) or 0)
             stats.lu_decompositions += int(getattr(stepper, "nlu", 0) or 0)
+
+
+def _write_dense(Y, grid, state, t_new, y_end, dense, shift, project_y) -> None:
+    """The output rows in (t_old, t_new]: from the dense output inside, the
+    end state at t_new."""
+    k_out = state["k_out"]
+    k_end = k_out
+    while k_end < grid.size and grid[k_end] <= t_new + 1e-12 * max(1.0, t_new):
+        k_end += 1
+    if k_end > k_out:
+        ts = grid[k_out:k_end]
+        inside = ts < t_new - 1e-12 * max(1.0, t_new)
+        if np.any(inside):
+            Y[k_out:k_end][inside] = dense(ts[inside]).T + shift
+        Y[k_out:k_end][~inside] = y_end + shift
+        for k in range(k_out, k_end):
+            project_y(Y[k])
+        state["k_out"] = k_end
+
+
+def _scipy_segment(system, z, shift, settings, grid, Y, tb, rtol, atol, state, stats, project,
+                   project_y, n_motion, progress, contacts):
+    """One SciPy stepper from state["t"] to tb, or to the first bump-stop
+    contact before it (then switched). Returns the stepper."""
+    method = settings.method
+    t = state["t"]
+    stats.segments += 1
+    project(z)
+    fun = _shifted_rhs(system, shift, tb)
+    trial = _TrialTimes(fun)
+    hmax, h0 = _first_step(system, t, tb)
+    extra = {"max_step": hmax, "first_step": h0} if h0 > 0 else {}
+    if method == "bdf":
+        extra["jac"] = _difference_jacobian(fun, shift, n_motion)
+    stepper = _scipy_stepper(method)(trial, t, z, tb, rtol=rtol, atol=atol, **extra)
+    while stepper.status == "running":
+        if stats.steps >= settings.max_steps:
+            raise _Stop(f"the maximum number of steps ({settings.max_steps}) was "
+                        f"reached at t = {stepper.t:.6g} s; raise max_steps or loosen "
+                        f"the tolerances")
+        t_old = stepper.t
+        msg = stepper.step()
+        if stepper.status == "failed":
+            if "step size" in str(msg):
+                raise _Stop(state["watch"].collapsed(method, stepper.t,
+                                                     stepper.step_size or 0.0,
+                                                     stepper.y + shift, tb))
+            raise _Stop(f"{method} failed at t = {stepper.t:.6g} s: {msg}")
+        stats.steps += 1
+        stats.rejected += trial.attempts_since(t_old) - 1
+        t_new = stepper.t
+        y_new = stepper.y
+        if not np.all(np.isfinite(y_new)):
+            raise _Stop(f"{method}: the state became non-finite at t = {t_new:.6g} s "
+                        f"(unstable step; try a smaller step or an implicit method)")
+        state["watch"].check(t_new, y_new + shift, tb)
+        if contacts:
+            which = contacts.crossed(t_new, y_new + shift, tb)
+            if which.size:
+                dense = stepper.dense_output()
+                tau, j, y_tau = contacts.locate(which, t_old, t_new,
+                                                lambda s, d=dense: d(s) + shift, tb)
+                _write_dense(Y, grid, state, tau, y_tau - shift, dense, shift, project_y)
+                z[:] = y_tau - shift
+                state["t"] = tau
+                try:
+                    contacts.switch(j, tau, y_tau, tb)
+                except RuntimeError as exc:
+                    raise _Stop(str(exc)) from None
+                if progress is not None:
+                    progress(tau)
+                return stepper
+        _write_dense(Y, grid, state, t_new, y_new, stepper.dense_output(), shift, project_y)
+        state["t"] = t_new
+        if progress is not None:
+            progress(t_new)
+    z[:] = stepper.y
+    state["t"] = max(state["t"], tb)
+    return stepper
 
 
 def _shifted_rhs(system: System, shift: np.ndarray, seg_end: float):

@@ -70,7 +70,9 @@ def law_tables(bank: LawBank, M: int) -> dict:
     per kind in law order: ``lin_kc`` (·, 2) k [N/m] and c [N s/m];
     ``poly_k``, ``poly_c`` (·, 9) ascending coefficients; ``crv_b``,
     ``crv_o``, ``crv_c`` the spring's and the damper's curves
-    (:func:`stack_tables`)."""
+    (:func:`stack_tables`); the bump stops ``stop_gap``, ``stop_kc`` (3M,
+    2), with their work arrays ``w_contact`` (3M,) and ``w_hold`` (1,),
+    all with no rows when no mount has a stop."""
     kind = np.zeros(3 * M, dtype=np.int64)
     row = np.zeros(3 * M, dtype=np.int64)
     for code, idx in ((0, bank.lin), (1, bank.poly), (2, bank.curve)):
@@ -83,8 +85,11 @@ def law_tables(bank: LawBank, M: int) -> dict:
     poly_c[:, :bank.pc.shape[1]] = bank.pc
     crv_b, crv_o, crv_c = stack_tables([[fs, fd] for fs, fd in zip(bank.curve_springs,
                                                                  bank.curve_dampers)], 2)
+    rows = 3 * M if bank.stopped.size else 0          # no stop anywhere: empty tables
     return dict(law_kind=kind, law_row=row, lin_kc=np.ascontiguousarray(lin_kc, dtype=float),
-                poly_k=poly_k, poly_c=poly_c, crv_b=crv_b, crv_o=crv_o, crv_c=crv_c)
+                poly_k=poly_k, poly_c=poly_c, crv_b=crv_b, crv_o=crv_o, crv_c=crv_c,
+                stop_gap=bank.stop_gap[:rows].copy(), stop_kc=bank.stop_kc[:rows].copy(),
+                w_contact=np.zeros(rows), w_hold=np.zeros(1))
 
 
 def flexible_tables(flex: tuple, nb: int, end_body: np.ndarray, S: np.ndarray) -> dict:

@@ -22,7 +22,7 @@ from .errors import SceneError
 from .piecewise import PiecewisePolynomial
 from .time_functions import MIN_CURVE_POINTS, SplineEnds
 
-__all__ = ["LinearLaw", "PolynomialLaw", "CurveLaw", "LawBank", "MAX_DEGREE"]
+__all__ = ["LinearLaw", "PolynomialLaw", "CurveLaw", "BumpStop", "LawBank", "MAX_DEGREE"]
 
 MAX_DEGREE = 8
 
@@ -111,6 +111,59 @@ class CurveLaw:
                 raise SceneError(f"{key} = {getattr(self, key)!r} is not a SplineEnds")
 
 
+@dataclass(frozen=True, slots=True)
+class BumpStop:
+    """A snubber (bump stop) on one mount direction: free travel up to a
+    gap, then contact, f_c = k (Δx + g_c) + c Δẋ past the compression gap
+    (Δx < −g_c) and f_c = k (Δx − g_e) + c Δẋ past the extension gap
+    (Δx > g_e), added to the direction's own law.
+
+    gap_compression, gap_extension : float > 0 [m], ``inf`` for no stop on
+    that side (at least one finite); stiffness : float > 0 [N/m];
+    damping : float >= 0 [N s/m]. Contact begins and ends where Δx
+    crosses the gap (the integrators locate the instant and restart
+    there, :mod:`flexbed.dynamics.contacts`); with damping, the force can
+    pull briefly before the geometric release (a Kelvin–Voigt contact).
+    """
+
+    stiffness: float
+    gap_compression: float = math.inf
+    gap_extension: float = math.inf
+    damping: float = 0.0
+
+    def __post_init__(self):
+        k, c = _num("stiffness", self.stiffness), _num("damping", self.damping)
+        if not k > 0.0:
+            raise SceneError(f"stiffness = {k!r} must be > 0")
+        if c < 0.0:
+            raise SceneError(f"damping = {c!r} must be >= 0")
+        gaps = []
+        for key in ("gap_compression", "gap_extension"):
+            try:
+                g = float(getattr(self, key))
+            except (TypeError, ValueError):
+                raise SceneError(f"{key} = {getattr(self, key)!r} must be a number") from None
+            if not g > 0.0 or math.isnan(g):
+                raise SceneError(f"{key} = {g!r} must be > 0 (a stop at zero deflection "
+                                 f"would be in contact at rest)")
+            gaps.append(g)
+        if not any(math.isfinite(g) for g in gaps):
+            raise SceneError("give gap_compression or gap_extension (or both)")
+        object.__setattr__(self, "stiffness", k)
+        object.__setattr__(self, "damping", c)
+        object.__setattr__(self, "gap_compression", gaps[0])
+        object.__setattr__(self, "gap_extension", gaps[1])
+
+    def force(self, dx: np.ndarray, dxd: np.ndarray) -> np.ndarray:
+        """The contact force [N] at deflections dx [m] and rates dxd [m/s]
+        (zero where free), with the contact decided by dx."""
+        dx = np.asarray(dx, dtype=float)
+        f = np.zeros(np.broadcast(dx, dxd).shape)
+        lo, hi = dx < -self.gap_compression, dx > self.gap_extension
+        f = np.where(lo, self.stiffness * (dx + self.gap_compression) + self.damping * dxd, f)
+        return np.where(hi, self.stiffness * (dx - self.gap_extension) + self.damping * dxd, f)
+
+
 def _curve(name: str, keys: tuple[str, str], data) -> tuple[np.ndarray, np.ndarray]:
     try:
         x, f = data
@@ -178,6 +231,10 @@ class LawBank:
     laws : sequence of law, length n
         Entry ``3 m + k`` is direction k of mount m.
 
+    stops : sequence of BumpStop or None, length n, optional
+        Entry ``3 m + k``'s bump stop (``stop_gap``, ``stop_kc``,
+        ``stopped``: the kernel adds the contact force to the law's).
+
     Per kind, the entries' indices (``lin``, ``poly``, ``curve``) and their
     tables: ``k``, ``c`` [N/m, N s/m]; ``pk``, ``pc`` ascending polynomial
     coefficients; ``curve_springs``, ``curve_dampers`` piecewise cubics. The
@@ -186,10 +243,23 @@ class LawBank:
     leading axes of dx).
     """
 
-    def __init__(self, laws):
+    def __init__(self, laws, stops=None):
         laws = list(laws)
         n = len(laws)
         self.n = n
+        stops = [None] * n if stops is None else list(stops)
+        if len(stops) != n:
+            raise SceneError("one bump stop (or None) per law")
+        #: (n, 2) [m] the compression and extension gaps (inf: no stop);
+        #: (n, 2) [N/m, N s/m] the contact stiffness and damping
+        self.stop_gap = np.full((n, 2), np.inf)
+        self.stop_kc = np.zeros((n, 2))
+        for i, st in enumerate(stops):
+            if st is not None:
+                self.stop_gap[i] = (st.gap_compression, st.gap_extension)
+                self.stop_kc[i] = (st.stiffness, st.damping)
+        #: the entries that have a bump stop
+        self.stopped = np.flatnonzero(np.isfinite(self.stop_gap).any(axis=1))
         lin = [i for i, law in enumerate(laws) if isinstance(law, LinearLaw)]
         poly = [i for i, law in enumerate(laws) if isinstance(law, PolynomialLaw)]
         curve = [i for i, law in enumerate(laws) if isinstance(law, CurveLaw)]
@@ -239,4 +309,9 @@ class LawBank:
             flat = x.reshape(-1, self.curve.size)
             vals = np.stack([self._pot_stack(row) for row in flat])
             out[..., self.curve] = vals.reshape(x.shape)
+        if self.stopped.size:                  # the stops' springs: ½ k (past the gap)²
+            x = dx[..., self.stopped]
+            gc, ge = self.stop_gap[self.stopped, 0], self.stop_gap[self.stopped, 1]
+            past = np.minimum(x + gc, 0.0) + np.maximum(x - ge, 0.0)
+            out[..., self.stopped] += 0.5 * self.stop_kc[self.stopped, 0] * past ** 2
         return out

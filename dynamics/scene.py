@@ -14,7 +14,7 @@ import numpy as np
 
 from .errors import SceneError
 from .flexible import FlexibleBody
-from .laws import CurveLaw, LinearLaw, PolynomialLaw
+from .laws import BumpStop, CurveLaw, LinearLaw, PolynomialLaw
 from .time_functions import Curve, Sawtooth, Sinusoid, Trapezoid, Triangle
 
 __all__ = ["Body", "Drive", "Load", "Base", "Mount", "Scene", "DIRECTIONS"]
@@ -222,6 +222,8 @@ class Mount:
         Rows u1, u2, u3 in body i's frame: orthonormal, right-handed (1e-9).
     laws : tuple of 3 laws
         One per direction: LinearLaw, PolynomialLaw or CurveLaw.
+    stops : tuple of 3 BumpStop or None, optional
+        A bump stop (snubber) per direction, or None (default: none).
     """
 
     name: str
@@ -231,6 +233,7 @@ class Mount:
     point_j: np.ndarray
     axes: np.ndarray
     laws: tuple
+    stops: tuple = (None, None, None)
 
     def __post_init__(self):
         where = f"mount {self.name!r}"
@@ -260,6 +263,10 @@ class Mount:
             if not isinstance(law, _LAWS):
                 raise SceneError(f"{where}: law[{k}] = {law!r} is not a mount law")
         object.__setattr__(self, "laws", laws)
+        stops = tuple(self.stops)
+        if len(stops) != 3 or not all(s is None or isinstance(s, BumpStop) for s in stops):
+            raise SceneError(f"{where}: stops = {stops!r} must be 3 BumpStop or None")
+        object.__setattr__(self, "stops", stops)
 
 
 @dataclass(frozen=True, slots=True)

@@ -144,7 +144,8 @@ class System:
             [np.array([m.point_i for m in scene.mounts]).reshape(M, 3),
              np.array([m.point_j for m in scene.mounts]).reshape(M, 3)]))
         self.U = _frozen(np.array([m.axes for m in scene.mounts]).reshape(M, 3, 3))
-        self.laws = LawBank([law for m in scene.mounts for law in m.laws])
+        self.laws = LawBank([law for m in scene.mounts for law in m.laws],
+                            [st for m in scene.mounts for st in m.stops])
         # unstrained mount vectors from the scene's initial configuration
         R0 = np.array([b.position for b in bodies])
         A0 = rotation_matrix(np.array([b.orientation for b in bodies]))

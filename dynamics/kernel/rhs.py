@@ -242,8 +242,8 @@ def _mount_ends(y, M, qr, vr, body_i, body_j, S, end_flex, end_phi, fx_ints, bas
 
 @njit(cache=True, no_cpython_wrapper=True, inline="always")
 def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, law_kind,
-                  law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c, A, P, Pd, ub, w_dx,
-                  w_dxd, w_f, w_F, force, torque, w_flexQ):
+                  law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c, stops, A, P, Pd, ub,
+                  w_dx, w_dxd, w_f, w_F, force, torque, w_flexQ):
     """Section 4: every mount's deflections, rates and forces (paper eq.
     2–4), summed into the bodies' forces and moments.
 
@@ -257,6 +257,16 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
         [m] the unstrained deflections.
     law_kind, law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c
         The mount laws, one per (mount, direction).
+    stops : tuple (stop_gap, stop_kc, w_contact, w_hold)
+        The bump stops (one tuple: a call of more than 30 arguments would
+        be compiled as ``*args``, which numba cannot inline). stop_gap,
+        stop_kc (3M or 0, 2): gaps [m] (inf: no stop that side), contact
+        stiffness [N/m] and damping [N s/m] (no rows: no stop); past a gap
+        (Δx < −g_c or Δx > g_e) the contact force k (Δx ± g) + c Δẋ adds
+        to the law's. w_contact (3M or 0,), w_hold (1,): with
+        ``w_hold[0] = 1`` the contacts are those of ``w_contact`` (−1, 0,
+        +1: held by an integrator between the instants it located,
+        :mod:`flexbed.dynamics.contacts`); with 0, decided by Δx.
     A : (nb, 3, 3) float64
         Rotation matrices (section 2).
     P, Pd, ub : (E, 3) float64
@@ -288,6 +298,7 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
         for c in range(w_flexQ.shape[1]):
             w_flexQ[k, c] = 0.0
     p_mount = 0.0
+    stop_gap, stop_kc, w_contact, w_hold = stops
     for m in range(M):
         bi = body_i[m]
         Ai = A[bi]
@@ -314,6 +325,21 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
             il = 3 * m + kd
             f = law_force(law_kind[il], law_row[il], lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c,
                      x, xd)
+            if stop_gap.shape[0] > 0:
+                gc = stop_gap[il, 0]
+                ge = stop_gap[il, 1]
+                if w_hold[0] > 0.0:
+                    s = w_contact[il]
+                elif x < -gc:
+                    s = -1.0
+                elif x > ge:
+                    s = 1.0
+                else:
+                    s = 0.0
+                if s < 0.0:
+                    f += stop_kc[il, 0] * (x + gc) + stop_kc[il, 1] * xd
+                elif s > 0.0:
+                    f += stop_kc[il, 0] * (x - ge) + stop_kc[il, 1] * xd
             w_dx[m, kd] = x
             w_dxd[m, kd] = xd
             w_f[m, kd] = f
@@ -642,6 +668,10 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
     w_Q = _v1(F_ptr, meta[54], np.float64)
     w_T = _v3(F_ptr, meta[55], np.float64)
     w_gb = _v1(F_ptr, meta[56], np.float64)
+    stop_gap = _v2(F_ptr, meta[57], np.float64)
+    stop_kc = _v2(F_ptr, meta[58], np.float64)
+    w_contact = _v1(F_ptr, meta[59], np.float64)
+    w_hold = _v1(F_ptr, meta[60], np.float64)
     nb, M, nf, mode = ints[0], ints[1], ints[2], ints[3]
     qr, vr, qb, vb, w0 = ints[4], ints[5], ints[6], ints[7], ints[8]
     # the six sections of flexbed.dynamics.kernel, in order
@@ -651,9 +681,9 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
     _mount_ends(y, M, qr, vr, body_i, body_j, S, end_flex, end_phi, fx_ints, w_base, w_A, w_ub,
                 w_P, w_Pd)                                                     # 3.
     p_mount = _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints,
-                            law_kind, law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c, w_A,
-                            w_P, w_Pd, w_ub, w_dx, w_dxd, w_f, w_F, w_force, w_torque,
-                            w_flexQ)                                           # 4.
+                            law_kind, law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c,
+                            (stop_gap, stop_kc, w_contact, w_hold), w_A, w_P, w_Pd, w_ub, w_dx,
+                            w_dxd, w_f, w_F, w_force, w_torque, w_flexQ)       # 4.
     _newton_euler(y, nb, vr, gravity, mass, J, Jinv, body_flex, w_force, w_torque, w_acc)  # 5.
     p_struct = _floating_frame(y, dy, nf, vr, gravity, fx_ints, fx_m, fx_I2, fx_I3, fx_I4, fx_I5,
                                fx_I6, fx_K, fx_C, fx_I7, fx_I8, fx_I9, w_A, w_flexQ, w_acc, w_M,

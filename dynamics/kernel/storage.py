@@ -70,6 +70,12 @@ FIELDS = (
     "w_Q",              # (6 + nm + nm,) Q̄ then C ȧ
     "w_T",              # (nm, 3, 3) T_k = I8_k + Σ_l a_l I9_kl
     "w_gb",             # (3,) Aᵀ g
+    # bump stops, one row per (mount, direction) with a stop or none at all
+    "stop_gap",         # (3M or 0, 2) [m] compression and extension gaps (inf: no stop)
+    "stop_kc",          # (3M or 0, 2) contact stiffness [N/m] and damping [N s/m]
+    "w_contact",        # (3M or 0,) contact held by an integrator: −1 compression, 0 none,
+                        # +1 extension (read only while w_hold[0] = 1)
+    "w_hold",           # (1,) 1: the contacts of w_contact hold; 0: decided by Δx
 )
 
 Compiled = namedtuple("Compiled", FIELDS)
@@ -89,6 +95,7 @@ KINDS = {
     "w_dx": ("f", 2), "w_dxd": ("f", 2), "w_f": ("f", 2), "w_F": ("f", 2), "w_force": ("f", 2),
     "w_torque": ("f", 2), "w_flexQ": ("f", 2), "w_acc": ("f", 2), "w_base": ("f", 2),
     "w_M": ("f", 3), "w_Q": ("f", 1), "w_T": ("f", 3), "w_gb": ("f", 1),
+    "stop_gap": ("f", 2), "stop_kc": ("f", 2), "w_contact": ("f", 1), "w_hold": ("f", 1),
 }
 
 

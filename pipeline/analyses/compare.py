@@ -27,7 +27,7 @@ import numpy as np
 
 
 from flexbed.analyses.points import Run
-from flexbed.analyses.verdict import judge
+from flexbed.analyses.verdict import contact_events, judge
 from flexbed.stages.system import compile_scene
 from flexbed.errors import NumericalError
 from flexbed.files.store import in_memory
@@ -125,7 +125,8 @@ def case_run(sol: CaseSolution, path: Path | None = None) -> CaseRun:
                    static_position=sol.system.observe(0.0, sol.equilibrium.y).r.copy(),
                    steps=st.steps, rhs_evaluations=st.rhs_evaluations,
                    wall_time=st.wall_time, load_end=max(sol.system.breakpoints, default=0.0),
-                   verdict=judge(post, sol.scene.limits, rest.dx, rest.f), relative=relative)
+                   verdict=judge(post, sol.scene.limits, rest.dx, rest.f,
+                                 contact_events(sol.contents[0])), relative=relative)
 
 
 def run_case(sf: SceneFile, data: ModesData | None, case: str, path: Path, log=print) -> CaseRun:

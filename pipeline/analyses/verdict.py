@@ -14,6 +14,10 @@ static deflection Δx_s:
 - the static load |f_s| (resultant of the three directions' forces)
   against ``rated_load``; the peak of |f(t)| against ``max_force``.
 
+Bottoming on a mount's bump stops (``bump_stop``) is reported (how many
+contacts began, the first, the peak contact force), not failed on: the
+stroke, force and fragility limits judge its consequences.
+
 Per body after the base: the peak of |r̈| at its centre of mass (or the
 fragility's ``point``), inertial, in g against its fragility. Per point
 of interest: its peak absolute acceleration in g and, with
@@ -33,8 +37,10 @@ from flexbed.analyses.clearance import ClearanceResult, clearance
 from flexbed.analyses.extremes import extreme
 from flexbed.analyses.points import Point, Run
 from flexbed.files.limits import STANDARD_GRAVITY, Fragility, Limits, MountLimits
+from flexbed.files.store import Dataset
 
-__all__ = ["MountVerdict", "BodyVerdict", "PointVerdict", "Verdict", "judge", "G"]
+__all__ = ["MountVerdict", "BodyVerdict", "PointVerdict", "Verdict", "judge", "contact_events",
+           "G"]
 
 #: the g of the tables [m/s²]
 G = STANDARD_GRAVITY
@@ -48,7 +54,10 @@ class MountVerdict:
     (resultant); compression, extension (3,) [m] total, with their times;
     dynamic_compression, dynamic_extension (3,) [m] (of Δx − Δx_s), with
     their times; stroke_used (3,) [1] (nan without a limit); peak_force [N]
-    (resultant) at peak_force_time [s]; limits; reasons (empty: passed).
+    (resultant) at peak_force_time [s]; limits; reasons (empty: passed);
+    bottoming on its bump stops: contacts (how many began), first_contact
+    [s], peak_contact_force [N] (the largest |contact force| of a
+    direction) at peak_contact_time [s] (nan, 0 without contact).
     """
 
     name: str
@@ -68,6 +77,10 @@ class MountVerdict:
     peak_force_time: float
     limits: MountLimits
     reasons: tuple
+    contacts: int = 0
+    first_contact: float = np.nan
+    peak_contact_force: float = 0.0
+    peak_contact_time: float = np.nan
 
     @property
     def passed(self) -> bool:
@@ -160,9 +173,41 @@ def _signed(t: np.ndarray, x: np.ndarray):
     return max(0.0, -low.value), low.time, max(0.0, high.value), high.time
 
 
+def _bottoming(run: Run, m: int, limits: MountLimits, events: dict | None) -> dict:
+    """Contacts of mount m's bump stops: how many began, the first, and the
+    peak contact force from the samples (the contact decided by Δx)."""
+    out = {}
+    if not any(limits.stops):
+        return out
+    t = run.t
+    dx, dxd = run.mounts["deflection"][:, m, :], run.mounts["rate"][:, m, :]
+    peak, when = 0.0, np.nan
+    began = []
+    for k, stop in enumerate(limits.stops):
+        if stop is None:
+            continue
+        fc = np.abs(stop.force(dx[:, k], dxd[:, k]))
+        if np.any(fc > 0):
+            top = extreme(t, fc, "max")
+            if top.value > peak:
+                peak, when = top.value, top.time
+        if events is None:                 # from the samples: entries into contact
+            touching = fc > 0
+            began += t[1:][touching[1:] & ~touching[:-1]].tolist()
+            if touching[0]:
+                began.insert(0, float(t[0]))
+    if events is not None:
+        mine = (events["mount"] == m) & events["begins"]
+        began = events["time"][mine].tolist()
+    out.update(contacts=len(began), first_contact=min(began) if began else np.nan,
+               peak_contact_force=peak, peak_contact_time=when)
+    return out
+
+
 def mount_verdict(run: Run, m: int, limits: MountLimits, dx_s: np.ndarray,
-                  f_s: np.ndarray) -> MountVerdict:
-    """Mount ``m`` of ``run`` with its static deflection and force (3,)."""
+                  f_s: np.ndarray, events: dict | None = None) -> MountVerdict:
+    """Mount ``m`` of ``run`` with its static deflection and force (3,)
+    (``events``: the run's bump-stop contacts, as :func:`judge` takes them)."""
     t = run.t
     dx = run.mounts["deflection"][:, m, :]
     cols = {key: np.zeros(3) for key in ("c", "tc", "e", "te", "dc", "tdc", "de", "tde", "used")}
@@ -194,7 +239,8 @@ def mount_verdict(run: Run, m: int, limits: MountLimits, dx_s: np.ndarray,
     return MountVerdict(run.mount_names[m], np.array(dx_s, dtype=float),
                         np.array(f_s, dtype=float), load, cols["c"], cols["tc"], cols["e"],
                         cols["te"], cols["dc"], cols["tdc"], cols["de"], cols["tde"],
-                        cols["used"], peak.value, peak.time, limits, tuple(reasons))
+                        cols["used"], peak.value, peak.time, limits, tuple(reasons),
+                        **_bottoming(run, m, limits, events))
 
 
 def body_verdict(run: Run, b: int, fragility: Fragility | None) -> BodyVerdict:
@@ -222,8 +268,24 @@ def point_verdict(run: Run, pt: Point) -> PointVerdict:
     return PointVerdict(pt.name, pt.body, acc.value, acc.time, pt.relative_to, rel, when)
 
 
+def contact_events(datasets) -> dict | None:
+    """The bump-stop contacts of a run's datasets (a results file's
+    ``contacts/`` group: a mapping of path to array or
+    :class:`~flexbed.files.store.Dataset`) as ``time``, ``mount`` and
+    ``begins`` arrays, or None where there is none."""
+    if "contacts/time" not in datasets:
+        return None
+
+    def get(key):
+        v = datasets[key]
+        return np.asarray(v.data if isinstance(v, Dataset) else v)
+
+    return {"time": get("contacts/time").astype(float), "mount": get("contacts/mount").astype(int),
+            "begins": get("contacts/begins").astype(bool)}
+
+
 def judge(run: Run, limits: Limits, static_deflection: np.ndarray,
-          static_force: np.ndarray) -> Verdict:
+          static_force: np.ndarray, events: dict | None = None) -> Verdict:
     """The verdict of a run.
 
     Parameters
@@ -235,9 +297,13 @@ def judge(run: Run, limits: Limits, static_deflection: np.ndarray,
     static_deflection, static_force : ndarray (M, 3)
         The mounts' deflections [m] and forces [N] at the static
         equilibrium.
+    events : dict, optional
+        The bump-stop contacts the integrator located
+        (:func:`contact_events`); without them, counted from the samples.
     """
     mounts = tuple(mount_verdict(run, m, limits.mount(name), static_deflection[m],
-                                 static_force[m]) for m, name in enumerate(run.mount_names))
+                                 static_force[m], events)
+                   for m, name in enumerate(run.mount_names))
     bodies = tuple(body_verdict(run, b, limits.body(run.names[b]))
                    for b in range(1, len(run.names)))
     points = tuple(point_verdict(run, pt) for pt in run.scene_points)

@@ -2,9 +2,10 @@
 CSV.
 
 The Markdown is what an engineer reads: the verdict, its reasons, then one
-table per kind (mounts, mount strokes per direction, bodies, points,
-clearances) in mm, N, g and s. The CSV is one row per figure, in SI with
-the unit in its own column (and g beside m/s²), for a script:
+table per kind (mounts, with their bottoming on bump stops; mount strokes
+per direction, bodies, points, clearances) in mm, N, g and s. The CSV is
+one row per figure, in SI with the unit in its own column (and g beside
+m/s²), for a script:
 ``item,name,direction,quantity,value,unit,limit,time_s,pass``.
 """
 
@@ -28,6 +29,17 @@ def _ok(passed: bool) -> str:
     return "PASS" if passed else "**FAIL**"
 
 
+def _bottoming(m) -> str:
+    """'–' without a stop; 'none' without contact; else how often, from
+    when, and the peak contact force."""
+    if not any(m.limits.stops):
+        return "–"
+    if not m.contacts:
+        return "none"
+    return (f"{m.contacts}× from t = {m.first_contact:.4f} s, peak {m.peak_contact_force:.4g} N "
+            f"at {m.peak_contact_time:.4f} s")
+
+
 def markdown(v: Verdict, title: str = "") -> str:
     """The verdict as Markdown (title: a line saying which run it is)."""
     lines = [f"# Verdict: {'PASS' if v.passed else 'FAIL'}"]
@@ -37,13 +49,13 @@ def markdown(v: Verdict, title: str = "") -> str:
         lines += ["", "Fails on:"] + [f"- {r}" for r in v.reasons]
     lines += ["", "## Mounts", "",
               "| mount | static load [N] | rated [N] | peak force [N] | at t [s] | max [N] "
-              "| stroke used [%] | verdict |", "|---|---|---|---|---|---|---|---|"]
+              "| stroke used [%] | bottoming | verdict |", "|---|---|---|---|---|---|---|---|---|"]
     for m in v.mounts:
         used = np.nanmax(m.stroke_used) if np.any(np.isfinite(m.stroke_used)) else math.nan
         lines.append(f"| {m.name} | {m.static_load:.6g} | {_num(m.limits.rated_load, '{:g}')} "
                      f"| {m.peak_force:.6g} | {m.peak_force_time:.4f} "
                      f"| {_num(m.limits.max_force, '{:g}')} | {_num(used, '{:.1f}', 100)} "
-                     f"| {_ok(m.passed)} |")
+                     f"| {_bottoming(m)} | {_ok(m.passed)} |")
     lines += ["", "## Mount strokes per direction", "",
               "Δx < 0 is compression, Δx > 0 extension (the results file's sign); dynamic: "
               "Δx − Δx_static.", "",
@@ -112,6 +124,10 @@ def csv(v: Verdict) -> str:
                 None, m.dynamic_extension_time[k])
             add("mount", m.name, d, "stroke_used", m.stroke_used[k], "1", 1.0
                 if np.isfinite(m.stroke_used[k]) else None)
+        if any(lim.stops):
+            add("mount", m.name, "", "contacts", float(m.contacts), "1", None, m.first_contact)
+            add("mount", m.name, "", "peak_contact_force", m.peak_contact_force, "N", None,
+                m.peak_contact_time)
         add("mount", m.name, "", "static_load", m.static_load, "N", lim.rated_load)
         add("mount", m.name, "", "peak_force", m.peak_force, "N", lim.max_force,
             m.peak_force_time, m.passed)

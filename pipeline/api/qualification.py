@@ -13,7 +13,7 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from flexbed.analyses.verdict import Verdict, judge
+from flexbed.analyses.verdict import Verdict, contact_events, judge
 from flexbed.analyses.verdict_tables import csv, markdown
 from flexbed.api import bed_modes
 from flexbed.api.arguments import Arguments
@@ -111,4 +111,5 @@ def qualify(scene: SceneFile, *, modes: ModesData | None = None, progress=None,
     results = simulate(scene, modes=modes, equilibrium=eq, progress=progress, **settings)
     if not results.complete:
         raise NumericalError(f"{scene.source.name}: {results.message}")
-    return Qualification(judge(results._run(), scene.limits, dx, f), eq, results, scene)
+    verdict = judge(results._run(), scene.limits, dx, f, contact_events(results.contents.datasets))
+    return Qualification(verdict, eq, results, scene)

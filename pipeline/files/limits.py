@@ -1,6 +1,9 @@
 """The scene file's limits: what a run is qualified against (issue 23).
 
-- per ``[[mount]]``: ``stroke_compression`` and ``stroke_extension`` (3
+- per ``[[mount]]``: ``bump_stop`` (a snubber per direction: gaps,
+  contact stiffness and damping, :class:`~flexbed.dynamics.laws.BumpStop`,
+  which the dynamics reads from the scene's mounts);
+  ``stroke_compression`` and ``stroke_extension`` (3
   floats > 0 [m], one per mount direction: the travel allowed for
   Δx_k < 0 and Δx_k > 0, Δx as the results file gives it), ``rated_load``
   (the data sheet's static load [N], against the static force's
@@ -29,12 +32,13 @@ from typing import Callable
 
 import numpy as np
 
+from flexbed.dynamics.laws import BumpStop
 from flexbed.errors import InputError
 from flexbed.files.table_reader import short_repr
 
 __all__ = ["Limits", "MountLimits", "Fragility", "Clearance", "read_limits",
-           "check_static_strokes", "MOUNT_LIMIT_KEYS", "BODY_LIMIT_KEYS", "CLEARANCE_KEYS",
-           "UNITS", "STANDARD_GRAVITY"]
+           "check_static_strokes", "MOUNT_LIMIT_KEYS", "JUDGED_ONLY_KEYS", "BODY_LIMIT_KEYS",
+           "CLEARANCE_KEYS", "UNITS", "STANDARD_GRAVITY"]
 
 #: standard acceleration of gravity g0 [m/s²] (ISO 80000-3), the "g" of
 #: fragility levels and shock specifications
@@ -42,7 +46,12 @@ STANDARD_GRAVITY = 9.80665
 #: an acceleration's ``units`` and its factor to m/s²
 UNITS = {"m/s2": 1.0, "g": STANDARD_GRAVITY}
 
-MOUNT_LIMIT_KEYS = ("stroke_compression", "stroke_extension", "rated_load", "max_force")
+MOUNT_LIMIT_KEYS = ("stroke_compression", "stroke_extension", "rated_load", "max_force",
+                    "bump_stop")
+#: the mount keys a run is only judged against (outside the equilibrium's
+#: hash); ``bump_stop`` changes the forces, so it is not one of them
+JUDGED_ONLY_KEYS = MOUNT_LIMIT_KEYS[:4]
+_STOP_KEYS = ("direction", "gap_compression", "gap_extension", "stiffness", "damping")
 BODY_LIMIT_KEYS = ("fragility",)
 _FRAGILITY_KEYS = ("peak", "units", "point")
 CLEARANCE_KEYS = ("name", "body", "point", "other", "other_point", "plane", "box", "minimum")
@@ -54,7 +63,10 @@ class MountLimits:
     """One mount's data-sheet limits; None where the scene gives none.
 
     compression, extension : 3 floats [m] per mount direction (the travel
-    allowed for Δx < 0 and Δx > 0); rated_load, max_force : float [N].
+    allowed for Δx < 0 and Δx > 0); rated_load, max_force : float [N];
+    stops : 3 :class:`~flexbed.dynamics.laws.BumpStop` or None, the
+    mount's bump stops per direction (also on the scene's Mount, where
+    the dynamics reads them).
     """
 
     mount: str
@@ -62,6 +74,7 @@ class MountLimits:
     extension: tuple | None = None
     rated_load: float | None = None
     max_force: float | None = None
+    stops: tuple = (None, None, None)
 
 
 @dataclass(frozen=True, slots=True)
@@ -156,13 +169,16 @@ def read_limits(reader, data: dict, names: list[str], bed_name: str | None = Non
         for key in MOUNT_LIMIT_KEYS[:2]:
             if key in t:
                 got[key] = tuple(reader.numbers(where, key, t[key], 3, positive=True))
-        for key in MOUNT_LIMIT_KEYS[2:]:
+        for key in MOUNT_LIMIT_KEYS[2:4]:
             if key in t:
                 got[key] = reader.number(where, key, t[key], positive=True)
+        if "bump_stop" in t:
+            got["bump_stop"] = _stops(reader, where, t["bump_stop"])
         if got:
             mounts.append(MountLimits(t["name"], got.get("stroke_compression"),
                                       got.get("stroke_extension"), got.get("rated_load"),
-                                      got.get("max_force")))
+                                      got.get("max_force"),
+                                      got.get("bump_stop", (None, None, None))))
     fragility = []
     for i, t in enumerate(data.get("body", [])):
         if "fragility" in t:
@@ -175,6 +191,33 @@ def read_limits(reader, data: dict, names: list[str], bed_name: str | None = Non
             reader.fail(f"clearance {c.name!r}", "name is used twice")
         clearances.append(c)
     return Limits(tuple(mounts), tuple(fragility), tuple(clearances))
+
+
+def _stops(reader, where, value) -> tuple:
+    """``bump_stop``: one table (or an array of them, one per direction)
+    → 3 BumpStop or None."""
+    tables = [value] if isinstance(value, dict) else value
+    if not isinstance(tables, list) or not tables or \
+            not all(isinstance(v, dict) for v in tables):
+        reader.fail(where, f"bump_stop = {short_repr(value)} must be a table {{direction = …, "
+                           f"gap_compression = …, stiffness = …}} or a list of them")
+    stops = [None, None, None]
+    for i, t in enumerate(tables):
+        key = "bump_stop" if len(tables) == 1 else f"bump_stop[{i}]"
+        reader.keys(f"{where}: {key}", t, _STOP_KEYS, ("direction", "stiffness"))
+        d = t["direction"]
+        if isinstance(d, bool) or d not in (1, 2, 3):
+            reader.fail(where, f"{key}.direction = {short_repr(d)} must be 1, 2 or 3")
+        if stops[d - 1] is not None:
+            reader.fail(where, f"{key}: direction {d} has a bump stop already")
+        if "gap_compression" not in t and "gap_extension" not in t:
+            reader.fail(where, f"{key}: give gap_compression or gap_extension (or both)")
+        args = {k: reader.number(where, f"{key}.{k}", t[k], positive=True)
+                for k in ("gap_compression", "gap_extension", "stiffness") if k in t}
+        args["damping"] = reader.number(where, f"{key}.damping", t.get("damping", 0.0),
+                                        non_negative=True)
+        stops[d - 1] = BumpStop(**args)
+    return tuple(stops)
 
 
 def _fragility(reader, where, value, body, index, bed_name, off_bed) -> Fragility:

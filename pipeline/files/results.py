@@ -1,6 +1,6 @@
 """Results and equilibrium files of the dynamics stages (HDF5 via flexbed.files.store).
 
-``flexbed.results`` 1.1 — one simulation run:
+``flexbed.results`` 1.2 — one simulation run:
 
 - ``time`` (k,) [s]; root attributes ``complete`` (bool) and ``message``
   (why it is incomplete, or "completed"), ``start`` ("equilibrium" or
@@ -13,6 +13,10 @@
 - ``mounts/``: ``names``, ``body_i``, ``body_j``, ``deflection``, ``rate``,
   ``force`` (k, M, 3) along the mount axes [m, m/s, N], ``force_i``,
   ``force_j`` (k, M, 3) inertial [N] on P_i and P_j;
+- ``contacts/`` (1.2; scenes with bump stops only): ``time`` (n,) [s] the
+  instants the integrator located where a stop's contact began or ended,
+  ``mount`` (n,) 0-based, ``direction`` (n,) 1–3, ``side`` (n,) −1
+  compression, +1 extension, ``begins`` (n,) bool;
 - ``energy/``: ``kinetic`` (k, nb), ``gravity_potential`` (k, nb),
   ``mount_potential`` (k, M) [J] (spring parts), ``strain`` (k, nb) [J]
   (flexible bodies, ½aᵀKa), ``work_mount``, ``work_external``,
@@ -71,8 +75,8 @@ __all__ = ["write_results", "read_results", "results_contents", "write_results_c
 RESULTS_SCHEMA = "flexbed.results"
 EQUILIBRIUM_SCHEMA = "flexbed.equilibrium"
 VERSION = "1.0"
-#: 1.1: ``bed`` attribute ``modes_file_relative``
-RESULTS_VERSION = "1.1"
+#: 1.1: ``bed`` attribute ``modes_file_relative``; 1.2: the ``contacts/`` group
+RESULTS_VERSION = "1.2"
 
 
 def _scene_part(sf: SceneFile) -> tuple[dict, dict]:
@@ -205,6 +209,8 @@ def results_contents(sf: SceneFile, system: System, run: Run, *, start: str,
     }
     for key, (unit, what) in mount.items():
         ds[f"mounts/{key}"] = Dataset(h[key], unit, what)
+    if system.laws.stopped.size:
+        ds.update(_contacts_part(run.events))
     ds["energy/kinetic"] = Dataset(h["kinetic"], "J", "kinetic energy per body")
     ds["energy/gravity_potential"] = Dataset(h["gravity_potential"], "J", "−m gᵀr per body")
     ds["energy/mount_potential"] = Dataset(h["mount_potential"], "J",
@@ -271,6 +277,23 @@ def results_contents(sf: SceneFile, system: System, run: Run, *, start: str,
         ds.update(eds)
         attrs["equilibrium"] = eattrs
     return ds, attrs
+
+
+def _contacts_part(events) -> dict:
+    """The ``contacts/`` datasets of a run's bump-stop events (1.2)."""
+    ev = list(events)
+    return {
+        "contacts/time": Dataset(np.array([e.t for e in ev], dtype=float), "s",
+                                 "instants a bump stop's contact began or ended"),
+        "contacts/mount": Dataset(np.array([e.mount for e in ev], dtype=np.int64), "1",
+                                  "the mount, 0-based (as mounts/names)"),
+        "contacts/direction": Dataset(np.array([e.direction + 1 for e in ev], dtype=np.int64),
+                                      "1", "the mount direction, 1 to 3"),
+        "contacts/side": Dataset(np.array([e.side for e in ev], dtype=np.int64), "1",
+                                 "-1 compression stop, +1 extension stop"),
+        "contacts/begins": Dataset(np.array([e.begins for e in ev], dtype=bool), "",
+                                   "true: contact began; false: it ended"),
+    }
 
 
 def read_results(path) -> Contents:

@@ -34,7 +34,8 @@ from flexbed.files.bed_points import points_on_bed
 from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
 from flexbed.files.drives import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
-from flexbed.files.limits import BODY_LIMIT_KEYS, MOUNT_LIMIT_KEYS, Limits, read_limits
+from flexbed.files.limits import (BODY_LIMIT_KEYS, JUDGED_ONLY_KEYS, MOUNT_LIMIT_KEYS, Limits,
+                                  read_limits)
 from flexbed.files.sanity import warn_far_points
 
 __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse_scene",
@@ -185,6 +186,7 @@ class _Reader(ShapeReader):
         points = self.points(data.get("point", []), names)
         limits = read_limits(self, data, names, names[at] if at is not None else None,
                              _off_bed(bed))
+        mounts = [replace(m, stops=limits.mount(m.name).stops) for m in mounts]
         if at is not None:
             mounts, points = points_on_bed(bed, names[at], mounts, points, self.fail)
         try:
@@ -198,7 +200,7 @@ class _Reader(ShapeReader):
         digest = _digest(data, self.csv)
         at_rest = [{k: v for k, v in b.items() if k not in _VELOCITY_KEYS + BODY_LIMIT_KEYS}
                    for b in bodies_raw]
-        mounts_raw = [{k: v for k, v in m.items() if k not in MOUNT_LIMIT_KEYS}
+        mounts_raw = [{k: v for k, v in m.items() if k not in JUDGED_ONLY_KEYS}
                       for m in data.get("mount", [])]
         statics = {"gravity": gravity, "body": at_rest, "mount": mounts_raw,
                    "bed": data.get("bed", {}), "static_tol": solver.static_tol}

@@ -12,7 +12,9 @@
   ``…_time`` (M, 3) [s]; ``stroke_compression``, ``stroke_extension``
   (M, 3) [m] the limits; ``stroke_used`` (M, 3) [1]; ``static_load``,
   ``rated_load``, ``peak_force``, ``max_force`` (M,) [N],
-  ``peak_force_time`` (M,) [s]; ``passed`` (M,);
+  ``peak_force_time`` (M,) [s]; ``contacts`` (M,) bump-stop contacts
+  begun, ``first_contact`` [s], ``peak_contact_force`` [N] (M,);
+  ``passed`` (M,);
 - ``bodies/``: ``names``, ``peak_acceleration`` [m/s²], ``time`` [s],
   ``fragility`` [m/s²], ``passed`` (nb − 1,), the base left out;
 - ``points/``: ``names``, ``peak_acceleration`` [m/s²], ``time`` [s],
@@ -86,6 +88,12 @@ def verdict_contents(sf, verdict, run_attrs: dict) -> tuple[dict, dict]:
     put("mounts", "peak_force_time", [m.peak_force_time for m in M], "s", "when")
     put("mounts", "max_force", _limit(m.limits.max_force for m in M), "N",
         "largest dynamic force allowed", missing=True)
+    put("mounts", "contacts", np.array([m.contacts for m in M], dtype=np.int64), "1",
+        "bump-stop contacts that began")
+    put("mounts", "first_contact", np.array([m.first_contact for m in M], dtype=float), "s",
+        "the first", missing=True)
+    put("mounts", "peak_contact_force", np.array([m.peak_contact_force for m in M], dtype=float),
+        "N", "largest |contact force| of a direction")
     put("mounts", "passed", np.array([m.passed for m in M], dtype=bool), "", "within limits")
     B = v.bodies
     put("bodies", "names", _names(b.name for b in B), "", "bodies after the base")

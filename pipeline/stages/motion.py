@@ -20,6 +20,7 @@ import numpy as np
 
 from flexbed.dynamics.integrate import Run, Settings, integrate
 from flexbed.dynamics.linear import LinearRun, run_linear
+from flexbed.errors import InputError
 from flexbed.dynamics.system import System
 
 __all__ = ["Motion", "solve_motion"]
@@ -80,6 +81,14 @@ def solve_motion(system: System, y_eq: np.ndarray | None, y0: np.ndarray, settin
     if model == "nonlinear":
         run = integrate(system, y0, settings, progress=progress)
         return Motion(run, "nonlinear", model, "requested", None, linear_tol)
+    if system.laws.stopped.size:                # a contact is no linear motion
+        mount = system.scene.mounts[int(system.laws.stopped[0]) // 3].name
+        if model == "linear":
+            raise InputError(f"model = 'linear' cannot follow a bump stop's contact (mount "
+                             f"{mount!r} has one): use 'nonlinear' or 'auto'")
+        run = integrate(system, y0, settings, progress=progress)
+        return Motion(run, "nonlinear", model, f"nonlinear: mount {mount!r} has a bump stop "
+                      f"(contact is not linear)", None, linear_tol)
     if y_eq is None:
         raise ValueError("the linear model needs the static equilibrium")
     lin = run_linear(system, y_eq, y0, settings)
