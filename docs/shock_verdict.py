@@ -21,6 +21,11 @@ used = [(ratio, when, m.name, kind) for m in q.verdict.mounts
 for ratio, when, name, kind in sorted(used, reverse=True)[:3]:
     at = "at rest" if when != when else f"at t = {1e3 * when:.1f} ms"
     print(f"  mount {name}: {100 * ratio:.1f} % of its {kind} limit {at}")
+for m in q.verdict.mounts:
+    if m.contacts:
+        print(f"  mount {m.name} bottoms {m.contacts}x from t = {1e3 * m.first_contact:.1f} ms, "
+              f"peak contact force {m.peak_contact_force:.0f} N at "
+              f"t = {1e3 * m.peak_contact_time:.1f} ms")
 for b in q.verdict.bodies:
     if b.fragility is not None:
         print(f"  {b.name}: {b.peak_acceleration / 9.80665:.2f} g of its "

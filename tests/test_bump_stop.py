@@ -93,7 +93,8 @@ def exact(t: np.ndarray, rates: bool = False):
         s = np.linspace(0.0, t[-1] - t0 + 1e-3, 200_001)[1:]
         g = x(s) + GAP
         bad = np.flatnonzero(g > 0) if contact else np.flatnonzero(g < 0)
-        end = _crossing(lambda q: x(q) + GAP, s[bad[0] - 1], s[bad[0]]) if bad.size else np.inf
+        end = _crossing(lambda q, x=x: x(q) + GAP, s[bad[0] - 1], s[bad[0]]) if bad.size \
+            else np.inf
         inside = (t >= t0) & (t < t0 + end)
         out[inside] = x(t[inside] - t0)
         out_v[inside] = v(t[inside] - t0)

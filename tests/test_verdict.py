@@ -198,6 +198,15 @@ BAD = [
      "deflection in direction 3, 0.000981 m of compression"),
     ("units", text(body='fragility = {peak = 20, units = "G"}'),
      "s.toml: body 'mass': fragility.units = 'G' must be one of 'm/s2', 'g'"),
+    ("gap of 0", text("bump_stop = {direction = 3, gap_compression = 0.0, stiffness = 1e7}"),
+     "s.toml: mount 'M1': bump_stop.gap_compression = 0.0 must be > 0"),
+    ("negative contact stiffness",
+     text("bump_stop = {direction = 3, gap_compression = 0.01, stiffness = -1e7}"),
+     "s.toml: mount 'M1': bump_stop.stiffness = -10000000.0 must be > 0"),
+    ("linear model with stops", text("bump_stop = {direction = 3, gap_compression = 0.01, "
+                                     "stiffness = 1e7}").replace('integrator = "dop853"',
+                                                                 'model = "linear"'),
+     "s.toml: model = 'linear' cannot follow a bump stop's contact (mount 'M1' has one)"),
     ("self clearance", text(extra='\n[[clearance]]\nname = "c"\nbody = "mass"\n'
                                   'point = [0, 0, 0]\nother = "mass"\n'
                                   'other_point = [0, 0, 1]\nminimum = 0.01\n'),

@@ -1,7 +1,8 @@
 """The verdict's figures for the rigid, flexible and damped flexible bed
 side by side (``flexbed compare``, :func:`flexbed.compare`): each body's
 peak acceleration, each mount's stroke used (its peak deflection where
-the scene gives no stroke) and peak force, each point of interest's peak
+the scene gives no stroke), peak force and bottoming on its bump stops,
+each point of interest's peak
 displacement relative to its ``relative_to`` body, each clearance's
 minimum, and the verdict itself (:mod:`flexbed.analyses.verdict`).
 """
@@ -20,6 +21,7 @@ __all__ = ["verdict_rows", "verdict_markdown", "verdict_csv"]
 _UNITS = {"peak acceleration": ("m/s2", "g", 1 / G), "stroke used": ("1", "%", 100.0),
           "peak deflection": ("m", "mm", 1e3), "peak force": ("N", "N", 1.0),
           "peak relative displacement": ("m", "mm", 1e3), "minimum distance": ("m", "mm", 1e3),
+          "bump-stop contacts": ("1", "", 1.0), "peak contact force": ("N", "N", 1.0),
           "verdict": ("", "", 1.0)}
 
 
@@ -50,6 +52,9 @@ def verdict_rows(verdicts: dict[str, Verdict], cases: tuple) -> list[dict]:
             row(m.name, "peak deflection", lambda v, i=i: float(max(
                 v.mounts[i].compression.max(), v.mounts[i].extension.max())))
         row(m.name, "peak force", lambda v, i=i: v.mounts[i].peak_force)
+        if any(m.limits.stops):
+            row(m.name, "bump-stop contacts", lambda v, i=i: float(v.mounts[i].contacts))
+            row(m.name, "peak contact force", lambda v, i=i: v.mounts[i].peak_contact_force)
     for i, p in enumerate(first.points):
         if p.relative_to:
             row(f"{p.name} (relative to {p.relative_to})", "peak relative displacement",

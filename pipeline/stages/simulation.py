@@ -120,6 +120,10 @@ def simulate_system(sf: SceneFile, system: System, settings: Settings, *, start:
     """
     check_results_size(system, settings)
     _check_steps(sf, system, settings)     # the linear path's pieces are as fine
+    if model == "linear" and system.laws.stopped.size:
+        mount = system.scene.mounts[int(system.laws.stopped[0]) // 3].name
+        raise InputError(f"{sf.source.name}: model = 'linear' cannot follow a bump stop's "
+                         f"contact (mount {mount!r} has one): use 'nonlinear' or 'auto'")
     if (start == "equilibrium" or model != "nonlinear") and eq is None:
         eq = equilibrium(sf, system, sag=sag)
     y0 = system.initial_state(eq.y if start == "equilibrium" else None)   # + the velocities
