@@ -22,7 +22,8 @@ The map, in the order a run uses it:
 - :mod:`.statics` (Newton–Raphson on the free coordinates) and
   :mod:`.stability` (is the equilibrium stable?);
 - time integration: :mod:`.integrate` (segments between breakpoints,
-  outputs, faults), :mod:`.method_choice` (``auto``), :mod:`.stiffness`
+  outputs, faults), :mod:`.contacts` (bump-stop contacts located and
+  held), :mod:`.method_choice` (``auto``), :mod:`.stiffness`
   (the explicit methods' stability check); the room ``steppers/`` (rk4,
   dop853, radau compiled, with their coefficients);
 - the room ``linear/``: the one linearisation and the linear fast path

@@ -18,8 +18,10 @@ function per step (:mod:`.rhs`):
 3. every mount end e on body b at body-frame point ū_e = s̄_e (+ Φ_e a on a
    flexible body): ``P = r + A ū``, ``Ṗ = ṙ + A (ω̄ × ū + Φ_e ȧ)``;
 4. every mount (paper eq. 2–4): ``l = P_j − P_i``, ``Δx = U (A_iᵀ l) − d0``,
-   ``Δẋ = U (A_iᵀ l̇)``, forces f from the mount's laws, ``F = A_i Uᵀ f`` on
-   P_i and ``−F`` on P_j;
+   ``Δẋ = U (A_iᵀ l̇)``, forces f from the mount's laws (plus a bump stop's
+   contact force past its gap: decided by Δx, or held by an integrator,
+   :mod:`flexbed.dynamics.contacts`), ``F = A_i Uᵀ f`` on P_i and ``−F``
+   on P_j;
 5. Newton–Euler per rigid body (``m r̈ = F + m g``,
    ``J ω̄̇ = n̄ − ω̄ × J ω̄``) and, per flexible body, the floating-frame
    equations in the body frame ``M̄(a) [Aᵀ r̈, ω̄̇, ä] = Q̄`` from the modal
