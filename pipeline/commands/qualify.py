@@ -12,6 +12,7 @@ input — nothing is written on 1 or 2.
 from __future__ import annotations
 
 import argparse
+import math
 import time
 from pathlib import Path
 
@@ -72,9 +73,9 @@ def run(args: argparse.Namespace) -> int:
     settings = {k: v for k, v in (("integrator", args.integrator), ("t_end", args.t_end),
                                   ("output_dt", args.output_dt)) if v is not None}
     for key in ("t_end", "output_dt"):
-        if key in settings and not settings[key] > 0:
+        if key in settings and not (math.isfinite(settings[key]) and settings[key] > 0):
             raise InputError(f"option: --{key.replace('_', '-')} = {settings[key]!r} must be "
-                             f"> 0 s")
+                             f"a finite number > 0 s")
     out = outputs(args.output or f"{sf.output_name}-verdict", args.results)
     refuse_inputs(out["h5"], sf.source, args.modes_file)
     q = qualify(sf, modes=_modes(sf, args.modes_file), **settings)
