@@ -37,6 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from flexbed.analyses.frf import BAND_LIMITS
 from flexbed.errors import InputError, NumericalError
 from flexbed.files.scene import SceneFile
 from flexbed.study.metric_keys import OneColumn, _options, resolve_point
@@ -75,6 +76,10 @@ def _number(value, where: str, key: str) -> float:
     if (isinstance(value, bool) or not isinstance(value, (int, float))
             or not math.isfinite(value) or value <= 0):
         raise InputError(f"{where}: {key} = {value!r} must be a number > 0 [Hz]")
+    lo, hi = BAND_LIMITS
+    if not lo <= value <= hi:
+        raise InputError(f"{where}: {key} = {value!r} Hz: a response is computed within "
+                         f"{lo:g} – {hi:g} Hz")
     return float(value)
 
 
