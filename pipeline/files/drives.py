@@ -117,6 +117,9 @@ class ShapeReader(TableReader):
         """(times, values) of a two-column CSV file beside the scene file."""
         p = (self.folder / name)
         try:
+            if p.exists() and not p.is_file():
+                self.fail(where, f"file = {name!r}: not a regular file (a folder, a FIFO or "
+                                 f"a device)")
             text = p.read_text(encoding="utf-8")
         except OSError as exc:
             self.fail(where, f"file = {name!r}: cannot read it ({exc.strerror or exc})")

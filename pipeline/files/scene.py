@@ -34,6 +34,7 @@ from flexbed.files.bed_points import points_on_bed
 from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
 from flexbed.files.drives import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
+from flexbed.files.destination import check_source
 from flexbed.files.sanity import warn_far_points
 
 __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse_scene",
@@ -121,7 +122,7 @@ class SceneFile:
 
 def load_scene(path: str | Path | None = None) -> SceneFile:
     """Read and check a scene file (the built-in reference scene if path is None)."""
-    path = builtin_scene_path() if path is None else Path(path)
+    path = builtin_scene_path() if path is None else check_source(path, "scene file")
     try:
         raw = path.read_bytes()
     except OSError as exc:

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from flexbed.errors import InputError
+from flexbed.files.destination import check_source
 
 __all__ = ["Study", "Parameter", "MetricTable", "SAMPLINGS", "SCALES", "MAX_POINTS",
            "point_count", "read_study", "parse_study"]
@@ -94,7 +95,7 @@ class Study:
 
 def read_study(path: str | Path) -> Study:
     """Read and check a study file's shape."""
-    path = Path(path)
+    path = check_source(path, "study file")
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
