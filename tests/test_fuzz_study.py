@@ -7,7 +7,7 @@ keys removed, unknown keys added — and each mutant is read and planned
 every path, point and metric checked, nothing run). Only the error model is
 asserted: a plan, or :class:`~flexbed.errors.InputError` in one line that
 names the study file; nothing else escapes. The point limit is lowered to
-40 for the run (so a mutant asking for 10^5 points is refused, not planned
+8 for the run (so a mutant asking for 10^5 points is refused, not planned
 for minutes; the limit's own test is in test_study_faults.py).
 Derandomised, so CI runs the same examples every time.
 """
@@ -39,12 +39,12 @@ sampling = "grid"
 path = "bed.thickness"
 from = 0.08
 to = 0.12
-num = 3
+num = 2
 scale = "linear"
 
 [[parameter]]
 path = "mount.M5.k"
-values = [[1.0e5, 1.0e5, 1.0e5], [2.0e5, 2.0e5, 2.0e5]]
+values = [[1.0e5, 1.0e5, 1.0e5]]
 
 [[metric]]
 kind = "peak_displacement"
@@ -124,11 +124,11 @@ def folder(tmp_path_factory):
     return tmp_path_factory.mktemp("fuzz-study")
 
 
-@settings(max_examples=150, deadline=None, derandomize=True, database=None,
+@settings(max_examples=100, deadline=None, derandomize=True, database=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(st.lists(MUTATION, min_size=1, max_size=3))
 def test_a_mutated_study_is_planned_or_refused_in_one_line(folder, monkeypatch, mutations):
-    monkeypatch.setattr(spec, "MAX_POINTS", 40)
+    monkeypatch.setattr(spec, "MAX_POINTS", 8)
     try:
         text = dumps(_mutated(mutations))
     except (TypeError, ValueError):
@@ -139,5 +139,5 @@ def test_a_mutated_study_is_planned_or_refused_in_one_line(folder, monkeypatch, 
         msg = str(exc)
         assert "\n" not in msg and msg.startswith("study.toml: "), msg
         return
-    assert 1 <= len(plan.points) <= 40
+    assert 1 <= len(plan.points) <= 8
     assert plan.metric_columns
