@@ -5,26 +5,37 @@ The method
 ----------
 The bed is solved again on a mesh about twice as coarse (the *comparison
 mesh*: the nx × ny grid halved, or the geometry meshed at twice the element
-size), each mode is matched to its own on that mesh by shape (the MAC of
-the mid-surface translations at a lattice of points on both meshes, the
-pairs assigned one to one), and with frequencies f_h (the mesh) and f_H
-(the comparison mesh, element size ratio r = H / h) and the element's rate
-of convergence p,
+size; a Kirchhoff grid is cheap to solve and is compared with the grid
+twice as fine, :data:`FINER_DOFS`), each mode is matched to its own on
+that mesh by shape (the MAC of the mid-surface translations at a lattice
+of points on both meshes, the pairs assigned one to one), and with
+frequencies f_h (the mesh) and f_H (the comparison mesh, element size
+ratio r = H / h) and the element's rate of convergence p,
 
     f_∞ ≈ f_h + (f_h − f_H) / (r^p − 1),     error = f_h / f_∞ − 1
 
 (Richardson extrapolation; signed: positive when the mesh is too stiff).
 The rates are the elements' for smooth modes, checked on the reference bed
 (tests/test_accuracy.py): p = 2 for the Mindlin shell (MITC4 bilinear
-fields; observed 1.9–2.0 on the auto meshes, :mod:`flexbed.fem.auto_mesh`)
-and p = 4 for the Kirchhoff plate (Bogner–Fox–Schmit bicubics; observed
-3.4–3.95 from 10 × 10 to 40 × 40). Where the comparison mesh is not yet in
-the asymptotic range the estimate is rough (tested within a factor of 2 of
-the true error at 0.05 and 0.1 m on the plain and the cut-out bed); a mode
-matched with a MAC below :data:`MIN_MAC` has no estimate (NaN). A mesh
-file has no comparison mesh: its modes carry no estimate.
+fields; observed 1.9–2.0 on the bending modes of the auto meshes,
+:mod:`flexbed.fem.auto_mesh`) and p = 4 for the Kirchhoff plate
+(Bogner–Fox–Schmit bicubics; observed 3.4–3.95 from 10 × 10 to 40 × 40).
 
-It costs one more solve, on about a quarter of the nodes.
+How good it is, against converged shell references (tests/test_accuracy.py):
+within a factor of 2 of the true error on every mode of the plain and the
+cut-out bed at h = 0.1 m, and on their bending modes at 0.05 m. Modes
+whose error has a slower component are underestimated: the torsion modes
+(the free corners' and the cut-out's re-entrant corners' singularities:
+at 0.05 m their true errors of 0.1–0.25 % were estimated 2–5 x low, still
+below the largest error of the bending modes, which governs an auto
+mesh); the stiffened bed, whose frequencies do not converge monotonically
+(some fall from 0.1 to 0.05 m and rise from 0.05 to 0.025 m), so the
+estimate can have the wrong sign there. A mode matched with a MAC below
+:data:`MIN_MAC` has no estimate (NaN). A mesh file has no comparison mesh:
+its modes carry no estimate.
+
+It costs one more solve, on about a quarter of the nodes (a Kirchhoff
+grid: four times the nodes, still a fraction of a second up to 50 × 50).
 """
 
 from __future__ import annotations
@@ -45,6 +56,11 @@ RATES = {"mindlin": 2.0, "kirchhoff": 4.0}
 MIN_MAC = 0.5
 #: modes computed on the comparison mesh beyond the mesh's own
 EXTRA_MODES = 6
+#: a Kirchhoff grid is compared with the grid twice as fine up to this many
+#: degrees of freedom (a cheap solve; coarse grids of long elements are out
+#: of the asymptotic range: the 10 x 10 grid's 6th mode against 5 x 5 was
+#: estimated 4.5 x low), beyond it with the grid twice as coarse
+FINER_DOFS = 20_000
 
 
 @dataclass(frozen=True)
@@ -72,6 +88,10 @@ class Accuracy:
         Typical element side of the mesh (95th percentile of √area) [m].
     history : str
         ``auto``: the meshes tried and their largest estimated errors.
+    theory_error : ndarray (n,) or None
+        A Kirchhoff bed: each mode's converged frequency against the
+        shear-deformable shell's, f_Kirchhoff / f_shell − 1 [-]
+        (:mod:`flexbed.fem.theory_error`; NaN: no matching shell mode).
     """
 
     error: np.ndarray
@@ -84,6 +104,7 @@ class Accuracy:
     tolerance: float = math.nan
     element_size: float = math.nan
     history: str = ""
+    theory_error: np.ndarray | None = None
 
     @property
     def worst(self) -> float:
@@ -97,8 +118,14 @@ class Accuracy:
         shown = f"{100 * w:.2g} %" if math.isfinite(w) else "not estimated"
         tol = (f" (tolerance {100 * self.tolerance:g} %)" if math.isfinite(self.tolerance)
                else "")
-        return (f"mesh: {self.mesh}; estimated discretisation error of the frequencies up to "
+        line = (f"mesh: {self.mesh}; estimated discretisation error of the frequencies up to "
                 f"{shown}{tol}, by {self.method}")
+        t = self.theory_error
+        if t is not None and np.any(np.isfinite(t)):
+            k = int(np.nanargmax(np.abs(t)))
+            line += (f"; the Kirchhoff theory against the shear-deformable shell: up to "
+                     f"{100 * t[k]:+.2g} % (mode {k + 1})")
+        return line
 
 
 def richardson(f_fine: np.ndarray, f_coarse: np.ndarray, ratio: float, rate: float
@@ -136,7 +163,7 @@ def _shell_translations(bed, where: list) -> np.ndarray:
 def lattice_shapes(fine, coarse, count: int = 200) -> tuple[np.ndarray, np.ndarray]:
     """Mid-surface translations of both mode sets, flattened (n, 3P), at
     about ``count`` points of a regular lattice over the bed where both
-    meshes are (drawing frame)."""
+    meshes are (drawing frame; either theory)."""
     xy = fine.nodes[:, :2] + fine.origin
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     ext = hi - lo
@@ -145,17 +172,18 @@ def lattice_shapes(fine, coarse, count: int = 200) -> tuple[np.ndarray, np.ndarr
     X, Y = np.meshgrid(lo[0] + ext[0] * (np.arange(nx) + 0.5) / nx,
                        lo[1] + ext[1] * (np.arange(ny) + 0.5) / ny)
     pts = np.column_stack([X.ravel(), Y.ravel()])
+    beds = (fine, coarse)
+    where = [_located(b, pts) if b.spec.theory == "mindlin" else None for b in beds]
+    keep = np.array([all(w is None or w[i] is not None for w in where)
+                     for i in range(len(pts))], dtype=bool)
     out = []
-    if fine.spec.theory != "mindlin":              # the Kirchhoff rectangle: any point
-        for bed in (fine, coarse):
+    for bed, w in zip(beds, where):
+        if w is None:                                # the Kirchhoff rectangle: any point
             ev = GridShapes.from_nodes(bed.nodes, bed.translation, bed.rotation, bed.twist)
-            local = np.column_stack([pts - bed.origin, np.zeros(len(pts))])
+            local = np.column_stack([pts[keep] - bed.origin, np.zeros(int(keep.sum()))])
             out.append(ev.at(local)[0])
-    else:
-        wf, wc = _located(fine, pts), _located(coarse, pts)
-        both = [i for i in range(len(pts)) if wf[i] is not None and wc[i] is not None]
-        out = [_shell_translations(fine, [wf[i] for i in both]),
-               _shell_translations(coarse, [wc[i] for i in both])]
+        else:
+            out.append(_shell_translations(bed, [w[i] for i in np.flatnonzero(keep)]))
     return tuple(v.reshape(v.shape[0], -1) for v in out)
 
 
@@ -202,11 +230,14 @@ def grid_words(spec: PlateSpec) -> str:
 
 def comparison_spec(spec: PlateSpec) -> tuple[PlateSpec, float] | None:
     """The comparison mesh of a given (not auto) mesh and the size ratio H / h:
-    the grid halved (nx, ny → round(nx/2), round(ny/2)), or the geometry at
+    a Kirchhoff grid doubled (ratio 1/2) up to :data:`FINER_DOFS`, else the
+    grid halved (nx, ny → round(nx/2), round(ny/2)), or the geometry at
     twice its element size; None for a mesh file or a 1 x 1 grid."""
     g = spec.geometry
     if g is not None and g.mesh_file is not None:
         return None
+    if spec.theory == "kirchhoff" and 4 * (2 * spec.nx + 1) * (2 * spec.ny + 1) <= FINER_DOFS:
+        return replace(spec, nx=2 * spec.nx, ny=2 * spec.ny), 0.5
     if g is None and not spec.stiffeners:
         nx2, ny2 = max(1, round(spec.nx / 2)), max(1, round(spec.ny / 2))
         if (nx2, ny2) == (spec.nx, spec.ny):
@@ -242,9 +273,17 @@ def estimate(bed) -> Accuracy | None:
                 return None
             k = max(n, k // 2)
     rate = RATES[bed.spec.theory]
-    err, value = compare(bed, coarse, ratio, rate)
+    if ratio > 1:
+        err, value = compare(bed, coarse, ratio, rate)
+        how = f"a {ratio:.3g} x coarser mesh"
+    else:                               # a finer comparison: extrapolate from it
+        index, value = match(bed, coarse)
+        f, f2 = bed.modes.frequency, coarse.modes.frequency[index]
+        f_inf = f2 / (1.0 + richardson(f2, f, 1.0 / ratio, rate))
+        err = np.where(value >= MIN_MAC, f / f_inf - 1.0, np.nan)
+        how = f"a {1 / ratio:.3g} x finer mesh"
     return Accuracy(error=err, mac=value,
-                    method=f"Richardson extrapolation from a {ratio:.3g} x coarser mesh "
+                    method=f"Richardson extrapolation with {how} "
                            f"(frequencies converging as h^{rate:g})",
                     mesh=grid_words(bed.spec), comparison=grid_words(spec2), ratio=ratio,
                     rate=rate, element_size=element_size(bed.nodes, bed.cells))

@@ -54,13 +54,18 @@ def modes_table(data: ModesData) -> str:
     """The frequency table printed by the command (with each mode's
     estimated discretisation error when the file has one)."""
     acc = data.accuracy
-    lines = [f"{'mode':>4}  {'f [Hz]':>10}  {'shape':<16}  sym" + ("  err [%]" if acc else ""),
-             f"{'-' * 4}  {'-' * 10}  {'-' * 16}  ---" + ("  -------" if acc else "")]
+    theory = acc is not None and acc.theory_error is not None
+    lines = [f"{'mode':>4}  {'f [Hz]':>10}  {'shape':<16}  sym" + ("  err [%]" if acc else "")
+             + ("  theory [%]" if theory else ""),
+             f"{'-' * 4}  {'-' * 10}  {'-' * 16}  ---" + ("  -------" if acc else "")
+             + ("  ----------" if theory else "")]
+
+    def cell(e: float, width: int) -> str:
+        return f"  {100 * e:>+{width}.3f}" if e == e else f"  {'-':>{width}}"
+
     for k, (f, label, sym) in enumerate(zip(data.frequency, data.labels, data.symmetry)):
-        err = ""
-        if acc is not None:
-            e = acc.error[k]
-            err = f"  {100 * e:>+7.3f}" if e == e else f"  {'-':>7}"
+        err = cell(acc.error[k], 7) if acc is not None else ""
+        err += cell(acc.theory_error[k], 10) if theory else ""
         lines.append(f"{k + 1:>4}  {f:>10.4f}  {label:<16}  {sym}{err}")
     if acc is not None:
         lines.append(acc.summary())

@@ -30,6 +30,7 @@ dataset                            shape           units                  from
 ``invariants/modal_stiffness``     (n, n)          s^-2                   FE
 ``accuracy/frequency_error``       (n,)            1                      FE
 ``accuracy/mac``                   (n,)            1                      FE
+``accuracy/theory_error``          (n,)            1                      FE
 =================================  ==============  =====================  =========
 
 ``accuracy`` (since 1.3; absent when not estimated, e.g. a mesh file): each
@@ -38,7 +39,9 @@ estimate) and the MAC of its match on the comparison mesh
 (:mod:`flexbed.fem.accuracy`); its attributes ``method``, ``mesh``,
 ``comparison``, ``ratio``, ``rate``, ``element_size`` [m], ``tolerance``
 (``element_size = "auto"``: the tolerance the mesh was chosen for, else
-NaN) and ``history`` (the meshes ``auto`` tried).
+NaN) and ``history`` (the meshes ``auto`` tried); a Kirchhoff bed's also
+``theory_error``, f_kirchhoff / f_shell − 1 of the converged frequencies
+(:mod:`flexbed.fem.theory_error`).
 
 The ``invariants/`` rows are :data:`INVARIANTS`: the one definition of
 the modal invariants that :mod:`flexbed.fem` computes and
@@ -277,6 +280,11 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
             "(NaN: no estimate)")
         d["accuracy/mac"] = Dataset(np.asarray(acc.mac, dtype=float), "1",
                                     "MAC of each mode with its match on the comparison mesh")
+        if acc.theory_error is not None:
+            d["accuracy/theory_error"] = Dataset(
+                np.asarray(acc.theory_error, dtype=float), "1",
+                "Kirchhoff bed: converged frequency against the shear-deformable shell's, "
+                "f_kirchhoff / f_shell - 1 (NaN: no matching shell mode)")
     attrs: dict[str, Mapping[str, Any]] = {
         "": {"input_hash": bed.spec.digest(), "n_modes": int(m.omega.size),
              "next_frequency": (m.omega_next / (2 * math.pi)
@@ -390,13 +398,19 @@ def _read_accuracy(c, n: int) -> Accuracy | None:
         if arrays[name].shape != (n,):
             raise InputError(f"{c.path}: dataset 'accuracy/{name}' has shape "
                              f"{arrays[name].shape}, expected ({n},)")
+    if "accuracy/theory_error" in c.datasets:
+        arrays["theory_error"] = np.asarray(c.get("accuracy/theory_error"), dtype=float)
+        if arrays["theory_error"].shape != (n,):
+            raise InputError(f"{c.path}: dataset 'accuracy/theory_error' has shape "
+                             f"{arrays['theory_error'].shape}, expected ({n},)")
     a = c.attrs.get("accuracy", {})
     try:
         return Accuracy(error=arrays["frequency_error"], mac=arrays["mac"],
                         method=str(a["method"]), mesh=str(a["mesh"]),
                         comparison=str(a["comparison"]), ratio=float(a["ratio"]),
                         rate=float(a["rate"]), tolerance=float(a["tolerance"]),
-                        element_size=float(a["element_size"]), history=str(a["history"]))
+                        element_size=float(a["element_size"]), history=str(a["history"]),
+                        theory_error=arrays.get("theory_error"))
     except (KeyError, TypeError, ValueError) as exc:
         raise InputError(f"{c.path}: group 'accuracy' lacks a valid attribute ({exc})") \
             from None

@@ -119,12 +119,17 @@ def compute_modes(sf: SceneFile, *, n_modes: int | None = None,
 def given_mesh_accuracy(bed: BedModes):
     """The estimated error of modes on a given mesh (:func:`flexbed.fem.accuracy.estimate`),
     or None when it has no comparison mesh (a mesh file; a comparison mesh
-    the geometry refuses)."""
+    the geometry refuses); a Kirchhoff bed's with its theory error against
+    the shell (:func:`flexbed.fem.theory_error.theory_error`)."""
     from flexbed.fem.accuracy import estimate
     from flexbed.fem.geometry import GeometryError
     from flexbed.fem.modes import ModesError
     from flexbed.fem.spec import PlateSpecError
     try:
-        return estimate(bed)
+        acc = estimate(bed)
+        if acc is not None and bed.spec.theory == "kirchhoff":
+            from flexbed.fem.theory_error import theory_error
+            acc = replace(acc, theory_error=theory_error(bed, acc.error))
+        return acc
     except (GeometryError, PlateSpecError, ModesError):
         return None
