@@ -277,14 +277,14 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
         d["accuracy/frequency_error"] = Dataset(
             np.asarray(acc.error, dtype=float), "1",
             "estimated discretisation error of each frequency, f_h / f_converged - 1 "
-            "(NaN: no estimate)")
+            "(NaN: no estimate)", missing=True)
         d["accuracy/mac"] = Dataset(np.asarray(acc.mac, dtype=float), "1",
                                     "MAC of each mode with its match on the comparison mesh")
         if acc.theory_error is not None:
             d["accuracy/theory_error"] = Dataset(
                 np.asarray(acc.theory_error, dtype=float), "1",
                 "Kirchhoff bed: converged frequency against the shear-deformable shell's, "
-                "f_kirchhoff / f_shell - 1 (NaN: no matching shell mode)")
+                "f_kirchhoff / f_shell - 1 (NaN: no matching shell mode)", missing=True)
     attrs: dict[str, Mapping[str, Any]] = {
         "": {"input_hash": bed.spec.digest(), "n_modes": int(m.omega.size),
              "next_frequency": (m.omega_next / (2 * math.pi)
