@@ -31,7 +31,7 @@ from flexbed.dynamics.time_functions import SplineEnds
 
 from flexbed.files.builtin import BUILTIN, builtin_scene_path, builtin_scene_text  # noqa: F401
 from flexbed.files.bed_points import points_on_bed
-from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
+from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed, with_mount_points
 from flexbed.files.drives import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
 from flexbed.files.destination import check_source
@@ -180,7 +180,10 @@ class _Reader(ShapeReader):
         solver = self.solver(data.get("solver", {}))
         points = self.points(data.get("point", []), names)
         if at is not None:
+            ends = [getattr(m, f"point_{k}") for m in mounts for k in "ij"
+                    if getattr(m, f"body_{k}") == names[at]]
             mounts, points = points_on_bed(bed, names[at], mounts, points, self.fail)
+            bed = with_mount_points(bed, ends)        # an auto mesh: nodes there
         try:
             scene = Scene(tuple(bodies), base, tuple(mounts), np.array(gravity), name)
         except SceneError as exc:
