@@ -256,8 +256,7 @@ class _Reader(ShapeReader):
                 w = f"base.{kind} {i + 1}"
                 self.keys(w, d, ALL_SHAPE_KEYS, ("direction", "shape"))
                 direction = self.string(w, "direction", d["direction"], DIRECTIONS)
-                shape = self.shape(w, d)
-                out.append(cls(DIRECTIONS.index(direction), shape))
+                out += [cls(DIRECTIONS.index(direction), s) for s in self.terms(w, d, kind)]
         try:
             return Base(motion, tuple(drives), tuple(loads), support)
         except SceneError as exc:
