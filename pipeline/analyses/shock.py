@@ -205,6 +205,7 @@ def base_jumps(run: Run) -> tuple[list, float, tuple]:
     source = Path(run.scene_source) if run.scene_source else run.path
     reader = ShapeReader(str(run.path), source.parent)
     found: dict[float, np.ndarray] = {}
+    size: dict[float, float] = {}              # Σ|jump| of the terms, for round-off
     end = 0.0
     for i, table in enumerate(tables):
         try:
@@ -215,9 +216,25 @@ def base_jumps(run: Run) -> tuple[list, float, tuple]:
         for term in terms:
             fn = term.compile()
             end = max(end, fn.support[1])
+            scale_of_term = _magnitude(term)
             for tj, d in shape_jumps(fn):
+                if abs(d) <= 1e-12 * scale_of_term:        # sin(π) ≠ 0 at a window's end
+                    continue
                 found.setdefault(tj, np.zeros(3))[axis] += d * scale
-    return sorted(found.items()), end, units
+                size[tj] = size.get(tj, 0.0) + abs(d * scale)
+    # terms whose jumps cancel (a haversine's square and sinusoid) leave round-off
+    kept = [(tj, J) for tj, J in sorted(found.items())
+            if np.abs(J).max() > 1e-12 * size[tj]]
+    return kept, end, units
+
+
+def _magnitude(term) -> float:
+    """The largest value a shape's parameters give (amplitude, peak or
+    curve values), for telling round-off from a jump."""
+    for key in ("amplitude", "peak"):
+        if hasattr(term, key):
+            return abs(float(getattr(term, key)))
+    return float(np.max(np.abs(term.value)))
 
 
 def record_warning(run: Run, fmin: float, input_end: float, n: int) -> str:
