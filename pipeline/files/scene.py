@@ -52,7 +52,8 @@ _MOUNT_KEYS = ("name", "body_i", "body_j", "point_i", "point_j", "axes_deg", "ax
 _LAW_KEYS = {"linear": ("k", "c"), "polynomial": ("stiffness", "damping"),
              "curve": ("spring_curve", "damper_curve")}
 _SOLVER_KEYS = ("t_end", "integrator", "dt", "rtol", "atol", "output_dt", "start", "static_tol",
-                "model", "linear_tol")
+                "model", "linear_tol", "static_deflection_limit", "static_rotation_limit_deg",
+                "allow_unstable")
 MODELS = ("nonlinear", "linear", "auto")
 _POINT_KEYS = ("name", "body", "position", "relative_to")
 
@@ -71,6 +72,9 @@ class SolverSection:
     static_tol: float = 1e-6
     model: str = "nonlinear"
     linear_tol: float = 1e-6
+    static_deflection_limit: float = 0.25
+    static_rotation_limit_deg: float = 10.0
+    allow_unstable: bool = False
 
     def settings(self, **overrides) -> Settings:
         """Integration settings, with command-line overrides (None = keep)."""
@@ -267,8 +271,7 @@ class _Reader(ShapeReader):
                 w = f"base.{kind} {i + 1}"
                 self.keys(w, d, ALL_SHAPE_KEYS, ("direction", "shape"))
                 direction = self.string(w, "direction", d["direction"], DIRECTIONS)
-                shape = self.shape(w, d)
-                out.append(cls(DIRECTIONS.index(direction), shape))
+                out += [cls(DIRECTIONS.index(direction), s) for s in self.terms(w, d, kind)]
         try:
             return Base(motion, tuple(drives), tuple(loads), support)
         except SceneError as exc:
@@ -365,6 +368,14 @@ class _Reader(ShapeReader):
             args["start"] = self.string(where, "start", t["start"], ("equilibrium", "initial"))
         if "model" in t:
             args["model"] = self.string(where, "model", t["model"], MODELS)
+        for key in ("static_deflection_limit", "static_rotation_limit_deg"):   # inf: no limit
+            if key in t:
+                v = t[key]
+                args[key] = v if v == float("inf") else self.number(where, key, v, positive=True)
+        if "allow_unstable" in t:
+            if not isinstance(t["allow_unstable"], bool):
+                self.fail(where, f"allow_unstable = {t['allow_unstable']!r} must be true or false")
+            args["allow_unstable"] = t["allow_unstable"]
         section = SolverSection(**args)
         n = output_samples(section.t_end, section.output_dt)
         if n > MAX_OUTPUT_SAMPLES:
