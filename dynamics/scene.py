@@ -15,12 +15,11 @@ import numpy as np
 from .errors import SceneError
 from .flexible import FlexibleBody
 from .laws import BumpStop, CurveLaw, LinearLaw, PolynomialLaw
-from .time_functions import Curve, Sawtooth, Sinusoid, Trapezoid, Triangle
+from .time_functions import SHAPES as _SHAPES
 
 __all__ = ["Body", "Drive", "Load", "Base", "Mount", "Scene", "DIRECTIONS"]
 
 DIRECTIONS = ("x", "y", "z")
-_SHAPES = (Sinusoid, Triangle, Trapezoid, Sawtooth, Curve)
 _LAWS = (LinearLaw, PolynomialLaw, CurveLaw)
 
 
@@ -138,8 +137,8 @@ def _check_input(direction, shape, what: str) -> None:
 class Drive:
     """Prescribed translational acceleration of the base along one inertial axis.
 
-    direction : int (0, 1, 2 = X, Y, Z); shape : Sinusoid | Triangle |
-    Trapezoid | Sawtooth | Curve, values in m/s².
+    direction : int (0, 1, 2 = X, Y, Z); shape : one of
+    :data:`flexbed.dynamics.time_functions.SHAPES`, values in m/s².
     """
 
     direction: int

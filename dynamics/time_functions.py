@@ -15,7 +15,10 @@ period for a sinusoid, 20 sample spacings for curve data; pulses need none
 Before ``start`` every shape is zero. After its end a pulse is zero, a
 sinusoid with a duration is zero, and curve data hold their last value.
 The sawtooth drops from its peak to zero instantaneously: its end is a
-breakpoint where the value jumps (its integrals stay continuous).
+breakpoint where the value jumps (its integrals stay continuous). So do the
+square pulse (at both ends) and the initial-peak sawtooth (at its start).
+Shock pulses as specifications state them (half-sine, haversine, with
+compensation) are sums of these shapes: :mod:`flexbed.dynamics.pulses`.
 
 Curve data are cubic splines whose end conditions (:class:`SplineEnds`)
 are "not-a-knot" (the default), "natural" or "clamped".
@@ -31,8 +34,9 @@ import numpy as np
 from .errors import SceneError
 from .piecewise import END_CONDITIONS, PiecewisePolynomial, spline_with_tails
 
-__all__ = ["Sinusoid", "Triangle", "Trapezoid", "Sawtooth", "Curve", "SplineEnds",
-           "TimeFunction", "MIN_CURVE_POINTS", "END_CONDITIONS"]
+__all__ = ["Sinusoid", "Triangle", "Trapezoid", "Sawtooth", "Square", "InitialPeakSawtooth",
+           "Curve", "SplineEnds", "TimeFunction", "MIN_CURVE_POINTS", "END_CONDITIONS",
+           "SHAPES", "summed", "jumps"]
 
 MIN_CURVE_POINTS = 4
 CURVE_SAMPLES_PER_STEP = 20     # adaptive steps span at most this many sample spacings
@@ -311,6 +315,73 @@ class Sawtooth:
 
 
 @dataclass(frozen=True, slots=True)
+class Square:
+    """Rectangular pulse: ``peak`` on [start, start + duration), 0 elsewhere.
+
+    Both ends are breakpoints where the value jumps; velocity
+    peak·(t − start) and displacement peak·(t − start)²/2 on the pulse are
+    the exact integrals.
+    """
+
+    peak: float
+    duration: float
+    start: float = 0.0
+
+    def __post_init__(self):
+        _finite("peak", self.peak)
+        _positive("duration", self.duration)
+        _non_negative("start", self.start)
+
+    @property
+    def end(self) -> float:
+        return self.start + self.duration
+
+    def compile(self) -> TimeFunction:
+        s, d = float(self.start), float(self.duration)
+        breaks = [s, s + d]
+        rows = [[0.0], [float(self.peak)], [0.0]]
+        return TimeFunction.from_piecewise(PiecewisePolynomial(breaks, rows), breaks)
+
+    def sample_times(self, dt: float) -> np.ndarray:
+        raise SceneError("sample does not apply to shape = 'square' (its ends are jumps, "
+                         "used exactly)")
+
+
+@dataclass(frozen=True, slots=True)
+class InitialPeakSawtooth:
+    """Initial-peak sawtooth: a jump to ``peak`` at ``start``, then a linear
+    decay to 0 at ``start + duration`` [s].
+
+    The jump at ``start`` is a breakpoint (the integrators see 0 before it
+    and the peak after); velocity and displacement are the exact integrals:
+    peak·duration/2 and peak·duration²/3 at the end.
+    """
+
+    peak: float
+    duration: float
+    start: float = 0.0
+
+    def __post_init__(self):
+        _finite("peak", self.peak)
+        _positive("duration", self.duration)
+        _non_negative("start", self.start)
+
+    @property
+    def end(self) -> float:
+        return self.start + self.duration
+
+    def compile(self) -> TimeFunction:
+        p, s, d = float(self.peak), float(self.start), float(self.duration)
+        breaks = [s, s + d]
+        rows = [[0.0, 0.0], [p, -p / d], [0.0, 0.0]]
+        return TimeFunction.from_piecewise(PiecewisePolynomial(breaks, rows), breaks)
+
+    def sample_times(self, dt: float) -> np.ndarray:
+        raise SceneError("sample does not apply to shape = 'initial-peak-sawtooth' (its "
+                         "start is a jump, used exactly)")
+
+
+@dataclass(frozen=True, slots=True)
 class SplineEnds:
     """End conditions of a cubic spline through curve data.
 
@@ -424,3 +495,55 @@ def sampled(shape, dt: float) -> Curve:
     t = shape.sample_times(dt)
     f = shape.compile()
     return Curve(t, np.array([f.value(float(x)) for x in t]))
+
+
+#: the shapes a drive or a load may have (each one row of the compiled
+#: right-hand side's input tables: a windowed sinusoid or a piecewise
+#: polynomial); sums of them: :mod:`flexbed.dynamics.pulses`
+SHAPES = (Sinusoid, Triangle, Trapezoid, Sawtooth, Square, InitialPeakSawtooth, Curve)
+
+
+def summed(functions) -> TimeFunction:
+    """The sum of compiled shapes as one :class:`TimeFunction` (values and
+    integrals added in the given order, breakpoints merged, the support
+    their hull, the shortest ``max_step``)."""
+    fs = tuple(functions)
+    if len(fs) == 1:
+        return fs[0]
+
+    def add(name):
+        parts = [getattr(f, name) for f in fs]
+
+        def total(t, seg_end=None):
+            acc = 0.0
+            for g in parts:
+                acc += g(t, seg_end)
+            return acc
+        return total
+
+    def add_arrays(name):
+        parts = [getattr(f, name) for f in fs]
+
+        def total(t):
+            acc = np.zeros(np.shape(t))
+            for g in parts:
+                acc = acc + g(t)
+            return acc
+        return total
+
+    bps = sorted({b for f in fs for b in f.breakpoints})
+    return TimeFunction(add("value"), add("first"), add("second"), bps, add_arrays("values"),
+                        add_arrays("firsts"), add_arrays("seconds"),
+                        support=(min(f.support[0] for f in fs), max(f.support[1] for f in fs)),
+                        max_step=min(f.max_step for f in fs))
+
+
+def jumps(f: TimeFunction) -> list[tuple[float, float]]:
+    """Where a compiled shape's value jumps: [(time [s], right − left limit)]
+    at its breakpoints, exact zeros left out."""
+    out = []
+    for b in f.breakpoints:
+        d = f.value(b) - f.value(b, b)
+        if d != 0.0:
+            out.append((b, d))
+    return out

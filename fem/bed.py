@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .accuracy import Accuracy
 from .invariants import Invariants, modal_invariants, shell_invariants
 from .modes import ModeSet, free_free_modes
 from .plate import PlateModel, assemble_plate
@@ -45,6 +46,10 @@ class BedModes:
     origin : ndarray (2,)
         Where the nodes' origin (the bed's centre of mass) is in the
         drawing frame the geometry was given in [m].
+    accuracy : Accuracy or None
+        The estimated discretisation error of each mode
+        (:mod:`flexbed.fem.accuracy`); an auto mesh's says what was chosen
+        (:mod:`flexbed.fem.auto_size`). None: not estimated.
     """
 
     spec: PlateSpec
@@ -57,6 +62,7 @@ class BedModes:
     invariants: Invariants
     timings: dict = field(default_factory=dict)
     origin: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    accuracy: Accuracy | None = None
 
 
 def bed_modes_from_model(model: PlateModel | ShellModel,
@@ -93,7 +99,14 @@ def compute_bed_modes(spec: PlateSpec, n_modes: int | None = None,
     Returns
     -------
     BedModes
+        With no ``accuracy`` for a given mesh (:func:`flexbed.fem.accuracy.estimate`
+        adds it); a spec with ``mesh_tolerance`` (``element_size = "auto"``)
+        is solved on the mesh chosen for it, with its accuracy
+        (:func:`flexbed.fem.auto_size.choose_mesh`).
     """
+    if spec.auto_mesh:
+        from .auto_size import choose_mesh
+        return choose_mesh(spec, n_modes=n_modes, fmax=fmax)
     t0 = time.perf_counter()
     model = assemble_bed(spec)
     t1 = time.perf_counter()

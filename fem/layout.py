@@ -62,8 +62,14 @@ def _grid(spec: PlateSpec) -> tuple[np.ndarray, np.ndarray]:
 
 @functools.lru_cache(maxsize=16)
 def bed_layout(spec: PlateSpec) -> BedLayout:
-    """The spec's :class:`BedLayout` (cached per spec)."""
+    """The spec's :class:`BedLayout` (cached per spec); an auto bed's
+    (``element_size = "auto"``) on its first mesh
+    (:func:`flexbed.fem.auto_mesh.start_spec`)."""
+    if spec.auto_mesh:
+        from .auto_mesh import start_spec
+        return bed_layout(start_spec(spec))
     lines = [(st.start, st.end) for st in spec.stiffeners]
+    lines += [(p, p) for p in spec.mesh_points]           # nodes there
     if spec.geometry is None:
         nodes, cells = _grid(spec)
         t = np.full(cells.shape[0], spec.thickness)

@@ -56,6 +56,8 @@ def _positive(entry: str, value: float) -> None:
 
 
 THEORIES = ("kirchhoff", "mindlin")
+#: the largest ``mesh_tolerance``: 50 % [-]
+MAX_MESH_TOLERANCE = 0.5
 
 
 @dataclass(frozen=True, slots=True)
@@ -112,6 +114,8 @@ class PlateSpec:
     geometry: BedGeometry | None = None
     masses: tuple[FixedMass, ...] = ()
     stiffeners: tuple[Stiffener, ...] = ()
+    mesh_tolerance: float | None = None
+    mesh_points: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self) -> None:
         for entry in ("length_x", "length_y", "thickness", "young", "density"):
@@ -157,10 +161,44 @@ class PlateSpec:
         if self.masses and self.theory != "mindlin":
             raise PlateSpecError("theory", "fixed_mass needs theory = \"mindlin\" (the "
                                            "Kirchhoff plate has no in-plane inertia)")
+        self._check_auto()
         if self.geometry is not None and self.theory != "mindlin":
             raise PlateSpecError("theory", "outline, cutout, zone, element_size and mesh_file "
                                            "need theory = \"mindlin\" (the Kirchhoff plate is "
                                            "a rectangle on a grid)")
+
+    def _check_auto(self) -> None:
+        """``mesh_tolerance`` (element_size = "auto") and ``mesh_points``."""
+        tol = self.mesh_tolerance
+        if tol is not None:
+            if isinstance(tol, bool) or not (isinstance(tol, (int, float)) and math.isfinite(tol)
+                                             and 0.0 < tol <= MAX_MESH_TOLERANCE):
+                raise PlateSpecError("mesh_tolerance", f"mesh_tolerance = {tol!r} must be a "
+                                                       f"fraction > 0 and <= "
+                                                       f"{MAX_MESH_TOLERANCE:g} (50 %)")
+            object.__setattr__(self, "mesh_tolerance", float(tol))
+            if self.theory != "mindlin":
+                raise PlateSpecError("element_size", "element_size = \"auto\" needs theory = "
+                                                     "\"mindlin\" (the Kirchhoff plate is a "
+                                                     "rectangle on its nx x ny grid)")
+            g = self.geometry
+            if g is not None and (g.mesh_file is not None or g.mesh_digest is not None):
+                raise PlateSpecError("element_size", f"element_size = \"auto\" cannot be used "
+                                                     f"with mesh_file = {g.mesh_file!r} (the "
+                                                     f"file is the mesh); give one of them")
+            if g is not None and g.element_size is not None:
+                raise PlateSpecError("element_size", f"element_size = {g.element_size!r} and "
+                                                     f"\"auto\": give one of them")
+        try:
+            pts = tuple((float(x), float(y)) for x, y in self.mesh_points)
+        except (TypeError, ValueError):
+            raise PlateSpecError("mesh_points", f"mesh_points = {self.mesh_points!r} must be "
+                                                f"[x, y] points") from None
+        if not all(math.isfinite(v) for p in pts for v in p):
+            raise PlateSpecError("mesh_points", f"mesh_points = {pts!r} must be finite")
+        object.__setattr__(self, "mesh_points", tuple(sorted(set(pts))))
+        if pts and self.theory != "mindlin":
+            raise PlateSpecError("mesh_points", "mesh_points need theory = \"mindlin\"")
 
     @classmethod
     def from_dict(cls, d: dict) -> "PlateSpec":
@@ -198,6 +236,8 @@ class PlateSpec:
                     for st in d["stiffeners"])
             except (GeometryError, KeyError, TypeError) as exc:
                 raise PlateSpecError("stiffeners", f"stiffeners: {exc}") from None
+        if "mesh_points" in d:
+            d["mesh_points"] = tuple(tuple(p) for p in d["mesh_points"])
         return cls(**d)
 
     @property
@@ -230,6 +270,12 @@ class PlateSpec:
             del d["masses"]
         if not d["stiffeners"]:
             del d["stiffeners"]
+        if d["mesh_tolerance"] is None:
+            del d["mesh_tolerance"]
+        if not d["mesh_points"]:
+            del d["mesh_points"]
+        else:
+            d["mesh_points"] = [list(p) for p in d["mesh_points"]]
         if d["geometry"] is None:
             del d["geometry"]
         else:                      # the mesh file counts by its contents, not its path
@@ -239,7 +285,13 @@ class PlateSpec:
     @property
     def is_rectangle(self) -> bool:
         """True for the plain length_x × length_y plate on its grid."""
-        return self.geometry is None and not self.masses and not self.stiffeners
+        return (self.geometry is None and not self.masses and not self.stiffeners
+                and self.mesh_tolerance is None and not self.mesh_points)
+
+    @property
+    def auto_mesh(self) -> bool:
+        """True when the mesh is chosen for ``mesh_tolerance``."""
+        return self.mesh_tolerance is not None
 
     def digest(self) -> str:
         """SHA-256 of the canonical JSON of the inputs (hex)."""

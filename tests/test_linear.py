@@ -198,6 +198,7 @@ UNSTABLE = base_and_body("unstable", gravity=0.0, mass=10.0, inertia="[1.0, 1.0,
 
 [solver]
 t_end = 0.5
+allow_unstable = true
 """ + four_mounts("""
 law = "polynomial"
 stiffness = [[0.0, 1.0e4], [0.0, 1.0e4], [0.0, -1.0e4, 0.0, 1.0e8]]
@@ -206,7 +207,8 @@ stiffness = [[0.0, 1.0e4], [0.0, 1.0e4], [0.0, -1.0e4, 0.0, 1.0e8]]
 
 def test_an_unstable_equilibrium_is_reported_not_propagated(tmp_path):
     """Four mounts of negative vertical stiffness (−1e4 N/m each, hardening
-    cubically) hold 10 kg at an equilibrium that is unstable: the linear
+    cubically) hold 10 kg at an equilibrium that is unstable (run from
+    with allow_unstable = true; without, the run stops): the linear
     model reports the growing mode, sqrt(4k/m) = 63.2 1/s, and propagates
     nothing (no NaN); auto integrates the nonlinear model instead."""
     import flexbed

@@ -1,6 +1,7 @@
 """An unstable equilibrium is found, but not reported as a plain success:
-a warning names the body and the direction of the stiffness matrix's
-negative eigenvalue, and the equilibrium file records it."""
+allowed (``--allow-unstable``), a warning names the body and the direction
+of the stiffness matrix's negative eigenvalue, and the equilibrium file
+records it (without, the run stops: tests/test_plausibility.py)."""
 
 import math
 
@@ -27,7 +28,7 @@ def test_negative_stiffness_is_warned_and_recorded(tmp_path, capsys):
     path = tmp_path / "unstable.toml"
     path.write_text(_scene(-1.0e4))
     out = tmp_path / "eq.h5"
-    assert flexbed(["static", str(path), "-o", str(out)]) == 0
+    assert flexbed(["static", str(path), "-o", str(out), "--allow-unstable"]) == 0
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
     assert err[0].startswith("flexbed static: warning: unstable.toml: unstable equilibrium")

@@ -216,6 +216,9 @@ class Run:
         except tomllib.TOMLDecodeError:
             raise InputError(f"{self.path}: dataset 'scene/toml' is not valid TOML") from None
         self.scene_points = tuple(self._scene_points(scene))
+        #: the scene as parsed TOML, and the scene file it was read from
+        self.scene_data = scene
+        self.scene_source = str(c.attrs.get("scene", {}).get("source", ""))
         #: the base's motion: "fixed", "driven" or "free"
         self.base_motion = str(scene.get("base", {}).get("motion", "fixed"))
         bed = c.attrs.get("bed", {})

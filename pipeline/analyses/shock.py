@@ -3,12 +3,32 @@ point of interest (:mod:`flexbed.analyses.points`) along X, Y, Z, through
 :func:`flexbed.dynamics.shock_spectrum.shock_spectrum`; for a driven base,
 the base's acceleration (the input) beside it.
 
-File layout (HDF5, schema ``flexbed.srs`` 1.0): ``frequency`` (n,) [Hz];
+Jumps of the base's acceleration (a sawtooth's drop, a square pulse's
+ends) are read from the run's scene (its drives, or its forces over the
+base's mass) and handed to the filter, which adds their exact step
+responses (:func:`flexbed.dynamics.shock_spectrum.shock_spectrum`): the
+record holds the value after a jump at the sample on it, and joined by a
+straight line to the sample before it would lose peak·Δt/2 of impulse.
+They apply to the input and to points on the base; every other body's
+acceleration is continuous (its forces are functions of positions and
+velocities).
+
+Record length: an oscillator's largest residual response comes within
+half its period after the input ends, so a record shorter than the input's
+end (its last breakpoint) plus one period of the lowest oscillator, 1/fmin,
+is warned about (``Spectra.warnings``).
+
+File layout (HDF5, schema ``flexbed.srs`` 1.1): ``frequency`` (n,) [Hz];
 for each point NAME (and ``input`` for a driven base)
-``NAME/positive``, ``NAME/negative``, ``NAME/maximax`` (n, 3) [m/s²] and
-``NAME/pseudo_velocity`` (n, 3) [m/s], columns X, Y, Z, the group's
-attributes ``body`` and ``position`` (body frame [m]); root attributes
-``q``, ``per_octave``, ``sample_interval`` [s], ``results``.
+``NAME/positive``, ``NAME/negative``, ``NAME/maximax`` (n, 3) [m/s²], the
+same in g as ``NAME/positive_g``, ``NAME/negative_g``, ``NAME/maximax_g``
+(g = 9.80665 m/s²), and ``NAME/pseudo_velocity`` (n, 3) [m/s], columns X,
+Y, Z, the group's attributes ``body`` and ``position`` (body frame [m]);
+root attributes ``q``, ``per_octave``, ``sample_interval`` [s],
+``results``, ``standard_gravity`` [m/s²], ``drive_units`` (the units the
+scene's drives were given in, one per drive table, comma-separated),
+``jumps`` (the jumps of the base's acceleration taken exactly, as text),
+``warnings``.
 """
 
 from __future__ import annotations
@@ -19,14 +39,18 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbed.dynamics.pulses import STANDARD_GRAVITY
+from flexbed.dynamics.scene import DIRECTIONS
 from flexbed.dynamics.shock_spectrum import ShockSpectrum, frequency_grid, shock_spectrum
+from flexbed.dynamics.time_functions import jumps as shape_jumps
 from flexbed.errors import InputError
 from flexbed.analyses.points import Point, Run
 
 __all__ = ["PointSpectrum", "Spectra", "spectra", "spectrum_csv", "spectra_datasets",
-           "INPUT", "SCHEMA", "VERSION"]
+           "base_jumps", "record_warning", "INPUT", "SCHEMA", "VERSION", "G"]
 
-SCHEMA, VERSION = "flexbed.srs", "1.0"
+SCHEMA, VERSION = "flexbed.srs", "1.1"
+G = STANDARD_GRAVITY                 # [m/s²]: spectra in g are divided by it
 INPUT = "input"                      # the name of the base's own spectrum
 #: highest frequency allowed, as a fraction of the sampling rate (a sampled
 #: peak then misses the continuous one by at most 1 − cos(π/4) = 29 %)
@@ -40,7 +64,8 @@ class PointSpectrum:
     """The SRS of one point along X, Y, Z (n frequencies).
 
     name, body : str; position : (3,) body frame [m];
-    positive, negative, maximax : (n, 3) [m/s²]; pseudo_velocity : (n, 3) [m/s].
+    positive, negative, maximax : (n, 3) [m/s²] (``in_g(key)``: in g);
+    pseudo_velocity : (n, 3) [m/s].
     """
 
     name: str
@@ -57,6 +82,10 @@ class PointSpectrum:
                 for k in ("positive", "negative", "maximax", "pseudo_velocity")}
         return cls(name, body, np.asarray(position, dtype=float), **cols)
 
+    def in_g(self, key: str) -> np.ndarray:
+        """``positive``, ``negative`` or ``maximax`` in g (n, 3)."""
+        return getattr(self, key) / G
+
 
 @dataclass(frozen=True)
 class Spectra:
@@ -64,7 +93,10 @@ class Spectra:
 
     frequency : (n,) [Hz]; q : quality factor; per_octave : int;
     sample_interval : [s]; points : tuple of PointSpectrum;
-    input : PointSpectrum or None (the base's acceleration, driven base only).
+    input : PointSpectrum or None (the base's acceleration, driven base only);
+    jumps : tuple of (time [s], (3,) jump [m/s²]) of the base's acceleration
+    taken exactly; drive_units : tuple of str, per drive table;
+    warnings : tuple of str (a record too short for the lowest frequency).
     """
 
     frequency: np.ndarray
@@ -73,6 +105,9 @@ class Spectra:
     sample_interval: float
     points: tuple
     input: PointSpectrum | None
+    jumps: tuple = ()
+    drive_units: tuple = ()
+    warnings: tuple = ()
 
 
 def _uniform(t: np.ndarray, where: Path) -> tuple[float, int]:
@@ -131,16 +166,103 @@ def spectra(run: Run, points: list[Point], *, q: float = 10.0, fmin: float = 1.0
         raise InputError(f"--fmin {fmin:g} Hz to --fmax {fmax:g} Hz at {per_octave} per octave "
                          f"is {count:.3g} frequencies; the limit is {MAX_FREQUENCIES:,}")
     f = frequency_grid(fmin, fmax, per_octave)
+    found, ends, units = base_jumps(run)
+    t = run.t[:n]
+    steps = []                                  # (sample, offset, (3,) jump) in the record
+    for tj, J in found:
+        k = int(np.searchsorted(t, tj, side="left"))    # the first sample at or after it
+        if k < n:
+            steps.append((k, float(t[k] - tj), J))
 
-    def axes(acc):
-        return [shock_spectrum(acc[:n, i], dt, f, q) for i in range(3)]
+    def axes(acc, on_base):
+        return [shock_spectrum(acc[:n, i], dt, f, q,
+                               [(k, off, J[i]) for k, off, J in steps] if on_base else ())
+                for i in range(3)]
 
-    out = [PointSpectrum.of(p.name, p.body, p.position, axes(run.absolute(p).acceleration))
+    out = [PointSpectrum.of(p.name, p.body, p.position,
+                            axes(run.absolute(p).acceleration, p.body == run.names[0]))
            for p in points]
     base = None
     if run.base_motion == "driven":
-        base = PointSpectrum.of(INPUT, run.names[0], np.zeros(3), axes(run.rdd[:, 0]))
-    return Spectra(f, float(q), int(per_octave), dt, tuple(out), base)
+        base = PointSpectrum.of(INPUT, run.names[0], np.zeros(3), axes(run.rdd[:, 0], True))
+    warn = record_warning(run, float(f[0]), ends, n)
+    return Spectra(f, float(q), int(per_octave), dt, tuple(out), base,
+                   tuple((tj, J) for tj, J in found), units, (warn,) if warn else ())
+
+
+def base_jumps(run: Run) -> tuple[list, float, tuple]:
+    """The jumps of the base's acceleration, from the run's scene.
+
+    Returns
+    -------
+    jumps : list of (time [s], (3,) jump after minus before [m/s²]), by time
+        (a driven base's drives; a free base's forces over its mass)
+    end : float
+        The inputs' last breakpoint [s] (0 with none; inf for an input
+        that never ends: a sinusoid without a duration)
+    units : tuple of str
+        The units each drive table was given in.
+    """
+    from flexbed.files.drives import ShapeReader
+
+    base = run.scene_data.get("base", {})
+    kind = {"driven": "drive", "free": "force"}.get(run.base_motion)
+    tables = base.get(kind, []) if kind and isinstance(base, dict) else []
+    units = tuple(str(t.get("units", "m/s2")) for t in tables) if kind == "drive" else ()
+    scale = 1.0
+    if kind == "force":
+        bodies = run.scene_data.get("body", [])
+        scale = 1.0 / float(bodies[0]["mass"]) if bodies else 0.0
+    source = Path(run.scene_source) if run.scene_source else run.path
+    reader = ShapeReader(str(run.path), source.parent)
+    found: dict[float, np.ndarray] = {}
+    size: dict[float, float] = {}              # Σ|jump| of the terms, for round-off
+    end = 0.0
+    for i, table in enumerate(tables):
+        try:
+            terms = reader.terms(f"base.{kind} {i + 1}", table, kind)
+            axis = DIRECTIONS.index(table["direction"])
+        except (InputError, KeyError, ValueError, TypeError):
+            continue                # e.g. a curve's CSV file no longer beside the scene
+        for term in terms:
+            fn = term.compile()
+            end = max(end, fn.support[1])
+            scale_of_term = _magnitude(term)
+            for tj, d in shape_jumps(fn):
+                if abs(d) <= 1e-12 * scale_of_term:        # sin(π) ≠ 0 at a window's end
+                    continue
+                found.setdefault(tj, np.zeros(3))[axis] += d * scale
+                size[tj] = size.get(tj, 0.0) + abs(d * scale)
+    # terms whose jumps cancel (a haversine's square and sinusoid) leave round-off
+    kept = [(tj, J) for tj, J in sorted(found.items())
+            if np.abs(J).max() > 1e-12 * size[tj]]
+    return kept, end, units
+
+
+def _magnitude(term) -> float:
+    """The largest value a shape's parameters give (amplitude, peak or
+    curve values), for telling round-off from a jump."""
+    for key in ("amplitude", "peak"):
+        if hasattr(term, key):
+            return abs(float(getattr(term, key)))
+    return float(np.max(np.abs(term.value)))
+
+
+def record_warning(run: Run, fmin: float, input_end: float, n: int) -> str:
+    """A warning when the record ends before the input's end plus one
+    period of the lowest oscillator (its residual peak comes within half a
+    period after the input ends), else ""."""
+    t0, t1 = float(run.t[0]), float(run.t[n - 1])
+    end = input_end if math.isfinite(input_end) else t0
+    need = max(end, t0) + 1.0 / fmin
+    if t1 >= need * (1 - 1e-12):
+        return ""
+    room = t1 - max(end, t0)
+    hint = (f"; or --fmin {1.0 / room:.3g} Hz" if room > 0 else "")
+    return (f"{run.path}: the record ends at {t1:g} s, before the input's end "
+            f"({end:g} s) plus one period of the lowest oscillator ({fmin:g} Hz: "
+            f"{1.0 / fmin:g} s), {need:g} s; the residual response of the lowest frequencies "
+            f"may be cut short: a longer t_end{hint}")
 
 
 def _all(s: Spectra) -> list[PointSpectrum]:
@@ -149,12 +271,15 @@ def _all(s: Spectra) -> list[PointSpectrum]:
 
 def spectrum_csv(s: Spectra, p: PointSpectrum) -> str:
     """One point's spectra as CSV: frequency, then positive, negative,
-    maximax [m/s²] and pseudo-velocity [m/s] along X, Y, Z."""
+    maximax [m/s²] and pseudo-velocity [m/s] along X, Y, Z, then positive,
+    negative and maximax in g."""
     cols = ["frequency_Hz"] + [f"{k}_{c}_{u}" for k, u in
                                (("positive", "m/s2"), ("negative", "m/s2"),
-                                ("maximax", "m/s2"), ("pseudo_velocity", "m/s"))
+                                ("maximax", "m/s2"), ("pseudo_velocity", "m/s"),
+                                ("positive", "g"), ("negative", "g"), ("maximax", "g"))
                                for c in "xyz"]
-    data = np.column_stack([s.frequency, p.positive, p.negative, p.maximax, p.pseudo_velocity])
+    data = np.column_stack([s.frequency, p.positive, p.negative, p.maximax, p.pseudo_velocity,
+                            p.in_g("positive"), p.in_g("negative"), p.in_g("maximax")])
     return "\n".join([",".join(cols)] + [",".join(f"{v:.10g}" for v in row)
                                          for row in data]) + "\n"
 
@@ -165,7 +290,11 @@ def spectra_datasets(s: Spectra, results: str) -> tuple[dict, dict]:
 
     ds = {"frequency": Dataset(s.frequency, "Hz", "natural frequencies of the oscillators")}
     attrs = {"": {"q": s.q, "per_octave": s.per_octave, "sample_interval": s.sample_interval,
-                  "results": results}}
+                  "results": results, "standard_gravity": G,
+                  "drive_units": ", ".join(s.drive_units),
+                  "jumps": "; ".join(f"t = {tj:.9g} s: " + ", ".join(f"{v:.6g}" for v in J)
+                                     + " m/s^2" for tj, J in s.jumps),
+                  "warnings": "\n".join(s.warnings)}}
     for p in _all(s):
         g = p.name
         what = "the base's acceleration (input)" if p is s.input else f"point {p.name}"
@@ -176,6 +305,10 @@ def spectra_datasets(s: Spectra, results: str) -> tuple[dict, dict]:
                                 ("pseudo_velocity", "m/s", "pseudo-velocity ω·max|z|")):
             ds[f"{g}/{key}"] = Dataset(getattr(p, key), unit,
                                        f"{text}, columns X, Y, Z, of {what}")
+            if unit == "m/s^2":
+                ds[f"{g}/{key}_g"] = Dataset(p.in_g(key), "g",
+                                             f"{text} in g (9.80665 m/s^2), columns X, Y, Z, "
+                                             f"of {what}")
         attrs[g] = {"body": p.body, "position": p.position}
     return ds, attrs
 
@@ -184,11 +317,14 @@ def summary(s: Spectra) -> str:
     """The peak maximax per point and axis, with its frequency, as a table."""
     lines = [f"shock response spectra, Q = {s.q:g}, {s.frequency[0]:g}-{s.frequency[-1]:g} Hz, "
              f"{s.per_octave} per octave ({s.frequency.size} frequencies):",
-             "| point | body | axis | peak maximax [m/s²] | at [Hz] | peak pseudo-velocity [m/s] |",
-             "|---|---|---|---|---|---|"]
+             "| point | body | axis | peak maximax [m/s²] | [g] | at [Hz] "
+             "| peak positive [g] | peak negative [g] | peak pseudo-velocity [m/s] |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for p in _all(s):
         for i, c in enumerate("xyz"):
             k = int(np.argmax(p.maximax[:, i]))
             lines.append(f"| {p.name} | {p.body} | {c} | {p.maximax[k, i]:.5g} | "
-                         f"{s.frequency[k]:.4g} | {p.pseudo_velocity[:, i].max():.5g} |")
+                         f"{p.maximax[k, i] / G:.4g} | {s.frequency[k]:.4g} | "
+                         f"{p.positive[:, i].max() / G:.4g} | {p.negative[:, i].max() / G:.4g} | "
+                         f"{p.pseudo_velocity[:, i].max():.5g} |")
     return "\n".join(lines)

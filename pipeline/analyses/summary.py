@@ -30,7 +30,8 @@ def modes_csv(data: ModesData) -> str:
 
 def summary_markdown(name: str, source: Path, *, modes_table: str, equilibrium_table: str,
                      t_end: float, integrator: str, comparison_table: str,
-                     point_tables: list[tuple[str, str]], files: list[Path]) -> str:
+                     point_tables: list[tuple[str, str]], files: list[Path],
+                     mount_table: str = "") -> str:
     """The summary of a whole run (``<name>-summary.md``).
 
     Parameters
@@ -42,6 +43,10 @@ def summary_markdown(name: str, source: Path, *, modes_table: str, equilibrium_t
     modes_table, equilibrium_table, comparison_table : str
         The stages' tables as the terminal shows them (the bed's modes, the
         rigid bed's equilibrium, the comparison in Markdown).
+    mount_table : str
+        The mounts' static loads and deflections at that equilibrium
+        (Markdown, :func:`flexbed.stages.plausibility.mount_table`); none:
+        no section.
     t_end : float
         End of the simulations [s].
     integrator : str
@@ -53,8 +58,13 @@ def summary_markdown(name: str, source: Path, *, modes_table: str, equilibrium_t
     lines = [f"# {name}: summary", "", f"Scene: `{source}`.", "", "## Bed modes", "",
              "```", modes_table, "```", "",
              "## Static equilibrium (rigid bed, the paper's Table 2)", "", "```",
-             equilibrium_table, "```", "", "## Rigid, flexible and damped flexible bed", "",
-             f"0-{t_end:g} s, {integrator}. " + _COMPARISON_NOTE, "", comparison_table, ""]
+             equilibrium_table, "```", ""]
+    if mount_table:
+        lines += ["### Mounts at rest", "",
+                  "Static force [N] and deflection [mm] along each mount's directions u1, u2, "
+                  "u3 (extension positive; rigid bed).", "", mount_table, ""]
+    lines += ["## Rigid, flexible and damped flexible bed", "",
+              f"0-{t_end:g} s, {integrator}. " + _COMPARISON_NOTE, "", comparison_table, ""]
     if point_tables:
         lines += ["## Points of interest", "",
                   "Peak displacement from t = 0, speed and acceleration; absolute (inertial) "

@@ -11,13 +11,14 @@ the motion of any point afterwards, and the shock response spectra.
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
 
 from flexbed.analyses.points import Point, PointMotion, Run
-from flexbed.errors import InputError
+from flexbed.errors import FlexbedWarning, InputError
 from flexbed.files.modes import ModesData
 from flexbed.files.results import read_results, write_results_contents
 from flexbed.files.store import Contents
@@ -214,4 +215,7 @@ def srs(results: Results | str | Path, *,
         points = list(run.scene_points)
     if not points:
         check.fail("", f"give point = {POINT_FORM} (the scene has no [[point]] tables)")
-    return spectra(run, points, q=q, fmin=fmin, fmax=fmax, per_octave=per_octave)
+    out = spectra(run, points, q=q, fmin=fmin, fmax=fmax, per_octave=per_octave)
+    for text in out.warnings:             # as the command prints them: one line each
+        warnings.warn(text, FlexbedWarning, stacklevel=2)
+    return out

@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 from flexbed.commands.arguments import add_scene_arg
+from flexbed.files.bed_section import AUTO_TOLERANCE
 from flexbed.files.destination import check_destination, refuse_inputs
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file
@@ -50,11 +51,24 @@ def auto_line(bed) -> str:
 
 
 def modes_table(data: ModesData) -> str:
-    """The frequency table printed by the command."""
-    lines = [f"{'mode':>4}  {'f [Hz]':>10}  {'shape':<16}  sym",
-             f"{'-' * 4}  {'-' * 10}  {'-' * 16}  ---"]
+    """The frequency table printed by the command (with each mode's
+    estimated discretisation error when the file has one)."""
+    acc = data.accuracy
+    theory = acc is not None and acc.theory_error is not None
+    lines = [f"{'mode':>4}  {'f [Hz]':>10}  {'shape':<16}  sym" + ("  err [%]" if acc else "")
+             + ("  theory [%]" if theory else ""),
+             f"{'-' * 4}  {'-' * 10}  {'-' * 16}  ---" + ("  -------" if acc else "")
+             + ("  ----------" if theory else "")]
+
+    def cell(e: float, width: int) -> str:
+        return f"  {100 * e:>+{width}.3f}" if e == e else f"  {'-':>{width}}"
+
     for k, (f, label, sym) in enumerate(zip(data.frequency, data.labels, data.symmetry)):
-        lines.append(f"{k + 1:>4}  {f:>10.4f}  {label:<16}  {sym}")
+        err = cell(acc.error[k], 7) if acc is not None else ""
+        err += cell(acc.theory_error[k], 10) if theory else ""
+        lines.append(f"{k + 1:>4}  {f:>10.4f}  {label:<16}  {sym}{err}")
+    if acc is not None:
+        lines.append(acc.summary())
     return "\n".join(lines)
 
 
@@ -64,7 +78,9 @@ def print_summary(data: ModesData) -> None:
     print(f"bed: {p.length_x:g} x {p.length_y:g} x {p.thickness:g} m, E = {p.young:g} Pa, "
           f"nu = {p.poisson:g}, rho = {p.density:g} kg/m^3, "
           + (f"{p.nx} x {p.ny} elements " if p.is_rectangle
-             else f"{data.cells.shape[0]} elements (outline, cut-outs, zones or mesh file) ")
+             else f"{data.cells.shape[0]} elements ("
+             + ("element_size = \"auto\"" if p.auto_mesh else
+                "outline, cut-outs, zones or mesh file") + ") ")
           + f"({data.nodes.shape[0]} nodes)"
           + (", Mindlin shell (MITC4)" if p.theory == "mindlin" else ""))
     inv = data.invariants
@@ -72,6 +88,11 @@ def print_summary(data: ModesData) -> None:
           f"{inv.inertia[1, 1]:.6g}, {inv.inertia[2, 2]:.6g} kg m^2 "
           + ("(from the model)" if inv.model_mass else "(solid plate)"))
     print(modes_table(data))
+    acc = data.accuracy
+    if acc is not None and p.theory == "mindlin" and not p.auto_mesh and acc.worst > AUTO_TOLERANCE:
+        print(f"warning: the estimated error reaches {100 * acc.worst:.2g} % on this mesh; "
+              f"element_size = \"auto\" chooses the mesh for a tolerance "
+              f"(mesh_tolerance, default {100 * AUTO_TOLERANCE:g} %)", file=sys.stderr)
     if data.n_modes and abs(data.next_frequency - data.frequency[-1]) <= 1e-6 * data.next_frequency:
         print(f"warning: mode {data.n_modes} and the first mode left out share the frequency "
               f"{data.next_frequency:.4f} Hz; keep one more mode so the pair stays whole",

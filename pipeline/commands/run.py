@@ -36,6 +36,7 @@ from flexbed.files.scene import load_scene
 from flexbed.files.xdmf import write_bed_motion
 from flexbed.plots.runs import plot_mount_forces
 from flexbed.stages.modes import ensure_modes
+from flexbed.stages.plausibility import check_equilibrium, mount_csv, mount_statics, mount_table
 from flexbed.stages.simulation import checked
 from flexbed.stages.system import compile_scene
 from flexbed.words import count
@@ -80,16 +81,19 @@ def run(args: argparse.Namespace) -> int:
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")
     eq = checked(system, eq)
+    check_equilibrium(sf, system, eq)
     if eq.instability is not None:
         print(f"flexbed run: warning: {sf.source.name}: {eq.instability.line()}",
               file=sys.stderr)
     eq_path = write_equilibrium(out / f"{name}-equilibrium.h5", rigid_sf, system, eq)
     table2 = equilibrium_table(system, eq.y)
+    statics = mount_statics(system, eq.y)
     print(f"[2/{STAGES}] static equilibrium (rigid bed): "
           f"{count(eq.iterations, 'Newton iteration')}, "
           f"residual {eq.residual:.1e} ({time.perf_counter() - t0:.2f} s) -> "
           f"{Path(eq_path).name}")
     print(table2)
+    print(mount_table(statics))
 
     t0 = time.perf_counter()
     print(f"[3/{STAGES}] simulations: rigid, flexible and damped flexible bed, "
@@ -101,7 +105,9 @@ def run(args: argparse.Namespace) -> int:
     # CSV of the stages' tables; per run the mount forces and the bed's motion for ParaView
     write_text(out / f"{name}-modes.csv", modes_csv(data))
     write_text(out / f"{name}-equilibrium.csv", equilibrium_csv(system, eq.y))
-    res["files"] += [out / f"{name}-modes.csv", out / f"{name}-equilibrium.csv"]
+    write_text(out / f"{name}-static-mounts.csv", mount_csv(statics))
+    res["files"] += [out / f"{name}-modes.csv", out / f"{name}-equilibrium.csv",
+                     out / f"{name}-static-mounts.csv"]
     for case, cr in res["runs"].items():
         res["files"] += _run_files(out, name, case, Run(cr.path), data)
 
@@ -122,6 +128,7 @@ def run(args: argparse.Namespace) -> int:
         res["files"]
     write_text(summary, summary_markdown(
         name, sf.source, modes_table=modes_table(data), equilibrium_table=table2,
+        mount_table=mount_table(statics),
         t_end=sf.solver.t_end, integrator=sf.solver.integrator, comparison_table=res["table"],
         point_tables=point_tables, files=files))
     print(f"[5/{STAGES}] summary -> {summary.name}")

@@ -18,6 +18,7 @@ from flexbed.commands.static import add_modes_file_arg
 from flexbed.stages.system import compile_scene
 from flexbed.files.destination import check_destination, refuse_inputs
 from flexbed.errors import InputError, NumericalError
+from flexbed.stages.plausibility import mount_statics, mount_table
 from flexbed.stages.simulation import simulate_system
 from flexbed.files.results import read_equilibrium, results_contents
 from flexbed.interrupts import kept
@@ -192,6 +193,9 @@ def run(args: argparse.Namespace) -> int:
         raise kept(interrupt, f"at t = {result.t_reached:.6g} s; the samples up to there "
                               f"are in {out} (marked incomplete)")
     progress.close(result.t_reached)
+    if eq is not None:
+        print("mounts at rest (static force [N] and deflection [mm] along u1, u2, u3):")
+        print(mount_table(mount_statics(system, eq.y)))
     st = result.stats
     if model != "nonlinear":
         print(f"model {model}: {motion.reason}")

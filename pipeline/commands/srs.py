@@ -1,8 +1,12 @@
 """``flexbed srs RESULTS.h5 --point NAME=BODY:x,y,z [...] [--q Q] [--fmin F]
 [--fmax F] [--per-octave N] [--csv DIR] [--hdf5 FILE] [--plot DIR]
 [--modes-file FILE]``: shock response spectra of points' absolute
-accelerations (Smallwood's ramp-invariant filter), and for a driven base the
-input's spectrum beside them (:mod:`flexbed.analyses.shock`).
+accelerations (Smallwood's ramp-invariant filter, the base's jumps taken
+exactly), and for a driven base the input's spectrum beside them
+(:mod:`flexbed.analyses.shock`); tables in m/s² and g; plots of the
+maximax, positive and negative spectra in g and of the pseudo-velocity on
+tripartite paper (:mod:`flexbed.plots.srs`); a warning when the record is
+too short for the lowest frequency.
 """
 
 from __future__ import annotations
@@ -12,8 +16,8 @@ import sys
 from pathlib import Path
 
 from flexbed.analyses.points import Run, parse_point
-from flexbed.analyses.shock import SCHEMA, VERSION, spectra, spectra_datasets, spectrum_csv, \
-    summary
+from flexbed.analyses.shock import G, SCHEMA, VERSION, spectra, spectra_datasets, \
+    spectrum_csv, summary
 from flexbed.errors import InputError
 from flexbed.files.destination import write_text
 
@@ -41,7 +45,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--hdf5", default=None, metavar="FILE",
                         help="write every spectrum into one HDF5 file (schema flexbed.srs)")
     parser.add_argument("--plot", default=None, metavar="DIR",
-                        help="write a log-log PNG of each point's maximax spectra (srs-NAME.png)")
+                        help="write PNGs per point: the maximax, positive and negative spectra "
+                             "in g (srs-NAME.png) and the pseudo-velocity on tripartite paper "
+                             "(srs-NAME-pv.png)")
     parser.add_argument("--modes-file", default=None, metavar="FILE",
                         help="the flexible bed's modes file (default: found beside the "
                              "results file, else where the run recorded it)")
@@ -70,6 +76,8 @@ def run(args: argparse.Namespace) -> int:
                              "another")
     s = spectra(r, points, q=args.q, fmin=args.fmin, fmax=args.fmax,
                 per_octave=args.per_octave)
+    for w in s.warnings:
+        print(f"flexbed srs: warning: {w}", file=sys.stderr)
     print(summary(s))
     every = list(s.points) + ([s.input] if s.input is not None else [])
     if args.csv:
@@ -83,12 +91,30 @@ def run(args: argparse.Namespace) -> int:
         f = write_file(Path(args.hdf5), schema=SCHEMA, version=VERSION, datasets=ds, attrs=attrs)
         print(f"wrote {f}")
     if args.plot:
-        from flexbed.plots.frequency import plot_shock_spectrum  # matplotlib
-        out = Path(args.plot)
-        ref = {} if s.input is None else {c: s.input.maximax[:, i] for i, c in enumerate("xyz")}
-        for p in s.points:
-            f = plot_shock_spectrum(out / f"srs-{_file_name(p.name)}.png",
-                                    f"SRS, {p.name} on {p.body}, Q = {s.q:g}", s.frequency,
-                                    {c: p.maximax[:, i] for i, c in enumerate("xyz")}, ref)
+        for f in plot_spectra(s, Path(args.plot)):
             print(f"wrote {f}")
     return 0
+
+
+def plot_spectra(s, out: Path) -> list[Path]:
+    """Each point's acceleration spectra in g and its tripartite
+    pseudo-velocity plot, the input's beside them; returns the paths."""
+    from flexbed.plots.srs import plot_acceleration_srs, plot_tripartite  # matplotlib
+
+    files = []
+    inp = s.input
+    ref = {} if inp is None else {c: inp.in_g("maximax")[:, i] for i, c in enumerate("xyz")}
+    ref_pv = {} if inp is None else {c: inp.pseudo_velocity[:, i] for i, c in enumerate("xyz")}
+    for p in s.points:
+        name = _file_name(p.name)
+        curves = {c: (p.in_g("positive")[:, i], p.in_g("negative")[:, i],
+                      p.in_g("maximax")[:, i]) for i, c in enumerate("xyz")}
+        files.append(plot_acceleration_srs(out / f"srs-{name}.png",
+                                           f"SRS, {p.name} on {p.body}, Q = {s.q:g}",
+                                           s.frequency, curves, ref, G))
+        files.append(plot_tripartite(out / f"srs-{name}-pv.png",
+                                     f"pseudo-velocity SRS, {p.name} on {p.body}, Q = {s.q:g}",
+                                     s.frequency,
+                                     {c: p.pseudo_velocity[:, i] for i, c in enumerate("xyz")},
+                                     ref_pv, G))
+    return files

@@ -1,8 +1,11 @@
 """``flexbed static [SCENE] [-o FILE]``: the static equilibrium (paper Table 2).
 
 Prints positions and roll/pitch/yaw per body, the Newton–Raphson iterations
-and residual, and writes the equilibrium file that ``flexbed simulate
---equilibrium FILE`` reads.
+and residual, the mounts' static loads [N] and deflections [mm] per
+direction, and writes the equilibrium file that ``flexbed simulate
+--equilibrium FILE`` reads. An implausible equilibrium (exit 2) or an
+unstable one (exit 1, unless ``--allow-unstable``) is refused before
+anything is written (:mod:`flexbed.stages.plausibility`).
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from flexbed.stages.system import compile_scene
 from flexbed.files.results import write_equilibrium
 from flexbed.files.scene import load_scene
 from flexbed.interrupts import Interrupted, held, kept
+from flexbed.stages.plausibility import check_equilibrium, mount_statics, mount_table
 from flexbed.stages.simulation import checked
 
 __all__ = ["add_args", "run", "equilibrium_table"]
@@ -40,6 +44,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--tol", type=float, default=None, metavar="TOL",
                         help="Newton–Raphson tolerance (default: the scene's static_tol)")
     add_modes_file_arg(parser)
+    parser.add_argument("--allow-unstable", action="store_true",
+                        help="write an unstable equilibrium (a warning) instead of stopping "
+                             "(exit 1); as [solver] allow_unstable = true")
 
 
 def add_modes_file_arg(parser: argparse.ArgumentParser) -> None:
@@ -89,6 +96,7 @@ def run(args: argparse.Namespace) -> int:
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")
     eq = checked(system, eq)
+    check_equilibrium(sf, system, eq, allow_unstable=args.allow_unstable or None)
     if eq.instability is not None:
         print(f"flexbed static: warning: {sf.source.name}: {eq.instability.line()}",
               file=sys.stderr)
@@ -97,6 +105,8 @@ def run(args: argparse.Namespace) -> int:
     print(equilibrium_table(system, eq.y))
     print(f"iterations: {eq.iterations}   residual: {eq.residual:.3e} (scaled by weight)   "
           f"last step: {eq.step:.3e}   right-hand sides: {eq.rhs_evaluations}")
+    print("Mounts at rest (directions u1, u2, u3 of each mount; extension positive):")
+    print(mount_table(mount_statics(system, eq.y)))
     with held() as pending:         # the equilibrium found is written whole
         write_equilibrium(out, sf, system, eq)
     print(f"wrote {out}")

@@ -8,7 +8,7 @@ scene file and the modes stage agree on what a valid plate is.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +24,12 @@ from flexbed.files.bed_geometry import (GEOMETRY_KEYS, read_fixed_masses, read_g
                                         read_stiffeners)
 
 _PLATE_KEYS = tuple(f.name for f in fields(PlateSpec)
-                    if f.name not in ("geometry", "masses", "stiffeners"))
+                    if f.name not in ("geometry", "masses", "stiffeners", "mesh_points"))
+#: the keys that set a bed's mesh; a Mindlin bed with none of them gets
+#: ``element_size = "auto"``
+_MESH_KEYS = ("nx", "ny", "element_size", "mesh_file")
+#: ``mesh_tolerance`` when ``element_size = "auto"`` does not give one [-]
+AUTO_TOLERANCE = 0.005
 _KEYS = _PLATE_KEYS + GEOMETRY_KEYS + ("body", "model", "modes", "fmax", "rayleigh",
                                        "damping_ratio", "modes_file", "static_sag", "invariants",
                                        "auto_factor", "static_correction", "correction_modes")
@@ -187,6 +192,46 @@ def plate_mismatch(plate: PlateSpec, mass: float | None = None, inertia=None) ->
     return None
 
 
+def _auto_mesh(table: dict, plate_args: dict, where: str) -> dict:
+    """``element_size = "auto"`` (given, or the default of a Mindlin bed with
+    none of nx, ny, element_size, mesh_file): ``mesh_tolerance`` set in
+    ``plate_args`` (default :data:`AUTO_TOLERANCE`); the table returned
+    without ``element_size`` for the geometry reader."""
+    asked = table.get("element_size") == "auto"
+    default = (table.get("theory") == "mindlin"
+               and not any(k in table for k in _MESH_KEYS))
+    if not (asked or default):
+        if "mesh_tolerance" in table:
+            given = ", ".join(f"{k} = {short_repr(table[k])}" for k in _MESH_KEYS if k in table)
+            raise InputError(f"{where}: mesh_tolerance = {short_repr(table['mesh_tolerance'])} "
+                             f"applies to element_size = \"auto\" only (the mesh is given: "
+                             f"{given or 'theory = ' + repr(table.get('theory', 'kirchhoff'))})")
+        return table
+    if asked:
+        if "mesh_file" in table:
+            raise InputError(f"{where}: element_size = \"auto\" cannot be used with "
+                             f"mesh_file = {short_repr(table['mesh_file'])} (the file is the "
+                             f"mesh); give one of them")
+        for key in ("nx", "ny"):
+            if key in table:
+                raise InputError(f"{where}: {key} = {short_repr(table[key])} is not used with "
+                                 f"element_size = \"auto\" (the mesh is chosen); remove it")
+    plate_args["mesh_tolerance"] = table.get("mesh_tolerance", AUTO_TOLERANCE)
+    return {k: v for k, v in table.items() if k != "element_size"}
+
+
+def with_mount_points(bed: BedSection, points) -> BedSection:
+    """An auto-meshed bed with nodes at these points (the mounts' ends on
+    the bed, drawing frame (P, 2 or 3) [m]); any other bed as it is."""
+    if not bed.plate.auto_mesh:
+        return bed
+    pts = [(float(p[0]), float(p[1])) for p in points]
+    if not pts:
+        return bed
+    plate = replace(bed.plate, mesh_points=tuple(pts))
+    return replace(bed, plate=plate)
+
+
 def read_bed(table: dict, where: str, folder: Path | None = None) -> BedSection:
     """Build a :class:`BedSection` from a parsed ``[bed]`` table.
 
@@ -220,6 +265,7 @@ def read_bed(table: dict, where: str, folder: Path | None = None) -> BedSection:
                     raise InputError(f"{where}: {key} = {short_repr(v)} is out of range "
                                      f"(magnitudes from {SMALLEST:g} to {LARGEST:g}, or 0)")
     plate_args = {k: table[k] for k in _PLATE_KEYS if k in table}
+    table = _auto_mesh(table, plate_args, where)
     geometry = read_geometry(table, where, folder)
     if geometry is not None:
         plate_args["geometry"] = geometry

@@ -27,11 +27,30 @@ from typing import Callable
 
 from flexbed.errors import InputError, os_error_text
 
-__all__ = ["check_destination", "atomic_write", "write_text", "refuse_inputs", "make_folder"]
+__all__ = ["check_source", "check_destination", "atomic_write", "write_text", "refuse_inputs",
+           "make_folder"]
 
 _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a FIFO"),
           (stat.S_ISSOCK, "a socket"))
+
+
+def check_source(path: str | os.PathLike, what: str) -> Path:
+    """``path`` as a Path if flexbed may read it as ``what`` ("scene file",
+    "results file", …): it exists and is a regular file (or a link to one).
+    A FIFO would block the read for ever and a device would be read without
+    end, so anything else is InputError naming what it is."""
+    path = Path(path)
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file (the {what})") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the {what} ({exc.strerror or exc})") from None
+    if not stat.S_ISREG(st.st_mode):
+        kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
+        raise InputError(f"{path}: is {kind}, not a {what}")
+    return path
 
 
 def check_destination(path: str | os.PathLike) -> Path:

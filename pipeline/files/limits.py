@@ -33,18 +33,18 @@ from typing import Callable
 import numpy as np
 
 from flexbed.dynamics.laws import BumpStop
+from flexbed.dynamics.pulses import STANDARD_GRAVITY
 from flexbed.errors import InputError
+from flexbed.files.drives import UNITS
 from flexbed.files.table_reader import short_repr
 
 __all__ = ["Limits", "MountLimits", "Fragility", "Clearance", "read_limits",
            "check_static_strokes", "MOUNT_LIMIT_KEYS", "JUDGED_ONLY_KEYS", "BODY_LIMIT_KEYS",
            "CLEARANCE_KEYS", "UNITS", "STANDARD_GRAVITY"]
 
-#: standard acceleration of gravity g0 [m/s²] (ISO 80000-3), the "g" of
-#: fragility levels and shock specifications
-STANDARD_GRAVITY = 9.80665
-#: an acceleration's ``units`` and its factor to m/s²
-UNITS = {"m/s2": 1.0, "g": STANDARD_GRAVITY}
+# STANDARD_GRAVITY: g0 = 9.80665 m/s² (ISO 80000-3), the "g" of fragility
+# levels and shock specifications; UNITS: an acceleration's ``units`` and its
+# factor to m/s² — the drives' own (one vocabulary for both)
 
 MOUNT_LIMIT_KEYS = ("stroke_compression", "stroke_extension", "rated_load", "max_force",
                     "bump_stop")

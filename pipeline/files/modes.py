@@ -1,7 +1,8 @@
 """The modes file: what the bed-modes stage hands to the dynamics stage.
 
-Schema ``flexbed.modes``, version 1.2 (1.0 and 1.1 files still read;
-1.2 adds triangles to ``mesh/cells``). Layout (every dataset has ``units``):
+Schema ``flexbed.modes``, version 1.3 (1.0 – 1.2 files still read;
+1.2 adds triangles to ``mesh/cells``, 1.3 the group ``accuracy``). Layout
+(every dataset has ``units``):
 
 =================================  ==============  =====================  =========
 dataset                            shape           units                  from
@@ -27,7 +28,20 @@ dataset                            shape           units                  from
 ``invariants/inertia_first_order`` (n, 3, 3)       kg^1/2 m               FE
 ``invariants/inertia_second_order`` (n, n, 3, 3)   1                      FE
 ``invariants/modal_stiffness``     (n, n)          s^-2                   FE
+``accuracy/frequency_error``       (n,)            1                      FE
+``accuracy/mac``                   (n,)            1                      FE
+``accuracy/theory_error``          (n,)            1                      FE
 =================================  ==============  =====================  =========
+
+``accuracy`` (since 1.3; absent when not estimated, e.g. a mesh file): each
+mode's estimated discretisation error f_h / f_converged − 1 (NaN: no
+estimate) and the MAC of its match on the comparison mesh
+(:mod:`flexbed.fem.accuracy`); its attributes ``method``, ``mesh``,
+``comparison``, ``ratio``, ``rate``, ``element_size`` [m], ``tolerance``
+(``element_size = "auto"``: the tolerance the mesh was chosen for, else
+NaN) and ``history`` (the meshes ``auto`` tried); a Kirchhoff bed's also
+``theory_error``, f_kirchhoff / f_shell − 1 of the converged frequencies
+(:mod:`flexbed.fem.theory_error`).
 
 The ``invariants/`` rows are :data:`INVARIANTS`: the one definition of
 the modal invariants that :mod:`flexbed.fem` computes and
@@ -65,6 +79,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
+from flexbed.fem.accuracy import Accuracy
 from flexbed.fem.invariants import Invariants
 from flexbed.fem.spec import PlateSpec
 
@@ -77,9 +92,13 @@ if TYPE_CHECKING:       # annotation only: reading a modes file needs no FE code
 SCHEMA = "flexbed.modes"
 #: 1.1: plate/theory (absent: "kirchhoff"), Mindlin shells; 1.2: triangles in
 #: mesh/cells as (a, b, c, c) (a file of quads is laid out as in 1.1)
-VERSION = "1.2"
+#: 1.3: the group accuracy (absent: not estimated)
+VERSION = "1.3"
 MAJOR = 1
-_LATER_KEYS = ("theory", "geometry", "masses", "stiffeners")
+_LATER_KEYS = ("theory", "geometry", "masses", "stiffeners", "mesh_tolerance", "mesh_points")
+_JSON_KEYS = ("geometry", "masses", "stiffeners", "mesh_points")
+_ACCURACY_ATTRS = ("method", "mesh", "comparison", "ratio", "rate", "tolerance",
+                   "element_size", "history")
 
 
 def _origin(xy, nodes: np.ndarray) -> np.ndarray:
@@ -93,7 +112,7 @@ def _origin(xy, nodes: np.ndarray) -> np.ndarray:
 def _plate_attrs(spec: PlateSpec) -> dict:
     """The plate inputs as HDF5 attributes (the geometry as JSON text)."""
     d = spec.as_dict()
-    for key in ("geometry", "masses", "stiffeners"):
+    for key in _JSON_KEYS:
         if key in d:
             d[key] = json.dumps(d[key], sort_keys=True)
     return d
@@ -178,6 +197,9 @@ class ModesData:
         The bed frame's origin (the bed's centre of mass) in the drawing
         frame the scene's bed points are given in [m] (zero for the plain
         rectangle).
+    accuracy : Accuracy or None
+        Each mode's estimated discretisation error (None: not estimated,
+        or a file older than 1.3).
     """
 
     path: Path | None
@@ -198,6 +220,7 @@ class ModesData:
     created: str
     creator: str
     origin: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    accuracy: Accuracy | None = None
 
     @property
     def n_modes(self) -> int:
@@ -249,6 +272,19 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
     for v in INVARIANTS:
         d[f"invariants/{v.name}"] = Dataset(np.asarray(getattr(inv, v.name), dtype=float), v.unit,
                                             v.description, attrs={"source": inv.source(v.name)})
+    acc = bed.accuracy
+    if acc is not None:
+        d["accuracy/frequency_error"] = Dataset(
+            np.asarray(acc.error, dtype=float), "1",
+            "estimated discretisation error of each frequency, f_h / f_converged - 1 "
+            "(NaN: no estimate)", missing=True)
+        d["accuracy/mac"] = Dataset(np.asarray(acc.mac, dtype=float), "1",
+                                    "MAC of each mode with its match on the comparison mesh")
+        if acc.theory_error is not None:
+            d["accuracy/theory_error"] = Dataset(
+                np.asarray(acc.theory_error, dtype=float), "1",
+                "Kirchhoff bed: converged frequency against the shear-deformable shell's, "
+                "f_kirchhoff / f_shell - 1 (NaN: no matching shell mode)", missing=True)
     attrs: dict[str, Mapping[str, Any]] = {
         "": {"input_hash": bed.spec.digest(), "n_modes": int(m.omega.size),
              "next_frequency": (m.omega_next / (2 * math.pi)
@@ -263,6 +299,9 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
                        {"solid": "mass, first_moment, inertia: exact solid plate geometry",
                         "fe": "all terms with Phi: FE mass forms with the kept modes"}),
     }
+    if acc is not None:
+        attrs["accuracy"] = {k: getattr(acc, k) for k in _ACCURACY_ATTRS}
+        attrs["accuracy"]["element_size_units"] = "m"
     return write_file(path, schema=SCHEMA, version=VERSION, datasets=d, attrs=attrs)
 
 
@@ -280,7 +319,7 @@ def modes_data(bed: BedModes, path: Path | None = None) -> ModesData:
         rigid_omega=np.asarray(m.rigid_omega, dtype=float), invariants=bed.invariants,
         next_frequency=(m.omega_next / (2 * math.pi) if math.isfinite(m.omega_next)
                         else math.inf),
-        created="", creator="", origin=_origin(bed.origin, bed.nodes))
+        created="", creator="", origin=_origin(bed.origin, bed.nodes), accuracy=bed.accuracy)
 
 
 def read_modes_file(path: str | Path) -> ModesData:
@@ -296,7 +335,7 @@ def read_modes_file(path: str | Path) -> ModesData:
     root = c.attrs.get("", {})
     try:
         stored = dict(c.attrs["plate"])
-        for key in ("geometry", "masses", "stiffeners"):
+        for key in _JSON_KEYS:
             if key in stored:
                 stored[key] = json.loads(str(stored[key]))
         # keys added after version 1.0 (theory, geometry) take their defaults when absent
@@ -328,6 +367,8 @@ def read_modes_file(path: str | Path) -> ModesData:
                                  else np.asarray(c.get(f"invariants/{v.name}"), dtype=float))
                         for v in INVARIANTS}, model_mass=plate.theory == "mindlin")
 
+    accuracy = _read_accuracy(c, n)
+
     def strings(name: str) -> tuple[str, ...]:
         value = c.datasets.get(name)
         return tuple(str(v) for v in value) if value is not None else ("",) * n
@@ -344,4 +385,32 @@ def read_modes_file(path: str | Path) -> ModesData:
         invariants=inv, next_frequency=float(root.get("next_frequency", math.inf)),
         created=str(root.get("created", "")), creator=str(root.get("creator", "")),
         origin=_origin(c.attrs.get("mesh", {}).get("origin_in_drawing_frame", (0.0, 0.0)),
-                       nodes))
+                       nodes), accuracy=accuracy)
+
+
+def _read_accuracy(c, n: int) -> Accuracy | None:
+    """The group ``accuracy`` (None when the file has none)."""
+    if "accuracy/frequency_error" not in c.datasets:
+        return None
+    arrays = {}
+    for name in ("frequency_error", "mac"):
+        arrays[name] = np.asarray(c.get(f"accuracy/{name}"), dtype=float)
+        if arrays[name].shape != (n,):
+            raise InputError(f"{c.path}: dataset 'accuracy/{name}' has shape "
+                             f"{arrays[name].shape}, expected ({n},)")
+    if "accuracy/theory_error" in c.datasets:
+        arrays["theory_error"] = np.asarray(c.get("accuracy/theory_error"), dtype=float)
+        if arrays["theory_error"].shape != (n,):
+            raise InputError(f"{c.path}: dataset 'accuracy/theory_error' has shape "
+                             f"{arrays['theory_error'].shape}, expected ({n},)")
+    a = c.attrs.get("accuracy", {})
+    try:
+        return Accuracy(error=arrays["frequency_error"], mac=arrays["mac"],
+                        method=str(a["method"]), mesh=str(a["mesh"]),
+                        comparison=str(a["comparison"]), ratio=float(a["ratio"]),
+                        rate=float(a["rate"]), tolerance=float(a["tolerance"]),
+                        element_size=float(a["element_size"]), history=str(a["history"]),
+                        theory_error=arrays.get("theory_error"))
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"{c.path}: group 'accuracy' lacks a valid attribute ({exc})") \
+            from None

@@ -31,9 +31,10 @@ from flexbed.dynamics.time_functions import SplineEnds
 
 from flexbed.files.builtin import BUILTIN, builtin_scene_path, builtin_scene_text  # noqa: F401
 from flexbed.files.bed_points import points_on_bed
-from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed
+from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed, with_mount_points
 from flexbed.files.drives import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
+from flexbed.files.destination import check_source
 from flexbed.files.limits import (BODY_LIMIT_KEYS, JUDGED_ONLY_KEYS, MOUNT_LIMIT_KEYS, Limits,
                                   read_limits)
 from flexbed.files.sanity import warn_far_points
@@ -55,7 +56,8 @@ _MOUNT_KEYS += MOUNT_LIMIT_KEYS
 _LAW_KEYS = {"linear": ("k", "c"), "polynomial": ("stiffness", "damping"),
              "curve": ("spring_curve", "damper_curve")}
 _SOLVER_KEYS = ("t_end", "integrator", "dt", "rtol", "atol", "output_dt", "start", "static_tol",
-                "model", "linear_tol")
+                "model", "linear_tol", "static_deflection_limit", "static_rotation_limit_deg",
+                "allow_unstable")
 MODELS = ("nonlinear", "linear", "auto")
 _POINT_KEYS = ("name", "body", "position", "relative_to")
 
@@ -74,6 +76,9 @@ class SolverSection:
     static_tol: float = 1e-6
     model: str = "nonlinear"
     linear_tol: float = 1e-6
+    static_deflection_limit: float = 0.25
+    static_rotation_limit_deg: float = 10.0
+    allow_unstable: bool = False
 
     def settings(self, **overrides) -> Settings:
         """Integration settings, with command-line overrides (None = keep)."""
@@ -127,7 +132,7 @@ class SceneFile:
 
 def load_scene(path: str | Path | None = None) -> SceneFile:
     """Read and check a scene file (the built-in reference scene if path is None)."""
-    path = builtin_scene_path() if path is None else Path(path)
+    path = builtin_scene_path() if path is None else check_source(path, "scene file")
     try:
         raw = path.read_bytes()
     except OSError as exc:
@@ -188,7 +193,10 @@ class _Reader(ShapeReader):
                              _off_bed(bed))
         mounts = [replace(m, stops=limits.mount(m.name).stops) for m in mounts]
         if at is not None:
+            ends = [getattr(m, f"point_{k}") for m in mounts for k in "ij"
+                    if getattr(m, f"body_{k}") == names[at]]
             mounts, points = points_on_bed(bed, names[at], mounts, points, self.fail)
+            bed = with_mount_points(bed, ends)        # an auto mesh: nodes there
         try:
             scene = Scene(tuple(bodies), base, tuple(mounts), np.array(gravity), name)
         except SceneError as exc:
@@ -275,8 +283,7 @@ class _Reader(ShapeReader):
                 w = f"base.{kind} {i + 1}"
                 self.keys(w, d, ALL_SHAPE_KEYS, ("direction", "shape"))
                 direction = self.string(w, "direction", d["direction"], DIRECTIONS)
-                shape = self.shape(w, d)
-                out.append(cls(DIRECTIONS.index(direction), shape))
+                out += [cls(DIRECTIONS.index(direction), s) for s in self.terms(w, d, kind)]
         try:
             return Base(motion, tuple(drives), tuple(loads), support)
         except SceneError as exc:
@@ -373,6 +380,14 @@ class _Reader(ShapeReader):
             args["start"] = self.string(where, "start", t["start"], ("equilibrium", "initial"))
         if "model" in t:
             args["model"] = self.string(where, "model", t["model"], MODELS)
+        for key in ("static_deflection_limit", "static_rotation_limit_deg"):   # inf: no limit
+            if key in t:
+                v = t[key]
+                args[key] = v if v == float("inf") else self.number(where, key, v, positive=True)
+        if "allow_unstable" in t:
+            if not isinstance(t["allow_unstable"], bool):
+                self.fail(where, f"allow_unstable = {t['allow_unstable']!r} must be true or false")
+            args["allow_unstable"] = t["allow_unstable"]
         section = SolverSection(**args)
         n = output_samples(section.t_end, section.output_dt)
         if n > MAX_OUTPUT_SAMPLES:

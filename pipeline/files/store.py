@@ -28,7 +28,7 @@ import h5py
 import numpy as np
 
 from flexbed.errors import InputError, NumericalError
-from flexbed.files.destination import atomic_write
+from flexbed.files.destination import atomic_write, check_source
 
 
 @functools.cache
@@ -204,9 +204,7 @@ def read_file(path: str | os.PathLike, *, schema: str, major: int,
         version; a required dataset missing or without units. The message
         names the file and, where it applies, the dataset.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    path = check_source(path, f"{schema.removeprefix('flexbed.')} file")
     try:
         f = h5py.File(path, "r")
     except OSError as exc:

@@ -11,7 +11,8 @@ from typing import Any, NoReturn
 
 from flexbed.errors import InputError
 
-__all__ = ["TableReader", "is_number", "LARGEST", "SMALLEST", "out_of_range", "short_repr"]
+__all__ = ["TableReader", "is_number", "is_finite_number", "LARGEST", "SMALLEST", "out_of_range",
+           "short_repr"]
 
 #: the largest magnitude a number in a scene may have: products of three
 #: such numbers (a mass, an acceleration, a length) stay inside double
@@ -32,6 +33,17 @@ def out_of_range(v: float) -> bool:
 def is_number(v: Any) -> bool:
     """True for an int or float (not a bool)."""
     return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def is_finite_number(v: Any) -> bool:
+    """True for an int or float (not a bool) that is finite as a double (an
+    integer beyond double precision is not)."""
+    if not is_number(v):
+        return False
+    try:
+        return math.isfinite(v)
+    except OverflowError:
+        return False
 
 
 class TableReader:

@@ -3,6 +3,7 @@ made from the same plate inputs and holds the modes asked for, else computed."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -86,6 +87,8 @@ def compute_modes(sf: SceneFile, *, n_modes: int | None = None,
     Returns
     -------
     BedModes
+        With each mode's estimated discretisation error (``accuracy``:
+        :mod:`flexbed.fem.accuracy` for a given mesh, the auto mesh's own).
     """
     from flexbed.fem.bed import compute_bed_modes   # scikit-fem, only to compute
     from flexbed.fem.modes import ModesError
@@ -108,4 +111,25 @@ def compute_modes(sf: SceneFile, *, n_modes: int | None = None,
             bed = compute_bed_modes(spec, n_modes=extra)
     except ModesError as exc:
         raise InputError(f"{sf.source.name}: bed: {exc}") from None
+    if bed.accuracy is None:
+        bed = replace(bed, accuracy=given_mesh_accuracy(bed))
     return bed
+
+
+def given_mesh_accuracy(bed: BedModes):
+    """The estimated error of modes on a given mesh (:func:`flexbed.fem.accuracy.estimate`),
+    or None when it has no comparison mesh (a mesh file; a comparison mesh
+    the geometry refuses); a Kirchhoff bed's with its theory error against
+    the shell (:func:`flexbed.fem.theory_error.theory_error`)."""
+    from flexbed.fem.accuracy import estimate
+    from flexbed.fem.geometry import GeometryError
+    from flexbed.fem.modes import ModesError
+    from flexbed.fem.spec import PlateSpecError
+    try:
+        acc = estimate(bed)
+        if acc is not None and bed.spec.theory == "kirchhoff":
+            from flexbed.fem.theory_error import theory_error
+            acc = replace(acc, theory_error=theory_error(bed, acc.error))
+        return acc
+    except (GeometryError, PlateSpecError, ModesError):
+        return None

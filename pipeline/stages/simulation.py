@@ -16,6 +16,7 @@ from flexbed.dynamics.system import System
 from flexbed.errors import InputError, NumericalError
 from flexbed.files.scene import SceneFile
 from flexbed.stages.motion import Motion, solve_motion
+from flexbed.stages.plausibility import check_equilibrium
 
 __all__ = ["Simulation", "equilibrium", "checked", "simulate_system"]
 
@@ -41,12 +42,16 @@ def equilibrium(sf: SceneFile, system: System, *, tol: float | None = None,
 
     tol : float, optional — default the scene's ``static_tol``; sag : bool,
     optional — include the bed's elastic sag (default the scene's
-    ``static_sag``). Raises NumericalError when it is not found."""
+    ``static_sag``). Raises NumericalError when it is not found or is
+    unstable (unless the scene allows it), InputError when it is
+    implausible (:mod:`flexbed.stages.plausibility`)."""
     eq = solve_statics(system, tol=sf.solver.static_tol if tol is None else tol,
                        sag=sf.bed.static_sag if sag is None else sag)
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")
-    return checked(system, eq)
+    eq = checked(system, eq)
+    check_equilibrium(sf, system, eq)
+    return eq
 
 
 def checked(system: System, eq: Equilibrium) -> Equilibrium:

@@ -9,6 +9,7 @@ also on workers that join later).
 
 from __future__ import annotations
 
+import logging
 import os
 from contextlib import contextmanager
 from typing import Iterator
@@ -77,7 +78,7 @@ def cluster_client(scheduler=None, workers: int | None = None,
     import dask
     from distributed import Client, LocalCluster
 
-    from flexbed.study.point import WarmUp
+    from flexbed.study.point import Quiet, WarmUp
 
     def ready(client):
         if warm_scene is not None and not client.run_on_scheduler(_has_warm_up):
@@ -105,6 +106,8 @@ def cluster_client(scheduler=None, workers: int | None = None,
         raise InputError(f"--workers = {n!r} must be >= 1")
     with dask.config.set(LOCAL_CONFIG), \
             LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                         dashboard_address=":0", env=worker_environment()) as cluster, \
+                         dashboard_address=":0", env=worker_environment(),
+                         silence_logs=logging.CRITICAL) as cluster, \
             Client(cluster) as client:
+        client.register_plugin(Quiet())
         yield ready(client)

@@ -32,13 +32,14 @@ point's scene lacks at run time (its motions overdamped) fails that point.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from flexbed.analyses.frf import BAND_LIMITS
 from flexbed.errors import InputError, NumericalError
 from flexbed.files.scene import SceneFile
+from flexbed.files.table_reader import is_finite_number, short_repr
 from flexbed.study.metric_keys import OneColumn, _options, resolve_point
 from flexbed.study.spec import MetricTable
 
@@ -73,8 +74,12 @@ def _mode(scene: SceneFile, opts: dict, where: str) -> int:
 
 def _number(value, where: str, key: str) -> float:
     if (isinstance(value, bool) or not isinstance(value, (int, float))
-            or not math.isfinite(value) or value <= 0):
-        raise InputError(f"{where}: {key} = {value!r} must be a number > 0 [Hz]")
+            or not is_finite_number(value) or value <= 0):
+        raise InputError(f"{where}: {key} = {short_repr(value)} must be a number > 0 [Hz]")
+    lo, hi = BAND_LIMITS
+    if not lo <= value <= hi:
+        raise InputError(f"{where}: {key} = {short_repr(value)} Hz: a response is computed within "
+                         f"{lo:g} – {hi:g} Hz")
     return float(value)
 
 

@@ -7,10 +7,10 @@ body by name, a point (a scene ``[[point]]`` or a body and a position, with
 
 from __future__ import annotations
 
-import numpy as np
 
 from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile
+from flexbed.files.table_reader import is_finite_number
 from flexbed.study.spec import MetricTable
 
 __all__ = ["resolve_point", "OneColumn", "PerMount"]
@@ -30,7 +30,7 @@ def _options(table: MetricTable, keys: tuple, where: str) -> dict:
 
 def _body(scene: SceneFile, name, where: str, key: str) -> str:
     names = [b.name for b in scene.scene.bodies]
-    if name not in names:
+    if not isinstance(name, str) or name not in names:
         raise InputError(f"{where}: {key} = {name!r} is not a body of the scene "
                          f"(bodies: {', '.join(names)})")
     return name
@@ -47,7 +47,7 @@ def resolve_point(scene: SceneFile, opts: dict, where: str,
             if key in opts:
                 raise InputError(f"{where}: give point, or body and position, not both")
         pts = {p.name: p for p in scene.points}
-        if opts["point"] not in pts:
+        if not isinstance(opts["point"], str) or opts["point"] not in pts:
             raise InputError(f"{where}: point = {opts['point']!r} is not a [[point]] of the "
                              f"scene (points: {', '.join(pts) or 'none'})")
         p = pts[opts["point"]]
@@ -59,8 +59,7 @@ def resolve_point(scene: SceneFile, opts: dict, where: str,
         body = _body(scene, opts["body"], where, "body")
         pos = opts["position"]
         if (not isinstance(pos, list) or len(pos) != 3
-                or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                           and np.isfinite(x) for x in pos)):
+                or not all(is_finite_number(x) for x in pos)):
             raise InputError(f"{where}: position = {pos!r} must be 3 finite numbers [m]")
         pos, rel = tuple(float(x) for x in pos), opts.get("relative_to")
         label = f"{body} ({' '.join(f'{x:g}' for x in pos)})"

@@ -8,17 +8,24 @@ anything else) comes back as its one-line message, so the study goes on.
 
 from __future__ import annotations
 
+import logging
+import math
 import pickle
+import signal
+import threading
 import time
 from dataclasses import dataclass, field
 
 from distributed.diagnostics.plugin import WorkerPlugin
 
-from flexbed.errors import FlexbedError
+import numpy as np
+
+from flexbed.errors import FlexbedError, NumericalError
 from flexbed.files.scene import SceneFile
 from flexbed.study.analyses import ANALYSES
 
-__all__ = ["PointResult", "run_point", "run_batch", "pack", "bed_modes", "WarmUp", "warm"]
+__all__ = ["PointResult", "run_point", "run_batch", "pack", "bed_modes", "Quiet", "WarmUp",
+           "warm"]
 
 
 @dataclass(frozen=True)
@@ -65,9 +72,16 @@ def run_point(scene: SceneFile, analyses: tuple, metrics: tuple, modes=None,
         if isinstance(modes, Exception):             # the bed's modes failed
             raise modes
         outcomes = {}
-        for name in analyses:
-            outcomes[name] = ANALYSES[name].run(scene, outcomes, modes)
-        values = tuple(v for m in metrics for v in m.values(outcomes))
+        # a value that overflows is caught below as a failed point, not as a
+        # RuntimeWarning line on the worker's stderr
+        with np.errstate(all="ignore"):
+            for name in analyses:
+                outcomes[name] = ANALYSES[name].run(scene, outcomes, modes)
+            values = tuple(v for m in metrics for v in m.values(outcomes))
+        columns = [c for m in metrics for c in m.columns]
+        for c, v in zip(columns, values):
+            if not math.isfinite(v):
+                raise NumericalError(f"metric {c} = {v!r}: not a finite number")
     except Exception as exc:                       # the study goes on
         return PointResult("failed", _one_line(exc), (float("nan"),) * n,
                            time.perf_counter() - t0, time.thread_time() - c0)
@@ -124,6 +138,24 @@ def warm(scene: SceneFile) -> None:
         warm_up(st.system, st.equilibrium.y)
     except Exception:
         pass
+
+
+class Quiet(WorkerPlugin):
+    """For the local cluster's workers: they ignore Ctrl-C (the terminal
+    sends it to every process of its group; the study's own process stops
+    them, and a worker's ``KeyboardInterrupt`` traceback would only clutter
+    the terminal) and log nothing below CRITICAL (a point's failure is
+    reported in the study's table; Dask's WARNING lines, such as a worker
+    "still alive after 4.0 seconds, killing" at shutdown, are its
+    housekeeping)."""
+
+    name = "flexbed-quiet"
+
+    def setup(self, worker) -> None:
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+        for name in ("distributed", "tornado", "asyncio"):
+            logging.getLogger(name).setLevel(logging.CRITICAL)
 
 
 class WarmUp(WorkerPlugin):

@@ -31,7 +31,8 @@ from pathlib import Path
 from flexbed.interrupts import Interrupted, held
 from flexbed.study.plan import Plan, modes_scene
 from flexbed.study.point import PointResult, bed_modes, pack, run_batch
-from flexbed.study.table import Row, StudyTable, build_table, read_done, write_table
+from flexbed.study.table import Row, StudyTable, build_table, folder_lock, read_done, \
+    write_table
 
 __all__ = ["run_plan", "StudyProgress", "auto_batch", "auto_sizes", "batches"]
 
@@ -213,6 +214,16 @@ def run_plan(plan: Plan, *, scheduler=None, workers: int | None = None,
     log : callable(str), optional
         One-line notes (points skipped, tables ignored).
     """
+    if folder is None:
+        return _run_plan(plan, scheduler, workers, None, keep_results, retry_failed, progress,
+                         plots, batch, log)
+    with folder_lock(folder):
+        return _run_plan(plan, scheduler, workers, folder, keep_results, retry_failed,
+                         progress, plots, batch, log)
+
+
+def _run_plan(plan, scheduler, workers, folder, keep_results, retry_failed, progress, plots,
+              batch, log) -> StudyTable:
     log = log or (lambda msg: None)
     done = read_done(folder, plan, log) if folder is not None else {}
     rows: dict[int, Row] = {}

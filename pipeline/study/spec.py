@@ -17,6 +17,8 @@ from pathlib import Path
 from typing import Any
 
 from flexbed.errors import InputError
+from flexbed.files.destination import check_source
+from flexbed.files.table_reader import is_finite_number
 
 __all__ = ["Study", "Parameter", "MetricTable", "SAMPLINGS", "SCALES", "MAX_POINTS",
            "point_count", "read_study", "parse_study"]
@@ -94,7 +96,7 @@ class Study:
 
 def read_study(path: str | Path) -> Study:
     """Read and check a study file's shape."""
-    path = Path(path)
+    path = check_source(path, "study file")
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
@@ -187,7 +189,7 @@ def _count(value: Any) -> bool:
 
 def _number_or_vector(value: Any) -> bool:
     def number(x):
-        return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+        return is_finite_number(x)
     return number(value) or (isinstance(value, list) and bool(value)
                              and all(number(x) for x in value))
 
@@ -274,7 +276,7 @@ def point_count(sampling: str, parameters, n_points: int, samples: int | None) -
 def _check_size(where, sampling, parameters, n_points, samples) -> None:
     n = point_count(sampling, parameters, n_points, samples)
     if n > MAX_POINTS:
-        shown = f"{n:,}" if n < 10 ** 15 else f"{n:.3g}"
+        shown = f"{n:,}" if n < 10 ** 15 else f"about 10^{len(str(n)) - 1}"
         raise InputError(f"{where}: the study has {shown} points; the limit is {MAX_POINTS:,} "
                          f"(split it, or sample it: sampling = \"lhs\")")
 

@@ -21,16 +21,21 @@ from __future__ import annotations
 import csv
 import io
 import json
+import fcntl
 import math
+import os
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Iterator
 
 import numpy as np
 
-from flexbed.errors import InputError
+from flexbed.errors import InputError, os_error_text
 from flexbed.files.destination import check_destination, write_text
 
 __all__ = ["Row", "StudyTable", "build_table", "write_table", "read_done", "check_folder",
+           "folder_lock", "LOCK",
            "SCHEMA"]
 
 SCHEMA = "flexbed.study"
@@ -156,6 +161,37 @@ def check_folder(folder) -> Path:
     return folder
 
 
+#: the lock file a running study holds in its folder
+LOCK = ".flexbed-study.lock"
+
+
+@contextmanager
+def folder_lock(folder: Path) -> Iterator[None]:
+    """Hold ``folder`` for one study while it runs: an exclusive ``flock`` on
+    ``folder/.flexbed-study.lock`` (created with the folder if need be; it
+    holds the process id). A second study into the same folder at the same
+    time is refused with InputError naming the process that holds it; the
+    lock goes when the study ends or its process dies."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd = os.open(folder / LOCK, os.O_RDWR | os.O_CREAT, 0o666)
+    except OSError as exc:
+        raise InputError(f"{folder}: cannot write in it ({os_error_text(exc)})") from None
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
+            raise InputError(f"{folder}: another study is writing into this folder now "
+                             f"(process {holder}); wait for it to end, or choose another "
+                             f"folder (-o)") from None
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        yield
+    finally:
+        os.close(fd)                        # releases the lock
+
+
 def _dataset_name(column: str) -> str:
     return "table/" + column.replace("/", "|")
 
@@ -164,7 +200,10 @@ def write_table(table: StudyTable, plan, folder: Path) -> tuple[Path, Path]:
     """Write ``table.csv`` and ``table.h5`` into ``folder`` (atomically)."""
     from flexbed.files.store import Dataset, write_file
 
-    csv_path = write_text(folder / "table.csv", table.csv())
+    # the pair is written whole or not at all: the CSV under a staging name
+    # first, then the HDF5 file; the CSV takes its name only when both are in
+    csv_path = folder / "table.csv"
+    staged = write_text(folder / ".table.csv.staged", table.csv())
     datasets = {}
     for name, values in table.columns.items():
         data = values if values.dtype != object else values.astype(str)
@@ -178,8 +217,13 @@ def write_table(table: StudyTable, plan, folder: Path) -> tuple[Path, Path]:
                   "parameters": json.dumps(list(table.parameters)),
                   "metrics": json.dumps(list(table.metrics)),
                   "analyses": json.dumps(list(plan.analyses))}}
-    h5 = write_file(folder / "table.h5", schema=SCHEMA, version=VERSION, datasets=datasets,
-                    attrs=attrs)
+    try:
+        h5 = write_file(folder / "table.h5", schema=SCHEMA, version=VERSION,
+                        datasets=datasets, attrs=attrs)
+        os.replace(staged, csv_path)
+    except BaseException:
+        staged.unlink(missing_ok=True)
+        raise
     return csv_path, h5
 
 
@@ -195,10 +239,16 @@ def read_done(folder: Path, plan, log=None) -> dict:
         return {}
     c = read_file(path, schema=SCHEMA, major=1)
     root = c.attrs.get("", {})
+    theirs = (root.get("study"), json.loads(root.get("parameters", "[]")))
+    ours = (plan.study.name, [p.name for p in plan.parameter_columns])
+    if theirs != ours:
+        raise InputError(f"{folder}: holds the table of another study ({theirs[0]!r}, "
+                         f"parameters {', '.join(theirs[1]) or 'none'}); a study writes into "
+                         f"a folder of its own: choose another (-o), or remove that table")
     if root.get("signature") != plan.signature:
-        if log:
-            log(f"{path}: made with other analyses or metrics; every point runs again")
-        return {}
+        raise InputError(f"{folder}: holds this study's table made with other analyses or "
+                         f"metrics ({root.get('metrics', '?')}); choose another folder (-o), "
+                         f"or remove that table to run every point again")
     names = list(plan.metric_columns)
 
     def col(name):
