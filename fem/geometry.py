@@ -35,17 +35,37 @@ class GeometryError(ValueError):
 
 
 def _points(entry: str, value) -> tuple[tuple[float, float], ...]:
+    """A simple polygon's points, checked
+    (:func:`flexbed.fem.mesh_checks.check_polygon`)."""
+    from .mesh_checks import check_polygon
     try:
         arr = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise GeometryError(entry, f"{entry} = {value!r} must be a list of [x, y] points") \
-            from None
-    if arr.ndim != 2 or arr.shape[1] != 2 or arr.shape[0] < 3 or not np.all(np.isfinite(arr)):
-        raise GeometryError(entry, f"{entry} = {value!r} must be at least 3 finite [x, y] "
+    except (TypeError, ValueError, OverflowError):
+        raise GeometryError(entry, f"{entry} = {_short(value)} must be a list of [x, y] "
+                                   f"points") from None
+    if arr.ndim != 2 or arr.shape[1] != 2 or arr.shape[0] < 3:
+        raise GeometryError(entry, f"{entry} = {_short(value)} must be at least 3 [x, y] "
                                    f"points")
-    if abs(signed_area(arr)) <= 1e-12 * np.ptp(arr, axis=0).max() ** 2:
-        raise GeometryError(entry, f"{entry} = {value!r} encloses no area")
+    check_polygon(entry, arr)
     return tuple((float(x), float(y)) for x, y in arr)
+
+
+def _short(value) -> str:
+    """repr of a value, cut to 120 characters."""
+    text = repr(value)
+    return text if len(text) <= 120 else text[:100] + " ... " + text[-15:]
+
+
+def _max_coordinate() -> float:
+    from .mesh_checks import MAX_COORDINATE
+    return MAX_COORDINATE
+
+
+def _extent_check(entry: str, value: float) -> None:
+    from .mesh_checks import MAX_COORDINATE, MIN_EXTENT
+    if not MIN_EXTENT <= value <= MAX_COORDINATE:
+        raise GeometryError(entry, f"{entry} = {value!r} m must lie within {MIN_EXTENT:g} to "
+                                   f"{MAX_COORDINATE:g} m (coordinates in metres)")
 
 
 def signed_area(poly: np.ndarray) -> float:
@@ -84,12 +104,17 @@ class Region:
         if c.shape != (2,) or not np.all(np.isfinite(c)):
             raise GeometryError("centre", f"centre = {self.centre!r} must be [x, y]")
         object.__setattr__(self, "centre", (float(c[0]), float(c[1])))
+        if np.abs(c).max() > _max_coordinate():
+            raise GeometryError("centre", f"centre = {self.centre!r} m is beyond "
+                                          f"{_max_coordinate():g} m (coordinates in metres)")
         if self.shape == "rectangle":
             s = np.array(self.size if self.size is not None else [], dtype=float)
             if s.shape != (2,) or not np.all(np.isfinite(s) & (s > 0)):
                 raise GeometryError("size", f"size = {self.size!r} must be [a, b] > 0 for a "
                                             f"rectangle")
             object.__setattr__(self, "size", (float(s[0]), float(s[1])))
+            for v in self.size:
+                _extent_check("size", v)
         elif self.shape == "circle":
             r = self.radius
             if isinstance(r, bool) or not isinstance(r, (int, float)) or not (
@@ -97,6 +122,7 @@ class Region:
                 raise GeometryError("radius", f"radius = {r!r} must be a number > 0 for a "
                                               f"circle")
             object.__setattr__(self, "radius", float(r))
+            _extent_check("radius", self.radius)
         else:
             object.__setattr__(self, "points", _points("points", self.points))
 
@@ -179,6 +205,7 @@ class BedGeometry:
                                                 f"[m]")
         if h is not None:
             object.__setattr__(self, "element_size", float(h))
+            _extent_check("element_size", self.element_size)
         if self.mesh_file is not None and (self.outline is not None or self.cutouts):
             raise GeometryError("mesh_file", "give either mesh_file or outline/cutout, "
                                              "not both")

@@ -13,7 +13,8 @@ from pathlib import Path
 
 from flexbed.fem.fixed_masses import FixedMass
 from flexbed.fem.geometry import BedGeometry, GeometryError, Region, Zone
-from flexbed.fem.spec import PlateSpec
+from flexbed.fem.layout import bed_layout, check_stiffeners
+from flexbed.fem.spec import PlateSpec, PlateSpecError
 from flexbed.fem.stiffener_face import face_thickness
 from flexbed.fem.stiffeners import Stiffener, section_of
 
@@ -181,3 +182,40 @@ def read_geometry(table: dict, where: str, folder: Path | None) -> BedGeometry |
     except GeometryError as exc:
         shown = str(exc).replace(mesh_file or "\0", str(table.get("mesh_file")))
         raise InputError(f"{where}: {shown}") from None
+
+
+def check_bed(plate: PlateSpec, where: str, mesh_file=None) -> None:
+    """Mesh the bed as the scene reads it and check it, so that a bed that
+    cannot be built is refused in one line before any work: the outline,
+    cut-outs and zones as geometry, the mesh's size against the solver's
+    limit (estimated before meshing), the mesh as a mesh (a mesh file's
+    too), fixed masses on the shell, stiffeners along cell edges
+    (:mod:`flexbed.fem.mesh_checks`, :func:`flexbed.fem.layout.bed_layout`,
+    cached: the stages reuse the mesh). The plain rectangle on its grid is
+    not meshed here.
+
+    Parameters
+    ----------
+    plate : PlateSpec
+    where : str
+        Message prefix, e.g. ``"lee.toml: bed"``.
+    mesh_file : str, optional
+        ``mesh_file`` as the scene gives it (messages show it instead of
+        the resolved path).
+
+    Raises
+    ------
+    InputError
+        ``"<where>: <entry>: <what is wrong, with the value>"``.
+    """
+    if plate.is_rectangle:
+        return
+    try:
+        bed_layout(plate)
+        check_stiffeners(plate)            # on the mesh: along cell edges, end to end
+    except (GeometryError, PlateSpecError) as exc:
+        text = str(exc)
+        resolved = plate.geometry.mesh_file if plate.geometry is not None else None
+        if resolved and isinstance(mesh_file, str):
+            text = text.replace(repr(resolved), repr(mesh_file)).replace(resolved, mesh_file)
+        raise InputError(f"{where}: {text}") from None
