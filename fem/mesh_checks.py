@@ -277,6 +277,7 @@ def check_cells(label: str, nodes: np.ndarray, cells: np.ndarray, n_quads: int) 
                                    f"have the same corners; {_count(dup.size, 'cell')} "
                                    f"repeat another")
     _check_edges(label, nodes, cells, n_quads)
+    _check_angles(label, nodes, cells, n_quads)
     _check_nodes(label, nodes)
     _check_pieces(label, cells)
     return cells
@@ -316,6 +317,34 @@ def _check_edges(label: str, nodes: np.ndarray, cells: np.ndarray, n_quads: int)
                                    f"{_cell(int(on[1]), n_quads)} lie on the "
                                    f"same side of their common edge {_xy(nodes[e[0]])}-"
                                    f"{_xy(nodes[e[1]])} m: they overlap")
+
+
+def _check_angles(label: str, nodes: np.ndarray, cells: np.ndarray, n_quads: int) -> None:
+    """The cells around a node fill 360 degrees about it when it is inside
+    the mesh, at most 360 on its boundary; more means cells overlap there
+    (folded over each other without sharing an edge)."""
+    angle = np.zeros(nodes.shape[0])
+    for block in (cells[:n_quads], cells[n_quads:, :3]):
+        if not block.size:
+            continue
+        v = nodes[block]
+        a = np.roll(v, -1, axis=1) - v
+        b = np.roll(v, 1, axis=1) - v
+        theta = np.arctan2(_cross(a, b), np.sum(a * b, axis=-1))       # (0, π) convex
+        angle += np.bincount(block.ravel(), weights=np.mod(theta, 2 * np.pi).ravel(),
+                             minlength=nodes.shape[0])
+    pairs, _ = _directed_edges(cells)
+    key = np.sort(pairs, axis=1)
+    uniq, count = np.unique(key, axis=0, return_counts=True)
+    inner = np.ones(nodes.shape[0], bool)
+    inner[uniq[count == 1].ravel()] = False
+    bad = np.where(inner, np.abs(angle - 2 * np.pi) > 1e-6, angle > 2 * np.pi + 1e-6)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise GeometryError(label, f"{label}: the cells around node {i} at {_xy(nodes[i])} m "
+                                   f"fill {np.degrees(angle[i]):.6g} degrees about it, not "
+                                   f"{'360' if inner[i] else 'at most 360'}: cells overlap "
+                                   f"there")
 
 
 def _check_nodes(label: str, nodes: np.ndarray) -> None:

@@ -8,6 +8,7 @@ Every message is one line naming the file, the entry and the value.
 
 from __future__ import annotations
 
+import math
 from dataclasses import fields, replace
 from pathlib import Path
 
@@ -19,6 +20,7 @@ from flexbed.fem.stiffener_face import face_thickness
 from flexbed.fem.stiffeners import Stiffener, section_of
 
 from flexbed.errors import InputError
+from flexbed.files.table_reader import LARGEST, SMALLEST, is_number, out_of_range, short_repr
 
 GEOMETRY_KEYS = ("outline", "cutout", "zone", "element_size", "mesh_file", "fixed_mass",
                  "stiffener")
@@ -28,9 +30,32 @@ _MASS_KEYS = ("name", "position", "mass", "inertia")
 _REGION_KEYS = ("shape", "centre", "size", "radius", "points")
 
 
+def _in_range(value, where: str, key: str) -> None:
+    """Every number in a (nested) value within the scene's range
+    (:data:`flexbed.files.table_reader.LARGEST`), else an InputError naming
+    it as ``key[i][j]``."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _in_range(v, where, k)
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            _in_range(v, where, f"{key}[{i}]")
+    elif is_number(value):
+        try:
+            v = float(value)
+        except OverflowError:
+            v = math.inf if value > 0 else -math.inf
+        if not math.isfinite(v) and not isinstance(value, int):
+            raise InputError(f"{where}: {key} = {short_repr(value)} must be finite")
+        if not math.isfinite(v) or out_of_range(v):
+            raise InputError(f"{where}: {key} = {short_repr(value)} is out of range (magnitudes "
+                             f"from {SMALLEST:g} to {LARGEST:g}, or 0)")
+
+
 def _region(t, where: str) -> Region:
     if not isinstance(t, dict):
         raise InputError(f"{where}: must be a table {{shape = ..., ...}}")
+    _in_range(t, where, "")
     for key in t:
         if key not in _REGION_KEYS + ("thickness",):
             raise InputError(f"{where}: unknown key '{key}' (known: {', '.join(_REGION_KEYS)})")
@@ -78,6 +103,7 @@ def read_fixed_masses(table: dict, where: str) -> tuple[FixedMass, ...]:
                               ("name", "position", "mass")):
         if not isinstance(t["name"], str):
             raise InputError(f"{w}: name = {t['name']!r} must be a string")
+        _in_range(t, w, "")
         try:
             out.append(FixedMass(t["name"], t["position"], t["mass"],
                                  t.get("inertia", [0.0, 0.0, 0.0])))
@@ -109,6 +135,7 @@ def read_stiffeners(table: dict, where: str, geometry: BedGeometry | None = None
     out = []
     for w, t in _named_tables(table, "stiffener", where, _STIFFENER_KEYS,
                               ("name", "start", "end", "section")):
+        _in_range(t, w, "")
         kind = t["section"]
         side = t.get("side", "below")
         if side not in ("below", "above"):
@@ -152,6 +179,7 @@ def read_geometry(table: dict, where: str, folder: Path | None) -> BedGeometry |
     """
     if not any(k in table for k in GEOMETRY_KEYS if k not in ("fixed_mass", "stiffener")):
         return None
+    _in_range(table.get("outline"), f"{where}", "outline")
     cut = table.get("cutout", [])
     zones = table.get("zone", [])
     for key, value in (("cutout", cut), ("zone", zones)):
@@ -163,6 +191,7 @@ def read_geometry(table: dict, where: str, folder: Path | None) -> BedGeometry |
         w = f"{where}: zone {i + 1}"
         if not isinstance(z, dict) or "thickness" not in z:
             raise InputError(f"{w}: 'thickness' is required [m]")
+        _in_range(z, w, "")
         try:
             zs.append(Zone(_region({k: v for k, v in z.items() if k != "thickness"}, w),
                            z["thickness"]))
