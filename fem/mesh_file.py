@@ -4,7 +4,7 @@ Reading is quiet and fails in one :class:`~flexbed.fem.geometry.GeometryError`
 naming the file: meshio prints its own messages and ends the process
 (``sys.exit``) on a file it cannot read; both are caught here. Before the
 file is read, the point count its header declares (VTU, legacy VTK, Gmsh
-2 and 4) is checked against the solver's limit, so a mesh too large is
+2, Gmsh 4 in ASCII) is checked against the solver's limit, so a mesh too large is
 refused at once; after it, the count of the nodes the cells use.
 
 The mesh is its linear ``quad`` and ``triangle`` cells (other cell types —
@@ -33,8 +33,8 @@ HEAD_BYTES = 1 << 16
 
 def declared_points(path: Path) -> int | None:
     """The number of points a mesh file's header declares, or None when
-    its format is not one of VTU, legacy VTK and Gmsh (2 or 4), or the
-    count is not within the file's first ``HEAD_BYTES``."""
+    its format is not one of VTU, legacy VTK and Gmsh (2, or 4 in ASCII),
+    or the count is not within the file's first ``HEAD_BYTES``."""
     suffix = path.suffix.lower()
     if suffix not in (".vtu", ".vtk", ".msh"):
         return None
@@ -49,12 +49,12 @@ def declared_points(path: Path) -> int | None:
     if suffix == ".vtk":
         m = re.search(r"^\s*POINTS\s+(\d+)", head, re.MULTILINE)
         return int(m.group(1)) if m else None
-    version = re.search(r"\$MeshFormat\s*\n\s*(\d+)", head)
-    nodes = re.search(r"\$Nodes\s*\n\s*(\d+)(?:[ \t]+(\d+))?", head)
-    if not (version and nodes):
-        return None
-    if version.group(1) == "4" and nodes.group(2) is not None:
-        return int(nodes.group(2))
+    fmt = re.search(r"\$MeshFormat\r?\n(\d+)(?:\.\d+)?[ \t]+(\d)", head)
+    nodes = re.search(r"\$Nodes\r?\n(\d+)(?:[ \t]+(\d+))?[ \t\d]*\r?\n", head)
+    if not (fmt and nodes) or (fmt.group(1) == "4" and fmt.group(2) != "0"):
+        return None                 # Gmsh 4's binary counts are not text
+    if fmt.group(1) == "4":
+        return int(nodes.group(2)) if nodes.group(2) is not None else None
     return int(nodes.group(1))
 
 

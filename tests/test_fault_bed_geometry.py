@@ -22,7 +22,7 @@ import pytest
 
 from flexbed.cli import main
 from flexbed.fem.cells import areas
-from flexbed.fem.geometry import BedGeometry, GeometryError
+from flexbed.fem.geometry import BedGeometry, GeometryError, Region, Zone
 from flexbed.fem.layout import bed_mass_properties
 from flexbed.fem.mesh_file import declared_points, read_mesh_file
 from flexbed.fem.spec import PlateSpec
@@ -359,3 +359,27 @@ def test_the_node_count_is_checked_after_reading_too(tmp_path):
     msh = tmp_path / "bed.msh"
     _write_mesh(msh, N, [("quad", C)], file_format="gmsh22", binary=False)
     assert declared_points(msh) == 21
+
+
+@pytest.mark.parametrize("geometry", [
+    BedGeometry(cutouts=(Region("rectangle", (0.1, 1.0), size=(0.3, 0.5)),), element_size=0.05),
+    BedGeometry(outline=((0, 0), (4, 0), (4, 0.5), (0.5, 0.5), (0.5, 4), (0, 4)),
+                element_size=0.05),
+    BedGeometry(cutouts=(Region("circle", (0.0, 1.0), radius=0.2),), element_size=0.05),
+    BedGeometry(outline=((0, 0), (2, 0), (2, 1), (0.8, 1.4), (0, 1)), element_size=0.05),
+    BedGeometry(zones=(Zone(Region("circle", (0, 0), radius=0.3), 0.2),), element_size=0.02),
+], ids=["rectilinear-hole", "rectilinear-L", "circle-hole", "slanted", "circle-zone"])
+def test_the_size_estimate_is_within_20_percent(geometry, monkeypatch):
+    """The nodes estimated before meshing (what a too-fine element_size is
+    refused on) against the nodes of the mesh made, on both routes of the
+    mesher."""
+    from flexbed.fem import mesher
+    seen = []
+
+    def spy(*args):
+        seen.append(mesher_estimate(*args))
+        return seen[-1]
+    mesher_estimate = mesher.estimated_nodes
+    monkeypatch.setattr(mesher, "estimated_nodes", spy)
+    nodes, _, _ = mesher.mesh_bed(geometry, 0.8, 4.8, 0.1, 10, 10)
+    assert 0.8 < seen[0] / nodes.shape[0] < 1.2, (seen[0], nodes.shape[0])
