@@ -41,7 +41,7 @@ import numpy as np
 
 from .cells import centres, is_triangle
 from .geometry import BedGeometry, GeometryError, inside, signed_area
-from .mesh_checks import check_cells, check_cutouts, check_size
+from .mesh_checks import MIN_CORNER_ANGLE, check_cells, check_cutouts, check_size
 from .mesh_file import read_mesh_file
 from .shell import DOFS_PER_NODE
 from .spec import MAX_DOFS
@@ -232,8 +232,9 @@ def estimated_nodes(outline: np.ndarray, holes: list, constraints: list, h: floa
 
 def _check_convex(label: str, nodes: np.ndarray, cells: np.ndarray) -> None:
     """Every quadrilateral convex and counter-clockwise (positive Jacobian at
-    its corners), every triangle counter-clockwise, else a GeometryError
-    naming the first bad cell."""
+    its corners), every triangle counter-clockwise, and no corner sharper
+    than ``MIN_CORNER_ANGLE``, else a GeometryError naming the first bad
+    cell (the sharpest)."""
     tri = is_triangle(cells)
     xy = nodes[np.where(tri[:, None], cells[:, [0, 1, 2, 0]], cells)]
     nxt, prv = np.roll(xy, -1, axis=1), np.roll(xy, 1, axis=1)
@@ -248,6 +249,23 @@ def _check_convex(label: str, nodes: np.ndarray, cells: np.ndarray) -> None:
                                    f"{xy[c, :3 if tri[c] else 4].round(6).tolist()} m) is not "
                                    f"convex (self-intersecting, or a corner of 180 degrees "
                                    f"or more); {bad.size} such cell" + "s" * (bad.size > 1))
+    a, b = nxt - xy, prv - xy
+    with np.errstate(invalid="ignore", divide="ignore"):
+        sine = turn / (np.linalg.norm(a, axis=-1) * np.linalg.norm(b, axis=-1))
+    sine = np.where(tri[:, None], np.where(np.arange(4) == 3, 1.0, sine), sine)
+    worst = np.min(np.nan_to_num(sine, nan=1.0), axis=1)
+    sharp = np.flatnonzero(worst < math.sin(math.radians(MIN_CORNER_ANGLE)))
+    if sharp.size:
+        c = int(sharp[np.argmin(worst[sharp])])
+        name = f"triangle {c - int(np.sum(~tri))}" if tri[c] else f"quad {c}"
+        hint = ("remesh it" if label.startswith("mesh_file") else
+                "give a smaller element_size (a cut-out or zone much smaller than the "
+                "elements leaves slivers)")
+        raise GeometryError(label, f"{label}: {name} (corners "
+                                   f"{xy[c, :3 if tri[c] else 4].round(6).tolist()} m) has a "
+                                   f"corner of {math.degrees(math.asin(worst[c])):.2g} degrees, "
+                                   f"below {MIN_CORNER_ANGLE:g} ({sharp.size} such cell"
+                                   + "s" * (sharp.size > 1) + f"): too distorted; {hint}")
 
 
 def _label(geometry: BedGeometry, h: float, path: Path | None) -> str:

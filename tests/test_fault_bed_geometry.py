@@ -168,6 +168,10 @@ CASES = [
          ("bed: cutout 1", "points", "cross or touch")),
     Case("cutout-radius-1e7", '[[bed.cutout]]\nshape = "circle"\ncentre = [0, 0]\n'
                               'radius = 1e7\n', ("bed: cutout 1", "radius = 10000000.0")),
+    Case("cutout-far-smaller-than-the-elements", '[[bed.cutout]]\nshape = "circle"\n'
+                                                 'centre = [0.1, 1.0]\nradius = 1e-3\n',
+         ("bed: the mesh (element size 0.4 m from nx, ny)", "degrees, below 0.5",
+          "too distorted", "smaller element_size")),
     Case("cutout-size-1e308", _rect((0.0, 0.0), (1e308, 0.2)),
          ("bed: cutout 1", "size[0] = 1e+308", "out of range")),
     # thickness zones
