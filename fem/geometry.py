@@ -68,6 +68,16 @@ def _extent_check(entry: str, value: float) -> None:
                                    f"{MAX_COORDINATE:g} m (coordinates in metres)")
 
 
+def file_digest(path: str | Path) -> str:
+    """SHA-256 of a file's bytes (hex), read in pieces of 1 MiB (a mesh file
+    of gigabytes is hashed without holding it)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
 def signed_area(poly: np.ndarray) -> float:
     """Shoelace area of a polygon (k, 2), positive when counter-clockwise [m²]."""
     x, y = poly[:, 0], poly[:, 1]
@@ -211,7 +221,7 @@ class BedGeometry:
                                              "not both")
         if self.mesh_file is not None and self.mesh_digest is None:
             try:
-                digest = hashlib.sha256(Path(self.mesh_file).read_bytes()).hexdigest()
+                digest = file_digest(self.mesh_file)
             except OSError as exc:
                 raise GeometryError("mesh_file", f"mesh_file = {self.mesh_file!r}: cannot read "
                                                  f"it ({exc.strerror or exc})") from None

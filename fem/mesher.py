@@ -33,7 +33,6 @@ bed's mass properties.
 
 from __future__ import annotations
 
-import hashlib
 import math
 from pathlib import Path
 
@@ -45,11 +44,6 @@ from .mesh_checks import MIN_CORNER_ANGLE, check_cells, check_cutouts, check_siz
 from .mesh_file import read_mesh_file
 from .shell import DOFS_PER_NODE
 from .spec import MAX_DOFS
-
-
-def file_digest(path: str | Path) -> str:
-    """SHA-256 of a file's bytes (hex)."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
