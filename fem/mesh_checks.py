@@ -43,6 +43,9 @@ MIN_EXTENT = 1e-6
 #: nonsense below it (a cut-out of 1e-4 m in 0.2 m elements, corners of
 #: 0.003 degrees, lowers the first frequency from 23 to 6 Hz)
 MIN_CORNER_ANGLE = 0.5
+#: the most points a polygon of the scene may have (its edges are checked
+#: pairwise for crossings)
+MAX_POLYGON_POINTS = 10_000
 #: points closer than this fraction of the extent are one point
 SAME_POINT = 1e-9
 
@@ -106,6 +109,29 @@ def segments_meet(p0, p1, q0, q1, tol: float) -> np.ndarray:
     return proper | near(q0, q1, p0) | near(q0, q1, p1) | near(p0, p1, q0) | near(p0, p1, q1)
 
 
+def _meeting_pairs(a0, a1, b0, b1, tol: float, keep=None):
+    """Index pairs (i, j) of segments a0-a1 (n, 2) and b0-b1 (m, 2) that
+    cross or touch, first found first: bounding boxes compared in blocks of
+    256 rows, :func:`segments_meet` on the pairs whose boxes overlap.
+    ``keep(i, j)`` (index arrays, broadcast) masks pairs out."""
+    alo, ahi = np.minimum(a0, a1) - tol, np.maximum(a0, a1) + tol
+    blo, bhi = np.minimum(b0, b1), np.maximum(b0, b1)
+    for start in range(0, a0.shape[0], 256):
+        i = np.arange(start, min(a0.shape[0], start + 256))[:, None]
+        j = np.arange(b0.shape[0])[None, :]
+        box = ((alo[i, 0] <= bhi[j, 0]) & (ahi[i, 0] >= blo[j, 0])
+               & (alo[i, 1] <= bhi[j, 1]) & (ahi[i, 1] >= blo[j, 1]))
+        if keep is not None:
+            box &= keep(i, j)
+        ii, jj = np.nonzero(box)
+        if ii.size:
+            ii = ii + start
+            hit = np.flatnonzero(segments_meet(a0[ii], a1[ii], b0[jj], b1[jj], tol))
+            if hit.size:
+                return int(ii[hit[0]]), int(jj[hit[0]])
+    return None
+
+
 def check_polygon(label: str, poly: np.ndarray) -> None:
     """Refuse a polygon (k, 2) [m] that is not simple: fewer than 3 points,
     coordinates not finite or absurd, a repeated point, an extent below
@@ -116,6 +142,9 @@ def check_polygon(label: str, poly: np.ndarray) -> None:
     k = poly.shape[0]
     if k < 3:
         raise GeometryError(label, f"{label}: {k} points; a polygon needs at least 3")
+    if k > MAX_POLYGON_POINTS:
+        raise GeometryError(label, f"{label}: {k:,} points; the most a polygon may have is "
+                                   f"{MAX_POLYGON_POINTS:,}")
     L = float(np.ptp(poly, axis=0).max())
     if L < MIN_EXTENT:
         raise GeometryError(label, f"{label}: spans {L:g} m, less than {MIN_EXTENT:g} m "
@@ -141,17 +170,13 @@ def check_polygon(label: str, poly: np.ndarray) -> None:
         i = int(np.flatnonzero(back)[0])
         raise GeometryError(label, f"{label}: turns back on itself at point {(i + 1) % k + 1} "
                                    f"= {_xy(b[i])}")
-    for start in range(0, k, 256):
-        i = np.arange(start, min(k, start + 256))[:, None]
-        j = np.arange(k)[None, :]
-        meet = segments_meet(a[i], b[i], a[j], b[j], tol)
-        apart = (j > i + 1) & ~((i == 0) & (j == k - 1))
-        hit = np.argwhere(meet & apart)
-        if hit.size:
-            ei, ej = int(i[hit[0, 0], 0]), int(hit[0, 1])
-            raise GeometryError(label, f"{label}: edges {_xy(a[ei])}-{_xy(b[ei])} and "
-                                       f"{_xy(a[ej])}-{_xy(b[ej])} m cross or touch; the "
-                                       f"polygon must not intersect itself")
+    hit = _meeting_pairs(a, b, a, b, tol,
+                         lambda i, j: (j > i + 1) & ~((i == 0) & (j == k - 1)))
+    if hit is not None:
+        ei, ej = hit
+        raise GeometryError(label, f"{label}: edges {_xy(a[ei])}-{_xy(b[ei])} and "
+                                   f"{_xy(a[ej])}-{_xy(b[ej])} m cross or touch; the "
+                                   f"polygon must not intersect itself")
 
 
 def polygons_meet(p: np.ndarray, q: np.ndarray, tol: float) -> bool:
@@ -160,10 +185,8 @@ def polygons_meet(p: np.ndarray, q: np.ndarray, tol: float) -> bool:
     inside the other."""
     from .geometry import inside
     p1, q1 = np.roll(p, -1, axis=0), np.roll(q, -1, axis=0)
-    for start in range(0, p.shape[0], 256):
-        s = slice(start, start + 256)
-        if segments_meet(p[s, None], p1[s, None], q[None], q1[None], tol).any():
-            return True
+    if _meeting_pairs(p, p1, q, q1, tol) is not None:
+        return True
     return bool(inside(q, p[:1]).any() or inside(p, q[:1]).any())
 
 
@@ -186,9 +209,7 @@ def check_cutouts(outline: np.ndarray, holes: list[tuple[str, str, np.ndarray]])
     for label, what, hole in holes:
         check_coordinates(label, hole)
         h1 = np.roll(hole, -1, axis=0)
-        crosses = any(segments_meet(hole[s, None], h1[s, None], outline[None], o1[None],
-                                    tol).any() for s in (slice(i, i + 256)
-                                                         for i in range(0, hole.shape[0], 256)))
+        crosses = _meeting_pairs(hole, h1, outline, o1, tol) is not None
         if crosses:
             raise GeometryError(label, f"{label}: {what} meets the outline's edge; a cut-out "
                                        f"must lie inside the bed (shape the outline for a "
