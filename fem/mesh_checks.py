@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import GeometryError
+from .geometry import GeometryError, inside
 
 #: the largest coordinate magnitude of a bed [m]: past a thousand kilometres
 #: a number is a unit slip, and the bed's ρ t L⁴ stays far inside double
@@ -183,7 +183,6 @@ def polygons_meet(p: np.ndarray, q: np.ndarray, tol: float) -> bool:
     """True when polygons p (k, 2) and q (m, 2) [m] share any point: an
     edge of one crosses or touches an edge of the other, or one lies
     inside the other."""
-    from .geometry import inside
     p1, q1 = np.roll(p, -1, axis=0), np.roll(q, -1, axis=0)
     if _meeting_pairs(p, p1, q, q1, tol) is not None:
         return True
@@ -202,7 +201,6 @@ def check_cutouts(outline: np.ndarray, holes: list[tuple[str, str, np.ndarray]])
         Each cut-out as messages name it (``"cutout 2"``), what it is, and
         its polygon as meshed [m].
     """
-    from .geometry import inside
     L = float(np.ptp(outline, axis=0).max())
     tol = SAME_POINT * L
     o1 = np.roll(outline, -1, axis=0)
