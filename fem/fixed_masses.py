@@ -19,8 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .cells import is_triangle, point_shape
-from .geometry import GeometryError
-from .mesh_checks import MAX_COORDINATE
+from .geometry import MAX_COORDINATE, GeometryError
 
 _EPS = np.zeros((3, 3, 3))
 _EPS[0, 1, 2] = _EPS[1, 2, 0] = _EPS[2, 0, 1] = 1.0

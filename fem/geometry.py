@@ -24,6 +24,14 @@ from pathlib import Path
 import numpy as np
 
 SHAPES = ("rectangle", "circle", "polygon")
+#: the largest coordinate magnitude of a bed [m]: past a thousand kilometres
+#: a number is a unit slip, and the bed's ρ t L⁴ stays far inside double
+#: precision
+MAX_COORDINATE = 1e6
+#: the smallest extent of a polygon or region, and the smallest element
+#: size [m]: below a micrometre a feature is a typing slip, and the mesher's
+#: rounding (1e-12 m) stays far below it
+MIN_EXTENT = 1e-6
 
 
 class GeometryError(ValueError):
@@ -56,13 +64,7 @@ def _short(value) -> str:
     return text if len(text) <= 120 else text[:100] + " ... " + text[-15:]
 
 
-def _max_coordinate() -> float:
-    from .mesh_checks import MAX_COORDINATE
-    return MAX_COORDINATE
-
-
 def _extent_check(entry: str, value: float) -> None:
-    from .mesh_checks import MAX_COORDINATE, MIN_EXTENT
     if not MIN_EXTENT <= value <= MAX_COORDINATE:
         raise GeometryError(entry, f"{entry} = {value!r} m must lie within {MIN_EXTENT:g} to "
                                    f"{MAX_COORDINATE:g} m (coordinates in metres)")
@@ -114,9 +116,9 @@ class Region:
         if c.shape != (2,) or not np.all(np.isfinite(c)):
             raise GeometryError("centre", f"centre = {self.centre!r} must be [x, y]")
         object.__setattr__(self, "centre", (float(c[0]), float(c[1])))
-        if np.abs(c).max() > _max_coordinate():
+        if np.abs(c).max() > MAX_COORDINATE:
             raise GeometryError("centre", f"centre = {self.centre!r} m is beyond "
-                                          f"{_max_coordinate():g} m (coordinates in metres)")
+                                          f"{MAX_COORDINATE:g} m (coordinates in metres)")
         if self.shape == "rectangle":
             s = np.array(self.size if self.size is not None else [], dtype=float)
             if s.shape != (2,) or not np.all(np.isfinite(s) & (s > 0)):
@@ -220,6 +222,11 @@ class BedGeometry:
             raise GeometryError("mesh_file", "give either mesh_file or outline/cutout, "
                                              "not both")
         if self.mesh_file is not None and self.mesh_digest is None:
+            path = Path(self.mesh_file)
+            if path.exists() and not path.is_file():      # a FIFO would block the read
+                kind = "a folder" if path.is_dir() else "a FIFO, device or socket"
+                raise GeometryError("mesh_file", f"mesh_file = {self.mesh_file!r} is {kind}, "
+                                                 f"not a mesh file")
             try:
                 digest = file_digest(self.mesh_file)
             except OSError as exc:

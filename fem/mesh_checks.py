@@ -29,16 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import GeometryError, inside
+from .geometry import MAX_COORDINATE, MIN_EXTENT, GeometryError, inside
 
-#: the largest coordinate magnitude of a bed [m]: past a thousand kilometres
-#: a number is a unit slip, and the bed's ρ t L⁴ stays far inside double
-#: precision
-MAX_COORDINATE = 1e6
-#: the smallest extent of a polygon or region [m]: below a micrometre a
-#: feature is a typing slip, and the mesher's rounding (1e-12 m) stays far
-#: below it
-MIN_EXTENT = 1e-6
 #: the sharpest corner a cell may have [degrees]: the shell's elements give
 #: nonsense below it (a cut-out of 1e-4 m in 0.2 m elements, corners of
 #: 0.003 degrees, lowers the first frequency from 23 to 6 Hz)
