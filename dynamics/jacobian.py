@@ -38,6 +38,7 @@ mounted system of :mod:`flexbed.dynamics.frequency.mounted`; rates ṙ,
 
 from __future__ import annotations
 
+import math
 import weakref
 from dataclasses import dataclass
 
@@ -48,7 +49,8 @@ from .rotation import A as rotation_matrix
 from .system import System
 
 __all__ = ["MountGraph", "mount_graph", "ForceJacobian", "force_jacobian", "quat_mul_rows",
-           "rotvec_rows"]
+           "rotvec_rows", "perturbed_positions", "perturbed_rates", "mass_blocks",
+           "acceleration_rows", "Linearised", "linearised"]
 
 
 @dataclass(frozen=True)
@@ -145,6 +147,74 @@ def rotvec_rows(theta: np.ndarray) -> np.ndarray:
     return p
 
 
+def perturbed_positions(system: System, y: np.ndarray, DU: np.ndarray) -> np.ndarray:
+    """States (k, ny) for position steps DU (k, n) from y: translations added,
+    rotations composed ``p ← p ⊗ p(δθ)`` (then normalised), modal
+    coordinates added (DU: 6 per body 2…, then the modal ones if n says so)."""
+    lay = system.layout
+    n = system.n_rigid
+    k = DU.shape[0]
+    Y = np.repeat(np.asarray(y, dtype=float)[None, :], k, axis=0)
+    q = Y[:, lay.q_rigid].reshape(k, n, 7)
+    body = DU[:, :6 * n].reshape(k, n, 6)
+    q[:, :, :3] += body[:, :, :3]
+    p = quat_mul_rows(q[:, :, 3:], rotvec_rows(body[:, :, 3:]))
+    q[:, :, 3:] = p / np.sqrt(np.sum(p * p, axis=-1, keepdims=True))
+    Y[:, lay.q_rigid] = q.reshape(k, 7 * n)
+    if DU.shape[1] > 6 * n:
+        Y[:, lay.q_modal] += DU[:, 6 * n:]
+    return Y
+
+
+def perturbed_rates(system: System, y: np.ndarray, DV: np.ndarray) -> np.ndarray:
+    """States (k, ny) for rate steps DV (k, n) added to ṙ, ω̄ (6 per body 2…)
+    and ȧ (if n says so)."""
+    lay = system.layout
+    n = system.n_rigid
+    Y = np.repeat(np.asarray(y, dtype=float)[None, :], DV.shape[0], axis=0)
+    Y[:, lay.v_rigid] += DV[:, :6 * n]
+    if DV.shape[1] > 6 * n:
+        Y[:, lay.v_modal] += DV[:, 6 * n:]
+    return Y
+
+
+def mass_blocks(system: System, y: np.ndarray, modal: bool = True) -> sp.csr_matrix:
+    """The mass matrix (n, n) at the state y for the rates [ṙ, ω̄ per body
+    2…, ȧ] (m I and J of each rigid body, a flexible body's
+    :meth:`~flexbed.dynamics.flexible.FlexibleEOM.mass_matrix`; without
+    ``modal`` only its frame block), block-diagonal, sparse."""
+    g = mount_graph(system, modal)
+    lay = system.layout
+    n_slots = len(lay.rigid)
+    blocks = np.zeros((n_slots, 6, 6))
+    blocks[:, :3, :3] = system.m_r[:, 0, None, None] * np.eye(3)
+    blocks[:, 3:, 3:] = system.J
+    rows = [np.repeat(np.arange(6 * n_slots).reshape(n_slots, 6), 6, axis=1).ravel()]
+    cols = [np.tile(np.arange(6 * n_slots).reshape(n_slots, 6), (1, 6)).ravel()]
+    flex_slots = {fc.slot for fc in system.flex_compiled}
+    keep = np.array([s not in flex_slots for s in range(n_slots)], dtype=bool)
+    vals = [np.where(keep[:, None, None], blocks, 0.0).ravel()]
+    p = lay.split(y)["p"]
+    for fc in system.flex_compiled:
+        Mf = fc.eom.mass_matrix(rotation_matrix(p[fc.slot]), y[fc.qa])
+        blk = g.blocks[fc.slot]
+        Mf = Mf[:blk.size, :blk.size]
+        rows.append(np.repeat(blk, blk.size))
+        cols.append(np.tile(blk, blk.size))
+        vals.append(np.array(Mf).ravel())
+    return sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(g.n, g.n)).tocsr()
+
+
+def acceleration_rows(system: System, dY: np.ndarray, modal: bool = True) -> np.ndarray:
+    """[r̈, ω̄̇ per body 2…, ä] (k, n) of rates dY (k, ny)."""
+    lay = system.layout
+    out = dY[:, lay.v_rigid]
+    if modal and lay.n_modal:
+        out = np.concatenate([out, dY[:, lay.v_modal]], axis=1)
+    return out
+
+
 @dataclass(frozen=True)
 class ForceJacobian:
     """Derivatives of the generalized forces and of the mount outputs.
@@ -193,7 +263,8 @@ def _end_maps(system: System, y: np.ndarray, graph: MountGraph) -> np.ndarray:
 
 
 def force_jacobian(system: System, y: np.ndarray, residual, states, steps: np.ndarray, *,
-                   modal: bool = True, capture: tuple = ("w_F",)) -> ForceJacobian:
+                   modal: bool = True, capture: tuple = ("w_F",), t: float = 0.0,
+                   seg_end: float = math.inf) -> ForceJacobian:
     """Central differences of the generalized forces by colour classes.
 
     Parameters
@@ -214,6 +285,8 @@ def force_jacobian(system: System, y: np.ndarray, residual, states, steps: np.nd
     capture : tuple of str
         Mount fields (M, 3) to differentiate too (``w_dx``, ``w_dxd``,
         ``w_f``, ``w_F``).
+    t, seg_end : float
+        Time [s] and segment end of the evaluations (as for ``System.rhs``).
 
     Returns
     -------
@@ -242,7 +315,7 @@ def force_jacobian(system: System, y: np.ndarray, residual, states, steps: np.nd
         DU[p, cols] = steps[cols]
         DU[P + p, cols] = -steps[cols]
     Y = states(DU)
-    dY, cap = system.rhs_batch(np.zeros(2 * P), Y, capture=fields)
+    dY, cap = system.rhs_batch(np.full(2 * P, float(t)), Y, capture=fields, seg_end=seg_end)
     R = residual(dY, Y)                                          # (2P, n)
     dR = R[:P] - R[P:]
     G = _end_maps(system, y, g)                                  # (2M, W, 3)
@@ -289,6 +362,47 @@ def force_jacobian(system: System, y: np.ndarray, residual, states, steps: np.nd
     Rj = _coo(rows, cols_out, vals, (n, n))
     outputs = {f: _coo(out_r[f], out_c[f], out_v[f], (3 * M, n)) for f in capture}
     return ForceJacobian(Rj, outputs, 2 * P)
+
+
+@dataclass(frozen=True)
+class Linearised:
+    """The generalized forces linearised at a state.
+
+    M : (n, n) sparse — mass matrix at the state (:func:`mass_blocks`);
+    Kq, Kv : (n, n) sparse — ∂(M v̇)/∂q and ∂(M v̇)/∂v [N/m …, N s/m …]
+    (M held at the state), q the positions of :func:`perturbed_positions`,
+    v the rates of :func:`perturbed_rates`; outputs_q, outputs_v : dict of
+    the mount fields' derivatives (3M, n); evaluations : int.
+    """
+
+    M: sp.csr_matrix
+    Kq: sp.csr_matrix
+    Kv: sp.csr_matrix
+    outputs_q: dict
+    outputs_v: dict
+    evaluations: int
+
+
+def linearised(system: System, y: np.ndarray, q_steps: np.ndarray, v_steps: np.ndarray, *,
+               t: float = 0.0, seg_end: float = math.inf, capture: tuple = (),
+               modal: bool = True) -> Linearised:
+    """:class:`Linearised` at the state y (ny,) by :func:`force_jacobian`,
+    central steps ``q_steps`` (n,) and ``v_steps`` (n,); then ``v̇ ≈ M⁻¹
+    (Kq δq + Kv δv)`` about y (exactly the right-hand side's derivative for
+    rigid bodies; a flexible body's M(q) varies too, by (∂M/∂q) v̇, nil at an
+    equilibrium)."""
+    Mb = mass_blocks(system, y, modal)
+
+    def residual(dY, Y):
+        return (Mb @ acceleration_rows(system, dY, modal).T).T
+
+    fq = force_jacobian(system, y, residual,
+                        lambda DU: perturbed_positions(system, y, DU), q_steps, modal=modal,
+                        capture=capture, t=t, seg_end=seg_end)
+    fv = force_jacobian(system, y, residual,
+                        lambda DV: perturbed_rates(system, y, DV), v_steps, modal=modal,
+                        capture=capture, t=t, seg_end=seg_end)
+    return Linearised(Mb, fq.R, fv.R, fq.outputs, fv.outputs, fq.evaluations + fv.evaluations)
 
 
 def _coo(rows, cols, vals, shape) -> sp.csr_matrix:

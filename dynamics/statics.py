@@ -26,7 +26,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from .rotation import A as rotation_matrix
-from .jacobian import force_jacobian, quat_mul_rows, rotvec_rows
+from .jacobian import force_jacobian, perturbed_positions
 from .rotation import quat_mul, rotvec_to_p
 from .system import System
 
@@ -120,23 +120,6 @@ def _residual_rows(system: System, dY: np.ndarray, Y: np.ndarray, sag: bool) -> 
     if sag and modal:
         return np.concatenate([R.reshape(k, 6 * n)] + modal, axis=1)
     return R.reshape(k, 6 * n)
-
-
-def _apply_rows(system: System, y: np.ndarray, DX: np.ndarray) -> np.ndarray:
-    """:func:`_apply` for many steps DX (k, n_unknown) → states (k, ny)."""
-    lay = system.layout
-    n = system.n_rigid
-    k = DX.shape[0]
-    Y = np.repeat(y[None, :], k, axis=0)
-    q = Y[:, lay.q_rigid].reshape(k, n, 7)
-    body = DX[:, :6 * n].reshape(k, n, 6)
-    q[:, :, :3] += body[:, :, :3]
-    p = quat_mul_rows(q[:, :, 3:], rotvec_rows(body[:, :, 3:]))
-    q[:, :, 3:] = p / np.sqrt(np.sum(p * p, axis=-1, keepdims=True))
-    Y[:, lay.q_rigid] = q.reshape(k, 7 * n)
-    if DX.shape[1] > 6 * n:
-        Y[:, lay.q_modal] += DX[:, 6 * n:]
-    return Y
 
 
 def _apply(system: System, y: np.ndarray, dx: np.ndarray) -> np.ndarray:
@@ -245,8 +228,9 @@ def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 
     prev_step = math.inf
     for it in range(1, max_iter + 1):
         # central differences by colour classes of the mount graph (flexbed.dynamics.jacobian)
-        fj = force_jacobian(system, y, residual_rows, functools.partial(_apply_rows, system, y),
-                            steps, modal=modal, capture=())
+        fj = force_jacobian(system, y, residual_rows,
+                            functools.partial(perturbed_positions, system, y), steps,
+                            modal=modal, capture=())
         njev += 1
         jac = fj.R
         if not (np.all(np.isfinite(jac.data)) and np.all(np.isfinite(R))):
@@ -271,7 +255,7 @@ def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 
         step = float(np.max(np.abs(dx) * step_unit))
         if converged_at is not None and not step < prev_step:
             break       # polishing no longer helps; keep the previous iterate
-        y_new = _apply_rows(system, y, dx[None, :])[0]
+        y_new = perturbed_positions(system, y, dx[None, :])[0]
         R_new = _residual(system, y_new, sag)
         moved = np.abs(lay.split(y_new)["r"] - start_r)
         if not np.all(np.isfinite(R_new)) or float(np.max(moved)) > max_move:
