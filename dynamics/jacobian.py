@@ -50,7 +50,7 @@ from .system import System
 
 __all__ = ["MountGraph", "mount_graph", "ForceJacobian", "force_jacobian", "quat_mul_rows",
            "rotvec_rows", "perturbed_positions", "perturbed_rates", "mass_blocks",
-           "acceleration_rows", "Linearised", "linearised"]
+           "acceleration_rows", "block_inverse", "Linearised", "linearised"]
 
 
 @dataclass(frozen=True)
@@ -202,6 +202,36 @@ def mass_blocks(system: System, y: np.ndarray, modal: bool = True) -> sp.csr_mat
         rows.append(np.repeat(blk, blk.size))
         cols.append(np.tile(blk, blk.size))
         vals.append(np.array(Mf).ravel())
+    return sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(g.n, g.n)).tocsr()
+
+
+def block_inverse(system: System, M: sp.spmatrix, modal: bool = True) -> sp.csr_matrix:
+    """The inverse of a block-diagonal matrix (n, n) whose blocks are the
+    bodies' (the graph's blocks), block by block (batched dense inverses)."""
+    g = mount_graph(system, modal)
+    W = g.width
+    n_slots = len(g.blocks)
+    slot = np.zeros(g.n, dtype=np.intp)
+    local = np.zeros(g.n, dtype=np.intp)
+    for s, blk in enumerate(g.blocks):
+        slot[blk] = s
+        local[blk] = np.arange(blk.size)
+    D = np.zeros((n_slots, W, W))
+    D[:, np.arange(W), np.arange(W)] = 1.0            # padding: identity
+    for s, blk in enumerate(g.blocks):
+        D[s, np.arange(blk.size), np.arange(blk.size)] = 0.0
+    c = M.tocoo()
+    assert np.all(slot[c.row] == slot[c.col]), "not block-diagonal by the bodies"
+    np.add.at(D, (slot[c.row], local[c.row], local[c.col]), c.data)
+    Dinv = np.linalg.inv(D)
+    rows, cols, vals = [], [], []
+    for size in np.unique([b.size for b in g.blocks]):
+        ss = np.array([s for s, b in enumerate(g.blocks) if b.size == size], dtype=np.intp)
+        idx = np.stack([g.blocks[s] for s in ss])                       # (k, size)
+        rows.append(np.repeat(idx, size, axis=1).ravel())
+        cols.append(np.tile(idx, (1, size)).ravel())
+        vals.append(Dinv[ss][:, :size, :size].ravel())
     return sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                          shape=(g.n, g.n)).tocsr()
 

@@ -58,7 +58,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, eigs
 
-from .jacobian import linearised, mount_graph
+from .jacobian import block_inverse, linearised, mount_graph
 from .steppers.dop853_coefficients import DOP853, N_STAGES
 from .system import System
 
@@ -184,8 +184,7 @@ def largest_eigenvalues(system: System, y: np.ndarray, t: float = 0.0,
         return np.zeros(0, dtype=complex)
     if not (np.all(np.isfinite(lin.Kq.data)) and np.all(np.isfinite(lin.Kv.data))):
         return np.full(1, np.nan + 0j)
-    Minv = sp.csr_matrix(np.linalg.inv(lin.M.toarray())) if n <= 12 else \
-        sp.linalg.inv(lin.M.tocsc()).tocsr()
+    Minv = block_inverse(system, lin.M)
     S = sp.bmat([[None, sp.identity(n)], [Minv @ lin.Kq, Minv @ lin.Kv]], format="csr")
     k = min(count, 2 * n - 2)
     if k < 1:
