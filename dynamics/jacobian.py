@@ -415,22 +415,29 @@ class Linearised:
 
 def linearised(system: System, y: np.ndarray, q_steps: np.ndarray, v_steps: np.ndarray, *,
                t: float = 0.0, seg_end: float = math.inf, capture: tuple = (),
-               modal: bool = True) -> Linearised:
+               modal: bool = True, position_states=None, rate_states=None) -> Linearised:
     """:class:`Linearised` at the state y (ny,) by :func:`force_jacobian`,
     central steps ``q_steps`` (n,) and ``v_steps`` (n,); then ``v̇ ≈ M⁻¹
     (Kq δq + Kv δv)`` about y (exactly the right-hand side's derivative for
     rigid bodies; a flexible body's M(q) varies too, by (∂M/∂q) v̇, nil at an
-    equilibrium)."""
+    equilibrium). ``position_states`` and ``rate_states`` (callables DU (k,
+    n) → states (k, ny)) replace :func:`perturbed_positions` and
+    :func:`perturbed_rates` (another parametrisation of the rotations, the
+    same to first order)."""
     Mb = mass_blocks(system, y, modal)
+    if position_states is None:
+        def position_states(DU):
+            return perturbed_positions(system, y, DU)
+    if rate_states is None:
+        def rate_states(DV):
+            return perturbed_rates(system, y, DV)
 
     def residual(dY, Y):
         return (Mb @ acceleration_rows(system, dY, modal).T).T
 
-    fq = force_jacobian(system, y, residual,
-                        lambda DU: perturbed_positions(system, y, DU), q_steps, modal=modal,
+    fq = force_jacobian(system, y, residual, position_states, q_steps, modal=modal,
                         capture=capture, t=t, seg_end=seg_end)
-    fv = force_jacobian(system, y, residual,
-                        lambda DV: perturbed_rates(system, y, DV), v_steps, modal=modal,
+    fv = force_jacobian(system, y, residual, rate_states, v_steps, modal=modal,
                         capture=capture, t=t, seg_end=seg_end)
     return Linearised(Mb, fq.R, fv.R, fq.outputs, fv.outputs, fq.evaluations + fv.evaluations)
 

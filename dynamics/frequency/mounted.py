@@ -28,9 +28,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
-from ..linear.model import Coordinates, difference_steps, linearise
-from ..rotation import A as rotation_matrix
+from ..jacobian import linearised
+from ..linear.model import Coordinates, difference_steps
 from ..system import System
 
 __all__ = ["MountedSystem", "mounted_system", "DOF_NAMES"]
@@ -78,6 +79,9 @@ class MountedSystem:
         The equilibrium.
     evaluations : int
         Right-hand sides it took.
+    sparse : (M, K, C) of scipy.sparse CSR matrices, or None
+        The same matrices, sparse (block-sparse by the mount graph), for
+        the analyses of large systems.
     """
 
     labels: tuple
@@ -99,6 +103,7 @@ class MountedSystem:
     y_eq: np.ndarray
     coords: Coordinates
     evaluations: int
+    sparse: tuple | None = None
 
     @property
     def n(self) -> int:
@@ -119,27 +124,6 @@ class MountedSystem:
         return self.coords.to_y(z)
 
 
-def _mass_matrix(system: System, coords: Coordinates, y_eq: np.ndarray) -> np.ndarray:
-    """M (n, n) at rest over q = [δr, θ per body 2…, δa], base excluded."""
-    nb3 = coords.base_index.size
-    n = coords.n_pos - nb3
-    M = np.zeros((n, n))
-    for s in range(coords.n_rigid):
-        r = coords.r_index[s] - nb3
-        t = coords.th_index[s] - nb3
-        M[r, r] = system.m_r[s, 0]
-        M[np.ix_(t, t)] = system.J[s]
-    p = coords.p_eq
-    for fc in system.flex_compiled:
-        a = y_eq[fc.qa]
-        A = rotation_matrix(p[fc.slot])
-        blk = np.concatenate([coords.r_index[fc.slot], coords.th_index[fc.slot],
-                              coords.a_index[fc.qa.start - coords.y_a[0]:
-                                             fc.qa.stop - coords.y_a[0]]]) - nb3
-        M[np.ix_(blk, blk)] = fc.eom.mass_matrix(A, a)
-    return M
-
-
 def _labels(system: System, coords: Coordinates) -> tuple[tuple, np.ndarray]:
     bodies = system.scene.bodies
     labels, owner = [], []
@@ -155,49 +139,45 @@ def _labels(system: System, coords: Coordinates) -> tuple[tuple, np.ndarray]:
 def mounted_system(system: System, y_eq: np.ndarray) -> MountedSystem:
     """The mounted system about the equilibrium ``y_eq`` (ny,), base held.
 
-    One linearisation (:func:`flexbed.dynamics.linear.model.linearise`) and one
-    batch of the right-hand side at ±1e-6 in each rotation and modal
-    coordinate and ±1e-4 in each translation and rate (modal ones scaled as
-    the linearisation scales them) for the mounts'
-    outputs; central differences, exact for linear mounts up to round-off
-    and O(1e-12) relative for the rotations' geometry.
+    Central differences of the right-hand side at ±1e-6 in each rotation
+    and modal coordinate and ±1e-4 in each translation and rate (modal ones
+    scaled as :func:`flexbed.dynamics.linear.model.difference_steps` scales
+    them), the states those of the linearisation's coordinates
+    (:class:`~flexbed.dynamics.linear.model.Coordinates`), taken by colour
+    classes of the mount graph (:func:`flexbed.dynamics.jacobian.linearised`:
+    O(N) right-hand sides, block-sparse K and C); exact for linear mounts up
+    to round-off and O(1e-12) relative for the rotations' geometry. The
+    mount outputs come from the same evaluations.
     """
     nfev0 = system.nfev
-    lin = linearise(system, y_eq, rate_step=RATE_STEP, translation_step=RATE_STEP)
-    coords = lin.coords
+    coords = Coordinates(system, y_eq)
     nb3 = coords.base_index.size
     npos = coords.n_pos
     keep = np.arange(nb3, npos)
     n = keep.size
-    A_qv = lin.A[np.ix_(npos + keep, keep)]
-    A_vv = lin.A[np.ix_(npos + keep, npos + keep)]
-    M = _mass_matrix(system, coords, coords.y_eq)
-    K = -M @ A_qv
-    C = -M @ A_vv
-
-    # the mounts' outputs: one batch at ±h in each kept coordinate and rate
     step = difference_steps(system, coords, RATE_STEP, RATE_STEP)
-    cols = np.concatenate([keep, npos + keep])
-    Z = np.zeros((2 * cols.size, coords.nz))
-    Z[np.arange(cols.size), cols] = step[cols]
-    Z[cols.size + np.arange(cols.size), cols] = -step[cols]
-    _, cap = system.rhs_batch(np.zeros(Z.shape[0]), coords.to_y(Z),
-                              capture=("w_dx", "w_dxd", "w_f", "w_F"))
-    h2 = 2.0 * step[cols]
+
+    def states(rates: bool):
+        def make(DU):
+            Z = np.zeros((DU.shape[0], coords.nz))
+            Z[:, (npos if rates else 0) + keep] = DU
+            return coords.to_y(Z)
+        return make
+
+    lin = linearised(system, coords.y_eq, step[keep], step[npos + keep],
+                     capture=("w_dx", "w_dxd", "w_f", "w_F"), position_states=states(False),
+                     rate_states=states(True))
+    Ms, Ks, Cs = lin.M, (-lin.Kq).tocsr(), (-lin.Kv).tocsr()
     m = system.M
-
-    def jac(name):
-        v = cap[name].reshape(Z.shape[0], -1)
-        return ((v[:cols.size] - v[cols.size:]) / h2[:, None]).T       # (rows, 2n)
-
-    dx, dxd, f = jac("w_dx"), jac("w_dxd"), jac("w_f")
-    D, Dv = dx[:, :n], dxd[:, n:]
-    Fq, Fv = f[:, :n], f[:, n:]
     sign = (system.body_i == 0).astype(float) - (system.body_j == 0).astype(float)
-    Fi = jac("w_F").reshape(m, 3, 2 * n)
-    Fbase = np.einsum("m,mkc->kc", sign, Fi)
+    to_base = sp.kron(sp.csr_matrix(sign[None, :]), sp.identity(3), format="csr")   # (3, 3M)
+    D, Dv = lin.outputs_q["w_dx"].toarray(), lin.outputs_v["w_dxd"].toarray()
+    Fq, Fv = lin.outputs_q["w_f"].toarray(), lin.outputs_v["w_f"].toarray()
+    Bq = (to_base @ lin.outputs_q["w_F"]).toarray()
+    Bv = (to_base @ lin.outputs_v["w_F"]).toarray()
     k_t = _tangent(Fq, D)
     c_t = _tangent(Fv, Dv)
+    assert D.shape == (3 * m, n)
 
     K_el = np.zeros((n, n))
     for fc in system.flex_compiled:
@@ -206,12 +186,14 @@ def mounted_system(system: System, y_eq: np.ndarray) -> MountedSystem:
     iota = np.zeros((n, 3))
     for s in range(coords.n_rigid):
         iota[coords.r_index[s] - nb3, np.arange(3)] = 1.0
+    M = Ms.toarray()
     labels, owner = _labels(system, coords)
-    return MountedSystem(labels=labels, body=owner, M=M, K=K, C=C, K_elastic=K_el,
-                         D=D, Dv=Dv, Fq=Fq, Fv=Fv, k_tangent=k_t, c_tangent=c_t,
-                         Bq=Fbase[:, :n], Bv=Fbase[:, n:], iota=iota,
+    return MountedSystem(labels=labels, body=owner, M=M, K=Ks.toarray(), C=Cs.toarray(),
+                         K_elastic=K_el, D=D, Dv=Dv, Fq=Fq, Fv=Fv, k_tangent=k_t, c_tangent=c_t,
+                         Bq=Bq, Bv=Bv, iota=iota,
                          moving_mass=float(iota[:, 0] @ M @ iota[:, 0]),
-                         y_eq=coords.y_eq, coords=coords, evaluations=system.nfev - nfev0)
+                         y_eq=coords.y_eq, coords=coords, evaluations=system.nfev - nfev0,
+                         sparse=(Ms, Ks, Cs))
 
 
 def _tangent(F: np.ndarray, D: np.ndarray) -> np.ndarray:
