@@ -125,17 +125,26 @@ def solve_blocks(plan: BlockPlan, omega: np.ndarray, rhs: np.ndarray) -> np.ndar
     for s in range(0, omega.size, _CHUNK):
         om = omega[s:s + _CHUNK]
         f = om.size
-        c = np.stack([np.ones(f), -om * om, 1j * om], axis=1)   # (f, 3): K, M, C weights
+        w2 = om * om
 
-        GLL, GLH, GHL, GHH = (np.tensordot(c, parts, axes=(1, 0))      # (f, ...)
-                              for parts in (plan.LL, plan.LH, plan.HL, plan.HH))
-        rhs_L = np.concatenate([GLH, np.broadcast_to(rL[None, :, :, None], (f, nL, w, 1))],
-                               axis=3)
+        def at(parts, w2=w2, om=om):
+            """K − ω² M + iω C of the pieces, (f, ...), built in place."""
+            shape = (-1,) + (1,) * (parts.ndim - 1)
+            G = np.empty((om.size,) + parts.shape[1:], dtype=complex)
+            G.real = parts[0][None] - w2.reshape(shape) * parts[1][None] \
+                if parts[1].any() else np.broadcast_to(parts[0], G.shape)
+            G.imag = om.reshape(shape) * parts[2][None]
+            return G
+
+        GLL, GHL, GHH = at(plan.LL), at(plan.HL), at(plan.HH)
+        rhs_L = np.empty((f, nL, w, nH + 1), dtype=complex)
+        rhs_L[..., :nH] = at(plan.LH)
+        rhs_L[..., nH] = rL[None]
         Y = np.linalg.solve(GLL, rhs_L)                      # G_LL⁻¹ [G_LH, r_L]
-        T = np.einsum("flhw,flwk->fhk", GHL, Y)              # (f, nH, nH + 1)
+        T = np.matmul(GHL, Y).sum(axis=1)                    # (f, nH, nH + 1)
         S = GHH - T[:, :, :nH]
         xH = np.linalg.solve(S, (rH[None, :] - T[:, :, nH])[..., None])[..., 0]
-        xL = Y[..., nH] - np.einsum("flwh,fh->flw", Y[..., :nH], xH)
+        xL = Y[..., nH] - np.matmul(Y[..., :nH], xH[:, None, :, None])[..., 0]
         X[s:s + f, plan.leaf_index.reshape(-1)] = xL.reshape(f, nL * w)
         X[s:s + f, plan.hub] = xH
     return X
