@@ -411,3 +411,15 @@ def test_lowest_modes_by_arnoldi_equal_the_dense_ones(tiled8):
     assert low.undamped_frequency == pytest.approx(full.undamped_frequency[:12], rel=1e-10)
     assert low.damping_ratio == pytest.approx(full.damping_ratio[:12], rel=0, abs=1e-12)
     assert np.abs(low.effective_mass - full.effective_mass[:12]).max() <= 1e-9 * ms.moving_mass
+
+
+@pytest.mark.slow
+def test_growth_exponent_and_one_row_of_the_scaling_table():
+    from flexbed.bench.scaling import growth_exponent, stage_times
+
+    assert growth_exponent(32, 1.0, 128, 4.0) == pytest.approx(1.0)
+    assert growth_exponent(32, 1.0, 128, 16.0) == pytest.approx(2.0)
+    assert np.isnan(growth_exponent(32, 0.0, 128, 1.0))
+    row = stage_times(1)
+    assert row["N"] == 2 and row["coordinates"] == 18
+    assert all(row[s] > 0.0 for s in ("statics", "simulate", "modal", "frf"))
