@@ -36,8 +36,9 @@ __all__ = ["Outputs", "Input", "Sweep", "responses", "resonance_grid", "peak_sea
            "mount_outputs", "isolation"]
 
 _CHUNK = 128                          # frequencies per batched solve
-#: above this many coordinates the sparse path (:func:`_responses_sparse`)
-DENSE_LIMIT = 120
+#: above this many coordinates the sparse path (:func:`_responses_sparse`;
+#: the reference scene has 18, and keeps the batched dense solves)
+DENSE_LIMIT = 30
 
 
 @dataclass(frozen=True)
