@@ -42,7 +42,7 @@ a 1.2 s run with 128 pieces of equipment), so there the eigenvalues of
 largest modulus alone are found, :data:`ARNOLDI_COUNT` of them by
 implicitly restarted Arnoldi (ARPACK, :func:`scipy.sparse.linalg.eigs`) on
 the block-sparse first-order operator ``[[0, I], [M⁻¹Kq, M⁻¹Kv]]`` of the
-bodies' coordinates (:func:`flexbed.dynamics.jacobian.linearised`: central
+bodies' coordinates (:func:`flexbed.dynamics.block_linearisation.linearised`: central
 differences by colour classes of the mount graph, O(N)). The largest
 modulus is the dense solve's to the Arnoldi tolerance (1e-8 relative); the
 stable step is exact when every eigenvalue within (lo/hi) of that modulus
@@ -58,7 +58,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, eigs
 
-from .jacobian import block_inverse, linearised, mount_graph
+from .block_linearisation import block_inverse, linearised
+from .jacobian import mount_graph
 from .steppers.dop853_coefficients import DOP853, N_STAGES
 from .system import System
 

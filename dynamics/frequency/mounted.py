@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..jacobian import linearised
+from ..block_linearisation import linearised
 from ..linear.model import Coordinates, difference_steps, linearise
 from ..rotation import A as rotation_matrix
 from ..system import System
@@ -201,7 +201,7 @@ def _dense_parts(system: System, coords: Coordinates):
 
 def _sparse_parts(system: System, coords: Coordinates):
     """The same by colour classes of the mount graph
-    (:func:`flexbed.dynamics.jacobian.linearised`: O(N) right-hand sides,
+    (:func:`flexbed.dynamics.block_linearisation.linearised`: O(N) right-hand sides,
     block-sparse M, K, C; the path of large systems): the states are the
     linearisation's coordinates at the same steps, so the entries are the
     dense path's up to round-off."""
