@@ -216,18 +216,24 @@ def peak_search(evaluate, lo: np.ndarray, hi: np.ndarray, xtol: np.ndarray,
     g = (np.sqrt(5.0) - 1.0) / 2.0
     a, b = lo.astype(float).copy(), hi.astype(float).copy()
     xtol = np.maximum(xtol, 8.0 * np.spacing(np.maximum(np.abs(a), np.abs(b))))
-    rows = np.arange(a.size)
     c = b - g * (b - a)
     d = a + g * (b - a)
-    fc = evaluate(c)[rows, columns]
-    fd = evaluate(d)[rows, columns]
+    def at(x):
+        """|H| of each bracket's column at its x (P,): every distinct
+        frequency solved once (brackets of many outputs between the same
+        grid points ask for the same frequencies)."""
+        ux, inv = np.unique(x, return_inverse=True)
+        return evaluate(ux)[inv, columns]
+
+    fc = at(c)
+    fd = at(d)
     for _ in range(PEAK_SEARCH_STEPS):
         if not np.any(b - a > xtol):
             break
         left = fc > fd                       # the maximum is in [a, d]
         a, b = np.where(left, a, c), np.where(left, d, b)
         x = np.where(left, b - g * (b - a), a + g * (b - a))
-        fx = evaluate(x)[rows, columns]
+        fx = at(x)
         c, d, fc, fd = (np.where(left, x, d), np.where(left, c, x),
                         np.where(left, fx, fd), np.where(left, fc, fx))
     return 0.5 * (a + b)
