@@ -47,6 +47,7 @@ TARGETS = {
     "linear": (["integrators", "linear"], None),
     "inputs": (["inputs"], None),
     "beds": (["beds"], None),
+    "scaling": (["scaling"], None),
 }
 
 
