@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .cells import is_triangle, point_shape
-from .geometry import GeometryError
+from .geometry import MAX_COORDINATE, GeometryError
 
 _EPS = np.zeros((3, 3, 3))
 _EPS[0, 1, 2] = _EPS[1, 2, 0] = _EPS[2, 0, 1] = 1.0
@@ -52,6 +52,9 @@ class FixedMass:
         if p.shape != (3,) or not np.all(np.isfinite(p)):
             raise GeometryError("position", f"position = {self.position!r} must be [x, y, z] "
                                             f"[m]")
+        if np.abs(p).max() > MAX_COORDINATE:
+            raise GeometryError("position", f"position = {self.position!r} m is beyond "
+                                            f"{MAX_COORDINATE:g} m (coordinates in metres)")
         object.__setattr__(self, "position", tuple(float(v) for v in p))
         m = self.mass
         if isinstance(m, bool) or not isinstance(m, (int, float)) or not (

@@ -24,6 +24,14 @@ from pathlib import Path
 import numpy as np
 
 SHAPES = ("rectangle", "circle", "polygon")
+#: the largest coordinate magnitude of a bed [m]: past a thousand kilometres
+#: a number is a unit slip, and the bed's ρ t L⁴ stays far inside double
+#: precision
+MAX_COORDINATE = 1e6
+#: the smallest extent of a polygon or region, and the smallest element
+#: size [m]: below a micrometre a feature is a typing slip, and the mesher's
+#: rounding (1e-12 m) stays far below it
+MIN_EXTENT = 1e-6
 
 
 class GeometryError(ValueError):
@@ -35,17 +43,41 @@ class GeometryError(ValueError):
 
 
 def _points(entry: str, value) -> tuple[tuple[float, float], ...]:
+    """A simple polygon's points, checked
+    (:func:`flexbed.fem.mesh_checks.check_polygon`)."""
+    from .mesh_checks import check_polygon
     try:
         arr = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise GeometryError(entry, f"{entry} = {value!r} must be a list of [x, y] points") \
-            from None
-    if arr.ndim != 2 or arr.shape[1] != 2 or arr.shape[0] < 3 or not np.all(np.isfinite(arr)):
-        raise GeometryError(entry, f"{entry} = {value!r} must be at least 3 finite [x, y] "
+    except (TypeError, ValueError, OverflowError):
+        raise GeometryError(entry, f"{entry} = {_short(value)} must be a list of [x, y] "
+                                   f"points") from None
+    if arr.ndim != 2 or arr.shape[1] != 2 or arr.shape[0] < 3:
+        raise GeometryError(entry, f"{entry} = {_short(value)} must be at least 3 [x, y] "
                                    f"points")
-    if abs(signed_area(arr)) <= 1e-12 * np.ptp(arr, axis=0).max() ** 2:
-        raise GeometryError(entry, f"{entry} = {value!r} encloses no area")
+    check_polygon(entry, arr)
     return tuple((float(x), float(y)) for x, y in arr)
+
+
+def _short(value) -> str:
+    """repr of a value, cut to 120 characters."""
+    text = repr(value)
+    return text if len(text) <= 120 else text[:100] + " ... " + text[-15:]
+
+
+def _extent_check(entry: str, value: float) -> None:
+    if not MIN_EXTENT <= value <= MAX_COORDINATE:
+        raise GeometryError(entry, f"{entry} = {value!r} m must lie within {MIN_EXTENT:g} to "
+                                   f"{MAX_COORDINATE:g} m (coordinates in metres)")
+
+
+def file_digest(path: str | Path) -> str:
+    """SHA-256 of a file's bytes (hex), read in pieces of 1 MiB (a mesh file
+    of gigabytes is hashed without holding it)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
 
 
 def signed_area(poly: np.ndarray) -> float:
@@ -84,12 +116,17 @@ class Region:
         if c.shape != (2,) or not np.all(np.isfinite(c)):
             raise GeometryError("centre", f"centre = {self.centre!r} must be [x, y]")
         object.__setattr__(self, "centre", (float(c[0]), float(c[1])))
+        if np.abs(c).max() > MAX_COORDINATE:
+            raise GeometryError("centre", f"centre = {self.centre!r} m is beyond "
+                                          f"{MAX_COORDINATE:g} m (coordinates in metres)")
         if self.shape == "rectangle":
             s = np.array(self.size if self.size is not None else [], dtype=float)
             if s.shape != (2,) or not np.all(np.isfinite(s) & (s > 0)):
                 raise GeometryError("size", f"size = {self.size!r} must be [a, b] > 0 for a "
                                             f"rectangle")
             object.__setattr__(self, "size", (float(s[0]), float(s[1])))
+            for v in self.size:
+                _extent_check("size", v)
         elif self.shape == "circle":
             r = self.radius
             if isinstance(r, bool) or not isinstance(r, (int, float)) or not (
@@ -97,6 +134,7 @@ class Region:
                 raise GeometryError("radius", f"radius = {r!r} must be a number > 0 for a "
                                               f"circle")
             object.__setattr__(self, "radius", float(r))
+            _extent_check("radius", self.radius)
         else:
             object.__setattr__(self, "points", _points("points", self.points))
 
@@ -179,12 +217,18 @@ class BedGeometry:
                                                 f"[m]")
         if h is not None:
             object.__setattr__(self, "element_size", float(h))
+            _extent_check("element_size", self.element_size)
         if self.mesh_file is not None and (self.outline is not None or self.cutouts):
             raise GeometryError("mesh_file", "give either mesh_file or outline/cutout, "
                                              "not both")
         if self.mesh_file is not None and self.mesh_digest is None:
+            path = Path(self.mesh_file)
+            if path.exists() and not path.is_file():      # a FIFO would block the read
+                kind = "a folder" if path.is_dir() else "a FIFO, device or socket"
+                raise GeometryError("mesh_file", f"mesh_file = {self.mesh_file!r} is {kind}, "
+                                                 f"not a mesh file")
             try:
-                digest = hashlib.sha256(Path(self.mesh_file).read_bytes()).hexdigest()
+                digest = file_digest(self.mesh_file)
             except OSError as exc:
                 raise GeometryError("mesh_file", f"mesh_file = {self.mesh_file!r}: cannot read "
                                                  f"it ({exc.strerror or exc})") from None

@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .cells import locate
+from .geometry import GeometryError
 from .mass_properties import MassProperties, plate_mass_properties, shift_inertia
 from .mesher import mesh_bed
 from .quad_shapes import QuadShapes
@@ -55,6 +57,26 @@ class BedLayout:
                           np.zeros((0, 1, 3))).locate(x, y)
 
 
+def _check_lines(spec: PlateSpec) -> None:
+    """Refuse a stiffener that leaves the bounding box of the bed's outline
+    before the mesher draws grid lines through its ends (a far end would
+    stretch the grid over all the space between)."""
+    g = spec.geometry
+    if not spec.stiffeners or g.mesh_file is not None:
+        return
+    outline = (np.array(g.outline) if g.outline is not None else
+               np.array([[-spec.length_x / 2, -spec.length_y / 2],
+                         [spec.length_x / 2, spec.length_y / 2]]))
+    lo, hi = outline.min(axis=0), outline.max(axis=0)
+    tol = 1e-9 * float(np.max(hi - lo))
+    for st in spec.stiffeners:
+        ends = np.array([st.start, st.end])
+        if np.any(ends < lo - tol) or np.any(ends > hi + tol):
+            raise GeometryError(f"stiffener {st.name!r}",
+                                f"stiffener {st.name!r} from {list(st.start)} to "
+                                f"{list(st.end)} m leaves the bed")
+
+
 def _grid(spec: PlateSpec) -> tuple[np.ndarray, np.ndarray]:
     from .shell import grid_mesh
     return grid_mesh(spec)
@@ -74,8 +96,14 @@ def bed_layout(spec: PlateSpec) -> BedLayout:
         nodes, cells = _grid(spec)
         t = np.full(cells.shape[0], spec.thickness)
     else:
+        _check_lines(spec)
         nodes, cells, t = mesh_bed(spec.geometry, spec.length_x, spec.length_y,
                                    spec.thickness, spec.nx, spec.ny, lines=lines)
+    for item in spec.masses:
+        if locate(nodes, cells, item.position[0], item.position[1]) is None:
+            raise GeometryError(f"fixed_mass {item.name!r}",
+                                f"fixed_mass {item.name!r}: position = {list(item.position)} m "
+                                f"is off the bed (outside its outline or in a cut-out)")
     plate = plate_mass_properties(nodes, cells, t, spec.density)
     m = plate.mass
     first = plate.mass * plate.centre

@@ -14,9 +14,18 @@ cell (quadrilaterals, and triangles from a mesh file):
   split into three quadrilaterals at its centroid and edge mid-points
   (quads of side about h). The triangles' area is checked against the
   polygons' (the boundary must come out conforming).
-* **Mesh file** (meshio): its quads and its triangles as they are (linear
-  triangles stored as (a, b, c, c), :mod:`flexbed.fem.cells`; the shell
-  has a triangle element, :mod:`flexbed.fem.triangle_shell`).
+* **Mesh file** (meshio, :mod:`flexbed.fem.mesh_file`): its quads and its
+  triangles as they are (linear triangles stored as (a, b, c, c),
+  :mod:`flexbed.fem.cells`; the shell has a triangle element,
+  :mod:`flexbed.fem.triangle_shell`).
+
+Before meshing, the outline and cut-outs are checked
+(:mod:`flexbed.fem.mesh_checks`) and the size of the mesh asked for is
+estimated from the areas and the element size (:func:`estimated_nodes`): a
+mesh past the solver's limit (``MAX_DOFS`` of :mod:`flexbed.fem.spec`) is
+refused before anything is allocated, and after meshing on its exact count.
+Every mesh is then checked as a mesh (one piece, sound cells), and every
+thickness zone must hold at least one cell.
 
 Pure NumPy/SciPy (no scikit-fem): the scene reader meshes to know the
 bed's mass properties.
@@ -24,19 +33,17 @@ bed's mass properties.
 
 from __future__ import annotations
 
-import hashlib
 import math
 from pathlib import Path
 
 import numpy as np
 
-from .cells import areas, as_cells, centres, is_triangle
+from .cells import centres, is_triangle
 from .geometry import BedGeometry, GeometryError, inside, signed_area
-
-
-def file_digest(path: str | Path) -> str:
-    """SHA-256 of a file's bytes (hex)."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+from .mesh_checks import MIN_CORNER_ANGLE, check_cells, check_cutouts, check_size
+from .mesh_file import read_mesh_file
+from .shell import DOFS_PER_NODE
+from .spec import MAX_DOFS
 
 
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -123,7 +130,7 @@ def split_triangles(nodes: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.
     return np.vstack([nodes, mids, cent]), quads
 
 
-def _general(outline, holes, zone_polys, h):
+def _general(outline, holes, zone_polys, h, label):
     spacing = 2.0 * h                       # triangles of side 2h → quads of side h
     constraint = [outline] + holes + zone_polys
     bpts = np.vstack([_boundary_points(p, spacing) for p in constraint])
@@ -146,7 +153,12 @@ def _general(outline, holes, zone_polys, h):
         domain &= ~inside(hole, pts)
     pts = np.unique(np.round(pts[on | domain], 12), axis=0)
     from scipy.spatial import Delaunay
-    tri = Delaunay(pts).simplices
+    try:
+        tri = Delaunay(pts).simplices
+    except (RuntimeError, ValueError) as exc:          # Qhull: too few or flat points
+        raise GeometryError("element_size", f"{label}: the outline cannot be triangulated "
+                                            f"({str(exc).strip().splitlines()[0]}); give a "
+                                            f"smaller element_size") from None
     cent = pts[tri].mean(axis=1)
     keep = inside(outline, cent)
     for hole in holes:
@@ -158,55 +170,65 @@ def _general(outline, holes, zone_polys, h):
     tri[area < 0] = tri[area < 0][:, [0, 2, 1]]
     target = signed_area(outline) - sum(signed_area(hh) for hh in holes)
     if abs(np.abs(area).sum() - target) > 1e-9 * target:
-        raise GeometryError("element_size", f"the mesh does not follow the outline and "
+        raise GeometryError("element_size", f"{label}: the mesh does not follow the outline and "
                                             f"cut-outs (area {np.abs(area).sum():.6g} against "
                                             f"{target:.6g} m^2); give a smaller element_size "
                                             f"(now {h:g} m)")
     return split_triangles(pts, tri)
 
 
-def read_mesh_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
-    """Nodes (N, 2) and counter-clockwise cells (ne, 4) of a meshio mesh:
-    its quads, and its triangles as they are, stored (a, b, c, c)
-    (:mod:`flexbed.fem.cells`).
+def _line_count(coords: np.ndarray, h: float) -> float:
+    """How many lines :func:`_lines` makes of these coordinates (as a float,
+    so that a tiny h cannot overflow)."""
+    c = np.unique(np.round(coords, 12))
+    gaps = np.diff(c) / h - 1e-9
+    return 1.0 + float(np.sum(np.maximum(1.0, np.ceil(gaps))))
 
-    Raises
-    ------
-    GeometryError
-        Unreadable, or without quads or triangles.
+
+def estimated_nodes(outline: np.ndarray, holes: list, constraints: list, h: float,
+                    rectilinear: bool) -> float:
+    """The nodes the mesher would make, estimated before meshing.
+
+    Rectilinear: the tensor grid's lines counted exactly, times the share
+    of its bounding box the bed covers. General: boundary points every 2h
+    and a hexagonal lattice of spacing 2h on the bed's area less a band h
+    wide along each boundary, P points in all, B on boundaries; Delaunay
+    gives about 2P - B triangles and 3P - B edges, and each triangle split
+    into three quads adds its centroid and its edges' mid-points: about
+    6P - 2B nodes. Within about 20 % of the mesh made once elements are
+    small against the bed (tested).
+
+    Parameters
+    ----------
+    outline : ndarray (k, 2)
+    holes, constraints : list of ndarray (m, 2)
+        Cut-outs, and every polygon or segment the mesh must follow [m].
+    h : float
+        Element size [m].
+    rectilinear : bool
+        Which route the mesher takes.
     """
-    import meshio
-    try:
-        mesh = meshio.read(path)
-    except Exception as exc:                       # meshio raises many kinds
-        raise GeometryError("mesh_file", f"mesh_file = {str(path)!r}: cannot read it "
-                                         f"({exc})") from None
-    pts = np.asarray(mesh.points, dtype=float)[:, :2]
-    quads = [np.asarray(b.data) for b in mesh.cells if b.type == "quad"]
-    tris = [np.asarray(b.data) for b in mesh.cells if b.type == "triangle"]
-    if not quads and not tris:
-        found = ', '.join(b.type for b in mesh.cells) or 'none'
-        raise GeometryError("mesh_file", f"mesh_file = {str(path)!r} has no quad or triangle "
-                                         f"cells (it has {found})")
-    cells = np.vstack(quads).astype(np.int64) if quads else np.zeros((0, 4), np.int64)
-    if tris:
-        tri = np.vstack(tris).astype(np.int64)
-        area = _cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
-        tri[area < 0] = tri[area < 0][:, [0, 2, 1]]
-        cells = as_cells(cells, tri)
-    area = areas(pts, cells)
-    quad = ~is_triangle(cells)
-    flip = (area < 0) & quad
-    cells[flip] = cells[flip][:, ::-1]
-    if np.any(np.abs(area) <= 0):
-        raise GeometryError("mesh_file", f"mesh_file = {str(path)!r} has cells of zero area")
-    return _compact(pts, cells)
+    area = abs(signed_area(outline)) - sum(abs(signed_area(p)) for p in holes)
+    if rectilinear:
+        allpts = np.vstack([outline] + holes + constraints)
+        box = np.ptp(allpts, axis=0)
+        grid = _line_count(allpts[:, 0], h) * _line_count(allpts[:, 1], h)
+        return grid * min(1.0, area / max(box[0] * box[1], 1e-300))
+    spacing = 2.0 * h
+    boundary, band = 0.0, 0.0
+    for k, p in enumerate([outline] + holes + constraints):
+        lengths = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
+        boundary += float(np.sum(np.maximum(1.0, np.ceil(lengths / spacing))))
+        band += (1.0 if k <= len(holes) else 2.0) * float(np.sum(lengths))
+    lattice = max(0.0, area - 0.5 * spacing * band) / (spacing * spacing * math.sqrt(3) / 2)
+    return 6.0 * (boundary + lattice) - 2.0 * boundary
 
 
-def _check_cells(nodes: np.ndarray, cells: np.ndarray, geometry: BedGeometry) -> None:
+def _check_convex(label: str, nodes: np.ndarray, cells: np.ndarray) -> None:
     """Every quadrilateral convex and counter-clockwise (positive Jacobian at
-    its corners), every triangle counter-clockwise, else a GeometryError
-    naming the first bad cell."""
+    its corners), every triangle counter-clockwise, and no corner sharper
+    than ``MIN_CORNER_ANGLE``, else a GeometryError naming the first bad
+    cell (the sharpest)."""
     tri = is_triangle(cells)
     xy = nodes[np.where(tri[:, None], cells[:, [0, 1, 2, 0]], cells)]
     nxt, prv = np.roll(xy, -1, axis=1), np.roll(xy, 1, axis=1)
@@ -215,10 +237,39 @@ def _check_cells(nodes: np.ndarray, cells: np.ndarray, geometry: BedGeometry) ->
     # a triangle (a, b, c, a): corners b and c count (a's equals them, 2 × area)
     bad = np.flatnonzero(np.where(tri, flat[:, 1] | flat[:, 2], np.any(flat, axis=1)))
     if bad.size:
-        entry = "mesh_file" if geometry.mesh_file is not None else "element_size"
-        raise GeometryError(entry, f"cell {int(bad[0])} (corners {xy[bad[0]].round(6).tolist()}"
-                                   f" m) is not a convex counter-clockwise cell "
-                                   f"({bad.size} such cells)")
+        c = int(bad[0])
+        name = f"triangle {c - int(np.sum(~tri))}" if tri[c] else f"quad {c}"
+        raise GeometryError(label, f"{label}: {name} (corners "
+                                   f"{xy[c, :3 if tri[c] else 4].round(6).tolist()} m) is not "
+                                   f"convex (self-intersecting, or a corner of 180 degrees "
+                                   f"or more); {bad.size} such cell" + "s" * (bad.size > 1))
+    a, b = nxt - xy, prv - xy
+    with np.errstate(invalid="ignore", divide="ignore"):
+        sine = turn / (np.linalg.norm(a, axis=-1) * np.linalg.norm(b, axis=-1))
+    sine = np.where(tri[:, None], np.where(np.arange(4) == 3, 1.0, sine), sine)
+    worst = np.min(np.nan_to_num(sine, nan=1.0), axis=1)
+    sharp = np.flatnonzero(worst < math.sin(math.radians(MIN_CORNER_ANGLE)))
+    if sharp.size:
+        c = int(sharp[np.argmin(worst[sharp])])
+        name = f"triangle {c - int(np.sum(~tri))}" if tri[c] else f"quad {c}"
+        hint = ("remesh it" if label.startswith("mesh_file") else
+                "give a smaller element_size (a cut-out or zone much smaller than the "
+                "elements leaves slivers)")
+        raise GeometryError(label, f"{label}: {name} (corners "
+                                   f"{xy[c, :3 if tri[c] else 4].round(6).tolist()} m) has a "
+                                   f"corner of {math.degrees(math.asin(worst[c])):.2g} degrees, "
+                                   f"below {MIN_CORNER_ANGLE:g} ({sharp.size} such cell"
+                                   + "s" * (sharp.size > 1) + f"): too distorted; {hint}")
+
+
+def _label(geometry: BedGeometry, h: float, path: Path | None) -> str:
+    """How messages about the mesh start: the mesh file, or the element
+    size (given, or from nx and ny)."""
+    if path is not None:
+        return f"mesh_file = {str(path)!r}"
+    if geometry.element_size is not None:
+        return f"element_size = {geometry.element_size:g} m"
+    return f"the mesh (element size {h:.6g} m from nx, ny)"
 
 
 def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness: float,
@@ -250,9 +301,10 @@ def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness:
         path = Path(geometry.mesh_file)
         if folder is not None and not path.is_absolute():
             path = folder / path
-        nodes, cells = read_mesh_file(path)
+        nodes, cells = read_mesh_file(path, per_node=DOFS_PER_NODE, limit=MAX_DOFS)
         ext = np.ptp(nodes, axis=0)
         h = geometry.element_size or min(ext[0] / nx, ext[1] / ny)
+        label = _label(geometry, h, path)
         zones = [(z.region.polygon(h), z.thickness) for z in geometry.zones]
     else:
         if geometry.outline is None:
@@ -264,11 +316,17 @@ def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness:
                 outline = outline[::-1].copy()
         ext = np.ptp(outline, axis=0)
         h = geometry.element_size or min(ext[0] / nx, ext[1] / ny)
+        label = _label(geometry, h, None)
         holes = [c.polygon(h) for c in geometry.cutouts]
+        check_cutouts(outline, [(f"cutout {i + 1}", c.describe(), hole)
+                                for i, (c, hole) in enumerate(zip(geometry.cutouts, holes))])
         zones = [(z.region.polygon(h), z.thickness) for z in geometry.zones]
         polys = [outline] + holes + [p for p, _ in zones]
         segs = [np.array(seg, dtype=float) for seg in lines]
-        if all(_rectilinear(p) for p in polys + segs):
+        rectilinear = all(_rectilinear(p) for p in polys + segs)
+        estimate = estimated_nodes(outline, holes, [p for p, _ in zones] + segs, h, rectilinear)
+        check_size("element_size", f"{label} gives about", estimate, DOFS_PER_NODE, MAX_DOFS)
+        if rectilinear:
             nodes, cells = _grid(outline, holes, [p for p, _ in zones] + segs, h)
             cent = nodes[cells].mean(axis=1)
             keep = inside(outline, cent)
@@ -276,11 +334,22 @@ def mesh_bed(geometry: BedGeometry, length_x: float, length_y: float, thickness:
                 keep &= ~inside(hole, cent)
             nodes, cells = _compact(nodes, cells[keep])
         else:
-            nodes, cells = _general(outline, holes, [p for p, _ in zones] + segs, h)
+            nodes, cells = _general(outline, holes, [p for p, _ in zones] + segs, h, label)
             nodes, cells = _compact(nodes, cells)
-    _check_cells(nodes, cells, geometry)
+        if cells.shape[0] == 0:
+            raise GeometryError("element_size", f"{label}: no cell is left on the bed")
+        check_size("element_size", f"{label} gives", nodes.shape[0], DOFS_PER_NODE, MAX_DOFS)
+        cells = check_cells(label, nodes, cells, cells.shape[0])
+    _check_convex(label, nodes, cells)
     t = np.full(cells.shape[0], float(thickness))
     cent = centres(nodes, cells)
-    for poly, tz in zones:
-        t[inside(poly, cent)] = tz
+    for i, (poly, tz) in enumerate(zones):
+        hit = inside(poly, cent)
+        if not hit.any():
+            z = geometry.zones[i]
+            raise GeometryError(f"zone {i + 1}", f"zone {i + 1}: {z.region.describe()} holds "
+                                                 f"no cell of the bed (outside it, in a "
+                                                 f"cut-out, or smaller than a cell); give it "
+                                                 f"where the bed is, or a smaller element_size")
+        t[hit] = tz
     return nodes, cells, t

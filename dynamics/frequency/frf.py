@@ -21,10 +21,14 @@ acceleration's transmissibility from the base is ``−ω² y`` [1].
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
 
+from .blocks import block_plan, solve_blocks
 from .modal import Modes
 from .mounted import MountedSystem
 
@@ -32,6 +36,9 @@ __all__ = ["Outputs", "Input", "Sweep", "responses", "resonance_grid", "peak_sea
            "mount_outputs", "isolation"]
 
 _CHUNK = 128                          # frequencies per batched solve
+#: above this many coordinates the sparse path (:func:`_responses_sparse`;
+#: the reference scene has 18, and keeps the batched dense solves)
+DENSE_LIMIT = 30
 
 
 @dataclass(frozen=True)
@@ -76,6 +83,8 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
     """
     omega = np.asarray(omega, dtype=float).reshape(-1)
     n = ms.n
+    if n > DENSE_LIMIT and ms.sparse is not None:
+        return _responses_sparse(ms, omega, inp, out)
     acc = np.empty((omega.size, out.positions.shape[0]), dtype=complex)
     frc = np.empty((omega.size, out.forces.shape[0]), dtype=complex)
     if inp.kind == "base":
@@ -98,6 +107,56 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
             pos = q @ Yq.T
         acc[s:s + w.size] = -(w * w)[:, None] * pos
         frc[s:s + w.size] = u @ out.forces.T + (1j * w)[:, None] * (u @ out.force_rates.T)
+    return acc, frc
+
+
+_PLANS: dict = {}
+
+
+def _plan(ms: MountedSystem):
+    """The block plan of ``ms`` (made once per mounted system)."""
+    key = id(ms)
+    got = _PLANS.get(key)
+    if got is None or got[0]() is not ms:
+        Ms, Ks, Cs = ms.sparse
+        got = _PLANS[key] = (weakref.ref(ms), block_plan(Ks, Ms, Cs, ms.body))
+        weakref.finalize(ms, _PLANS.pop, key, None)
+    return got[1]
+
+
+def _responses_sparse(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
+    """:func:`responses` of a large system: the dynamic stiffness
+    ``G(ω) = K − ω² M + iω C`` solved by blocks
+    (:mod:`flexbed.dynamics.frequency.blocks`: the leaf bodies eliminated,
+    many frequencies at once) or, when the hubs are many, factorised sparse
+    per frequency (SuperLU); the outputs through sparse matrices. Same
+    equations, same results to round-off."""
+    Ms, Ks, Cs = ms.sparse
+    n = ms.n
+    iota = ms.iota[:, inp.axis]
+    rhs = -(Ms @ iota) if inp.kind == "base" else np.asarray(inp.load, dtype=float)
+    rhs = rhs.astype(complex)
+    plan = _plan(ms)
+    if plan is not None:
+        X = solve_blocks(plan, omega, rhs)
+    else:
+        Kc, Mc, Cc = (sp.csc_matrix(a, dtype=complex) for a in (Ks, Ms, Cs))
+        X = np.empty((omega.size, n), dtype=complex)
+        for k, w in enumerate(omega):
+            X[k] = splu(Kc - (w * w) * Mc + (1j * w) * Cc).solve(rhs)
+    Yb, Yq = out.positions[:, :3], sp.csr_matrix(out.positions[:, 3:])
+    Fs, Fr = sp.csr_matrix(out.forces), sp.csr_matrix(out.force_rates)
+    w = omega
+    if inp.kind == "base":
+        xb = -1.0 / (w * w)
+        U = X
+        Q = U + xb[:, None] * iota[None, :]
+        pos = (Yq @ Q.T).T + xb[:, None] * Yb[:, inp.axis][None, :]
+    else:
+        U = X
+        pos = (Yq @ X.T).T
+    acc = -(w * w)[:, None] * pos
+    frc = (Fs @ U.T).T + (1j * w)[:, None] * (Fr @ U.T).T
     return acc, frc
 
 
@@ -157,18 +216,24 @@ def peak_search(evaluate, lo: np.ndarray, hi: np.ndarray, xtol: np.ndarray,
     g = (np.sqrt(5.0) - 1.0) / 2.0
     a, b = lo.astype(float).copy(), hi.astype(float).copy()
     xtol = np.maximum(xtol, 8.0 * np.spacing(np.maximum(np.abs(a), np.abs(b))))
-    rows = np.arange(a.size)
     c = b - g * (b - a)
     d = a + g * (b - a)
-    fc = evaluate(c)[rows, columns]
-    fd = evaluate(d)[rows, columns]
+    def at(x):
+        """|H| of each bracket's column at its x (P,): every distinct
+        frequency solved once (brackets of many outputs between the same
+        grid points ask for the same frequencies)."""
+        ux, inv = np.unique(x, return_inverse=True)
+        return evaluate(ux)[inv, columns]
+
+    fc = at(c)
+    fd = at(d)
     for _ in range(PEAK_SEARCH_STEPS):
         if not np.any(b - a > xtol):
             break
         left = fc > fd                       # the maximum is in [a, d]
         a, b = np.where(left, a, c), np.where(left, d, b)
         x = np.where(left, b - g * (b - a), a + g * (b - a))
-        fx = evaluate(x)[rows, columns]
+        fx = at(x)
         c, d, fc, fd = (np.where(left, x, d), np.where(left, c, x),
                         np.where(left, fx, fd), np.where(left, fc, fx))
     return 0.5 * (a + b)

@@ -28,7 +28,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
+from ..block_linearisation import linearised
 from ..linear.model import Coordinates, difference_steps, linearise
 from ..rotation import A as rotation_matrix
 from ..system import System
@@ -41,6 +43,10 @@ __all__ = ["MountedSystem", "mounted_system", "DOF_NAMES"]
 #: for round-off, which a larger step keeps small against the preloads and
 #: the positions (a nonlinear law's curvature costs O(1e-8) relative)
 RATE_STEP = 1e-4
+
+#: above this many coordinates :func:`mounted_system` takes its columns by
+#: colour classes of the mount graph (the reference scene has 18)
+DENSE_LIMIT = 100
 
 #: the six coordinates of a body's frame, in the order of q
 DOF_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")
@@ -78,6 +84,9 @@ class MountedSystem:
         The equilibrium.
     evaluations : int
         Right-hand sides it took.
+    sparse : (M, K, C) of scipy.sparse CSR matrices, or None
+        The same matrices, sparse (block-sparse by the mount graph), for
+        the analyses of large systems.
     """
 
     labels: tuple
@@ -99,6 +108,7 @@ class MountedSystem:
     y_eq: np.ndarray
     coords: Coordinates
     evaluations: int
+    sparse: tuple | None = None
 
     @property
     def n(self) -> int:
@@ -117,6 +127,18 @@ class MountedSystem:
         if qd is not None:
             z[self.coords.n_pos + nb3:] = qd
         return self.coords.to_y(z)
+
+
+def _labels(system: System, coords: Coordinates) -> tuple[tuple, np.ndarray]:
+    bodies = system.scene.bodies
+    labels, owner = [], []
+    for s in range(coords.n_rigid):
+        labels += [f"{bodies[s + 1].name} {d}" for d in DOF_NAMES]
+        owner += [s + 1] * 6
+    for fc in system.flex_compiled:
+        labels += [f"{bodies[fc.body].name} mode {k + 1}" for k in range(fc.eom.n)]
+        owner += [fc.body] * fc.eom.n
+    return tuple(labels), np.array(owner, dtype=int)
 
 
 def _mass_matrix(system: System, coords: Coordinates, y_eq: np.ndarray) -> np.ndarray:
@@ -140,31 +162,12 @@ def _mass_matrix(system: System, coords: Coordinates, y_eq: np.ndarray) -> np.nd
     return M
 
 
-def _labels(system: System, coords: Coordinates) -> tuple[tuple, np.ndarray]:
-    bodies = system.scene.bodies
-    labels, owner = [], []
-    for s in range(coords.n_rigid):
-        labels += [f"{bodies[s + 1].name} {d}" for d in DOF_NAMES]
-        owner += [s + 1] * 6
-    for fc in system.flex_compiled:
-        labels += [f"{bodies[fc.body].name} mode {k + 1}" for k in range(fc.eom.n)]
-        owner += [fc.body] * fc.eom.n
-    return tuple(labels), np.array(owner, dtype=int)
-
-
-def mounted_system(system: System, y_eq: np.ndarray) -> MountedSystem:
-    """The mounted system about the equilibrium ``y_eq`` (ny,), base held.
-
-    One linearisation (:func:`flexbed.dynamics.linear.model.linearise`) and one
-    batch of the right-hand side at ±1e-6 in each rotation and modal
-    coordinate and ±1e-4 in each translation and rate (modal ones scaled as
-    the linearisation scales them) for the mounts'
-    outputs; central differences, exact for linear mounts up to round-off
-    and O(1e-12) relative for the rotations' geometry.
-    """
-    nfev0 = system.nfev
-    lin = linearise(system, y_eq, rate_step=RATE_STEP, translation_step=RATE_STEP)
-    coords = lin.coords
+def _dense_parts(system: System, coords: Coordinates):
+    """M, K, C and the mount outputs, dense, by the one linearisation
+    (:func:`flexbed.dynamics.linear.model.linearise`: every column) and one
+    batch of the right-hand side for the mounts' outputs (the path of small
+    systems; 2n + 1 and 4n right-hand sides)."""
+    lin = linearise(system, coords.y_eq, rate_step=RATE_STEP, translation_step=RATE_STEP)
     nb3 = coords.base_index.size
     npos = coords.n_pos
     keep = np.arange(nb3, npos)
@@ -174,7 +177,6 @@ def mounted_system(system: System, y_eq: np.ndarray) -> MountedSystem:
     M = _mass_matrix(system, coords, coords.y_eq)
     K = -M @ A_qv
     C = -M @ A_vv
-
     # the mounts' outputs: one batch at ±h in each kept coordinate and rate
     step = difference_steps(system, coords, RATE_STEP, RATE_STEP)
     cols = np.concatenate([keep, npos + keep])
@@ -191,14 +193,69 @@ def mounted_system(system: System, y_eq: np.ndarray) -> MountedSystem:
         return ((v[:cols.size] - v[cols.size:]) / h2[:, None]).T       # (rows, 2n)
 
     dx, dxd, f = jac("w_dx"), jac("w_dxd"), jac("w_f")
-    D, Dv = dx[:, :n], dxd[:, n:]
-    Fq, Fv = f[:, :n], f[:, n:]
     sign = (system.body_i == 0).astype(float) - (system.body_j == 0).astype(float)
-    Fi = jac("w_F").reshape(m, 3, 2 * n)
-    Fbase = np.einsum("m,mkc->kc", sign, Fi)
+    Fbase = np.einsum("m,mkc->kc", sign, jac("w_F").reshape(m, 3, 2 * n))
+    return (M, K, C, dx[:, :n], dxd[:, n:], f[:, :n], f[:, n:], Fbase[:, :n], Fbase[:, n:],
+            (sp.csr_matrix(M), sp.csr_matrix(K), sp.csr_matrix(C)))
+
+
+def _sparse_parts(system: System, coords: Coordinates):
+    """The same by colour classes of the mount graph
+    (:func:`flexbed.dynamics.block_linearisation.linearised`: O(N) right-hand sides,
+    block-sparse M, K, C; the path of large systems): the states are the
+    linearisation's coordinates at the same steps, so the entries are the
+    dense path's up to round-off."""
+    nb3 = coords.base_index.size
+    npos = coords.n_pos
+    keep = np.arange(nb3, npos)
+    step = difference_steps(system, coords, RATE_STEP, RATE_STEP)
+
+    def states(rates: bool):
+        def make(DU):
+            Z = np.zeros((DU.shape[0], coords.nz))
+            Z[:, (npos if rates else 0) + keep] = DU
+            return coords.to_y(Z)
+        return make
+
+    lin = linearised(system, coords.y_eq, step[keep], step[npos + keep],
+                     capture=("w_dx", "w_dxd", "w_f", "w_F"), position_states=states(False),
+                     rate_states=states(True))
+    Ms, Ks, Cs = lin.M, (-lin.Kq).tocsr(), (-lin.Kv).tocsr()
+    sign = (system.body_i == 0).astype(float) - (system.body_j == 0).astype(float)
+    to_base = sp.kron(sp.csr_matrix(sign[None, :]), sp.identity(3), format="csr")   # (3, 3M)
+    return (Ms.toarray(), Ks.toarray(), Cs.toarray(),
+            lin.outputs_q["w_dx"].toarray(), lin.outputs_v["w_dxd"].toarray(),
+            lin.outputs_q["w_f"].toarray(), lin.outputs_v["w_f"].toarray(),
+            (to_base @ lin.outputs_q["w_F"]).toarray(), (to_base @ lin.outputs_v["w_F"]).toarray(),
+            (Ms, Ks, Cs))
+
+
+def mounted_system(system: System, y_eq: np.ndarray, sparse: bool | None = None
+                   ) -> MountedSystem:
+    """The mounted system about the equilibrium ``y_eq`` (ny,), base held.
+
+    Central differences of the right-hand side at ±1e-6 in each rotation
+    and modal coordinate and ±1e-4 in each translation and rate (modal ones
+    scaled as :func:`flexbed.dynamics.linear.model.difference_steps` scales
+    them), the states those of the linearisation's coordinates
+    (:class:`~flexbed.dynamics.linear.model.Coordinates`); exact for linear
+    mounts up to round-off and O(1e-12) relative for the rotations'
+    geometry. ``sparse`` (default: above :data:`DENSE_LIMIT` coordinates):
+    the columns by colour classes of the mount graph
+    (:func:`_sparse_parts`, O(N) right-hand sides, block-sparse matrices)
+    rather than one by one (:func:`_dense_parts`, today's path, cheaper on
+    small systems); both give the same matrices to round-off.
+    """
+    nfev0 = system.nfev
+    coords = Coordinates(system, y_eq)
+    nb3 = coords.base_index.size
+    n = coords.n_pos - nb3
+    if sparse is None:
+        sparse = n > DENSE_LIMIT
+    M, K, C, D, Dv, Fq, Fv, Bq, Bv, mats = (_sparse_parts if sparse else _dense_parts)(
+        system, coords)
     k_t = _tangent(Fq, D)
     c_t = _tangent(Fv, Dv)
-
     K_el = np.zeros((n, n))
     for fc in system.flex_compiled:
         ia = coords.a_index[fc.qa.start - coords.y_a[0]:fc.qa.stop - coords.y_a[0]] - nb3
@@ -209,9 +266,10 @@ def mounted_system(system: System, y_eq: np.ndarray) -> MountedSystem:
     labels, owner = _labels(system, coords)
     return MountedSystem(labels=labels, body=owner, M=M, K=K, C=C, K_elastic=K_el,
                          D=D, Dv=Dv, Fq=Fq, Fv=Fv, k_tangent=k_t, c_tangent=c_t,
-                         Bq=Fbase[:, :n], Bv=Fbase[:, n:], iota=iota,
+                         Bq=Bq, Bv=Bv, iota=iota,
                          moving_mass=float(iota[:, 0] @ M @ iota[:, 0]),
-                         y_eq=coords.y_eq, coords=coords, evaluations=system.nfev - nfev0)
+                         y_eq=coords.y_eq, coords=coords, evaluations=system.nfev - nfev0,
+                         sparse=mats)
 
 
 def _tangent(F: np.ndarray, D: np.ndarray) -> np.ndarray:

@@ -33,6 +33,7 @@ from flexbed.bench.cases import CASES, CaseSpec, kernel_cost, rhs_cost
 from flexbed.bench.fastpath import section_linear, section_modes_auto
 from flexbed.bench.frequency import section_frequency
 from flexbed.bench.inputs import section_inputs
+from flexbed.bench.scaling import section_scaling
 from flexbed.bench.verdict import section_verdict
 from flexbed.bench.beds import section_beds
 from flexbed.bench.context import FULL, QUICK, BenchContext
@@ -312,6 +313,7 @@ SECTIONS: list[Section] = [
     Section("frequency", section_frequency),
     Section("inputs", section_inputs),
     Section("beds", section_beds),
+    Section("scaling", section_scaling),
     Section("verdict", section_verdict),
 ]
 

@@ -48,6 +48,7 @@ TARGETS = {
     "linear": (["integrators", "linear"], None),
     "inputs": (["inputs"], None),
     "beds": (["beds"], None),
+    "scaling": (["scaling"], None),
     "verdict": (["verdict"], None),
 }
 

@@ -10,12 +10,13 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import warnings
 from pathlib import Path
 
 from flexbed.commands.arguments import add_scene_arg
 from flexbed.files.bed_section import AUTO_TOLERANCE
 from flexbed.files.destination import check_destination, refuse_inputs
-from flexbed.errors import InputError
+from flexbed.errors import FlexbedWarning, InputError
 from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.files.scene import load_scene
 from flexbed.stages.modes import default_modes_path, ensure_modes
@@ -90,13 +91,14 @@ def print_summary(data: ModesData) -> None:
     print(modes_table(data))
     acc = data.accuracy
     if acc is not None and p.theory == "mindlin" and not p.auto_mesh and acc.worst > AUTO_TOLERANCE:
-        print(f"warning: the estimated error reaches {100 * acc.worst:.2g} % on this mesh; "
-              f"element_size = \"auto\" chooses the mesh for a tolerance "
-              f"(mesh_tolerance, default {100 * AUTO_TOLERANCE:g} %)", file=sys.stderr)
+        warnings.warn(f"the estimated error reaches {100 * acc.worst:.2g} % on this mesh; "
+                      f"element_size = \"auto\" chooses the mesh for a tolerance "
+                      f"(mesh_tolerance, default {100 * AUTO_TOLERANCE:g} %)", FlexbedWarning,
+                      stacklevel=2)
     if data.n_modes and abs(data.next_frequency - data.frequency[-1]) <= 1e-6 * data.next_frequency:
-        print(f"warning: mode {data.n_modes} and the first mode left out share the frequency "
-              f"{data.next_frequency:.4f} Hz; keep one more mode so the pair stays whole",
-              file=sys.stderr)
+        warnings.warn(f"mode {data.n_modes} and the first mode left out share the frequency "
+                      f"{data.next_frequency:.4f} Hz; keep one more mode so the pair stays "
+                      f"whole", FlexbedWarning, stacklevel=2)
 
 
 def run(args: argparse.Namespace) -> int:

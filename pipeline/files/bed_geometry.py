@@ -8,16 +8,19 @@ Every message is one line naming the file, the entry and the value.
 
 from __future__ import annotations
 
+import math
 from dataclasses import fields, replace
 from pathlib import Path
 
 from flexbed.fem.fixed_masses import FixedMass
 from flexbed.fem.geometry import BedGeometry, GeometryError, Region, Zone
-from flexbed.fem.spec import PlateSpec
+from flexbed.fem.layout import bed_layout, check_stiffeners
+from flexbed.fem.spec import PlateSpec, PlateSpecError
 from flexbed.fem.stiffener_face import face_thickness
 from flexbed.fem.stiffeners import Stiffener, section_of
 
 from flexbed.errors import InputError
+from flexbed.files.table_reader import LARGEST, SMALLEST, is_number, out_of_range, short_repr
 
 GEOMETRY_KEYS = ("outline", "cutout", "zone", "element_size", "mesh_file", "fixed_mass",
                  "stiffener")
@@ -27,9 +30,32 @@ _MASS_KEYS = ("name", "position", "mass", "inertia")
 _REGION_KEYS = ("shape", "centre", "size", "radius", "points")
 
 
+def _in_range(value, where: str, key: str) -> None:
+    """Every number in a (nested) value within the scene's range
+    (:data:`flexbed.files.table_reader.LARGEST`), else an InputError naming
+    it as ``key[i][j]``."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _in_range(v, where, k)
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            _in_range(v, where, f"{key}[{i}]")
+    elif is_number(value):
+        try:
+            v = float(value)
+        except OverflowError:
+            v = math.inf if value > 0 else -math.inf
+        if not math.isfinite(v) and not isinstance(value, int):
+            raise InputError(f"{where}: {key} = {short_repr(value)} must be finite")
+        if not math.isfinite(v) or out_of_range(v):
+            raise InputError(f"{where}: {key} = {short_repr(value)} is out of range (magnitudes "
+                             f"from {SMALLEST:g} to {LARGEST:g}, or 0)")
+
+
 def _region(t, where: str) -> Region:
     if not isinstance(t, dict):
         raise InputError(f"{where}: must be a table {{shape = ..., ...}}")
+    _in_range(t, where, "")
     for key in t:
         if key not in _REGION_KEYS + ("thickness",):
             raise InputError(f"{where}: unknown key '{key}' (known: {', '.join(_REGION_KEYS)})")
@@ -77,6 +103,7 @@ def read_fixed_masses(table: dict, where: str) -> tuple[FixedMass, ...]:
                               ("name", "position", "mass")):
         if not isinstance(t["name"], str):
             raise InputError(f"{w}: name = {t['name']!r} must be a string")
+        _in_range(t, w, "")
         try:
             out.append(FixedMass(t["name"], t["position"], t["mass"],
                                  t.get("inertia", [0.0, 0.0, 0.0])))
@@ -108,6 +135,7 @@ def read_stiffeners(table: dict, where: str, geometry: BedGeometry | None = None
     out = []
     for w, t in _named_tables(table, "stiffener", where, _STIFFENER_KEYS,
                               ("name", "start", "end", "section")):
+        _in_range(t, w, "")
         kind = t["section"]
         side = t.get("side", "below")
         if side not in ("below", "above"):
@@ -151,6 +179,7 @@ def read_geometry(table: dict, where: str, folder: Path | None) -> BedGeometry |
     """
     if not any(k in table for k in GEOMETRY_KEYS if k not in ("fixed_mass", "stiffener")):
         return None
+    _in_range(table.get("outline"), f"{where}", "outline")
     cut = table.get("cutout", [])
     zones = table.get("zone", [])
     for key, value in (("cutout", cut), ("zone", zones)):
@@ -162,6 +191,7 @@ def read_geometry(table: dict, where: str, folder: Path | None) -> BedGeometry |
         w = f"{where}: zone {i + 1}"
         if not isinstance(z, dict) or "thickness" not in z:
             raise InputError(f"{w}: 'thickness' is required [m]")
+        _in_range(z, w, "")
         try:
             zs.append(Zone(_region({k: v for k, v in z.items() if k != "thickness"}, w),
                            z["thickness"]))
@@ -181,3 +211,40 @@ def read_geometry(table: dict, where: str, folder: Path | None) -> BedGeometry |
     except GeometryError as exc:
         shown = str(exc).replace(mesh_file or "\0", str(table.get("mesh_file")))
         raise InputError(f"{where}: {shown}") from None
+
+
+def check_bed(plate: PlateSpec, where: str, mesh_file=None) -> None:
+    """Mesh the bed as the scene reads it and check it, so that a bed that
+    cannot be built is refused in one line before any work: the outline,
+    cut-outs and zones as geometry, the mesh's size against the solver's
+    limit (estimated before meshing), the mesh as a mesh (a mesh file's
+    too), fixed masses on the shell, stiffeners along cell edges
+    (:mod:`flexbed.fem.mesh_checks`, :func:`flexbed.fem.layout.bed_layout`,
+    cached: the stages reuse the mesh). The plain rectangle on its grid is
+    not meshed here.
+
+    Parameters
+    ----------
+    plate : PlateSpec
+    where : str
+        Message prefix, e.g. ``"lee.toml: bed"``.
+    mesh_file : str, optional
+        ``mesh_file`` as the scene gives it (messages show it instead of
+        the resolved path).
+
+    Raises
+    ------
+    InputError
+        ``"<where>: <entry>: <what is wrong, with the value>"``.
+    """
+    if plate.is_rectangle:
+        return
+    try:
+        bed_layout(plate)
+        check_stiffeners(plate)            # on the mesh: along cell edges, end to end
+    except (GeometryError, PlateSpecError) as exc:
+        text = str(exc)
+        resolved = plate.geometry.mesh_file if plate.geometry is not None else None
+        if resolved and isinstance(mesh_file, str):
+            text = text.replace(repr(resolved), repr(mesh_file)).replace(resolved, mesh_file)
+        raise InputError(f"{where}: {text}") from None

@@ -14,14 +14,13 @@ from typing import Any
 
 import numpy as np
 
-from flexbed.fem.geometry import GeometryError
-from flexbed.fem.layout import bed_mass_properties, check_stiffeners
+from flexbed.fem.layout import bed_mass_properties
 from flexbed.fem.spec import PlateSpec, PlateSpecError
 
 from flexbed.errors import InputError
 from flexbed.files.table_reader import LARGEST, SMALLEST, short_repr, out_of_range
-from flexbed.files.bed_geometry import (GEOMETRY_KEYS, read_fixed_masses, read_geometry,
-                                        read_stiffeners)
+from flexbed.files.bed_geometry import (GEOMETRY_KEYS, check_bed, read_fixed_masses,
+                                        read_geometry, read_stiffeners)
 
 _PLATE_KEYS = tuple(f.name for f in fields(PlateSpec)
                     if f.name not in ("geometry", "masses", "stiffeners", "mesh_points"))
@@ -281,10 +280,7 @@ def read_bed(table: dict, where: str, folder: Path | None = None) -> BedSection:
         raise InputError(f"{where}: {exc}") from None
     except TypeError as exc:
         raise InputError(f"{where}: {exc}") from None
-    try:
-        check_stiffeners(plate)            # on the mesh: along cell edges, end to end
-    except GeometryError as exc:
-        raise InputError(f"{where}: {exc}") from None
+    check_bed(plate, where, table.get("mesh_file"))   # geometry, mesh, masses, stiffeners
     args: dict[str, Any] = {"plate": plate}
     for key in ("body", "model", "modes_file", "invariants"):
         if key in table:
