@@ -44,7 +44,7 @@ def check_source(path: str | os.PathLike, what: str) -> Path:
     try:
         st = os.stat(path)
     except FileNotFoundError:
-        raise InputError(f"{path}: cannot read the {what} (no such file)") from None
+        raise InputError(f"{path}: no such file; cannot read the {what}") from None
     except OSError as exc:
         raise InputError(f"{path}: cannot read the {what} ({exc.strerror or exc})") from None
     if not stat.S_ISREG(st.st_mode):
