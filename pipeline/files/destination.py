@@ -49,7 +49,7 @@ def check_source(path: str | os.PathLike, what: str) -> Path:
         raise InputError(f"{path}: cannot read the {what} ({exc.strerror or exc})") from None
     if not stat.S_ISREG(st.st_mode):
         kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
-        raise InputError(f"{path}: is {kind}, not a {what}")
+        raise InputError(f"{path}: cannot read the {what}: it is {kind}, not a file")
     return path
 
 
