@@ -31,5 +31,5 @@ def test_a_file_that_is_not_a_regular_file_is_refused(tmp_path, capsys, monkeypa
     err = capsys.readouterr().err
     name = "a FIFO" if kind == "fifo" else "a directory"
     assert code == 2 and err.count("\n") == 1, err
-    assert f"{path}: is {name}, not a {what}" in err, err
+    assert f"{path}: cannot read the {what}: it is {name}, not a file" in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["input"]

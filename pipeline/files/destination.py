@@ -44,12 +44,12 @@ def check_source(path: str | os.PathLike, what: str) -> Path:
     try:
         st = os.stat(path)
     except FileNotFoundError:
-        raise InputError(f"{path}: cannot read the {what} (no such file)") from None
+        raise InputError(f"{path}: no such file; cannot read the {what}") from None
     except OSError as exc:
         raise InputError(f"{path}: cannot read the {what} ({exc.strerror or exc})") from None
     if not stat.S_ISREG(st.st_mode):
         kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
-        raise InputError(f"{path}: is {kind}, not a {what}")
+        raise InputError(f"{path}: cannot read the {what}: it is {kind}, not a file")
     return path
 
 
