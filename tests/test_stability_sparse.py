@@ -28,6 +28,19 @@ def _equilibrium(text: str, name: str):
     return system, eq.y
 
 
+def _negated(body: str):
+    """The 2 × 2 tiling, the four mounts under ``body`` of negated stiffness
+    (the linear law as a polynomial one): (system, equilibrium)."""
+    data = tomllib.loads(tiled_text(2, bed_model="rigid"))
+    neg = [m for m in data["mount"] if m["body_j"] == body]
+    assert len(neg) == 4
+    for m in neg:
+        m["law"] = "polynomial"
+        m["stiffness"] = [[0.0, -k] for k in m.pop("k")]
+        m.pop("c")
+    return _equilibrium(dumps(data), "negative.toml")
+
+
 def _both(system, y):
     """(dense answer, sparse answer) at the equilibrium y."""
     assert mount_graph(system).n <= DENSE_LIMIT          # the default is the dense path
@@ -65,17 +78,27 @@ def test_tiled_scene_with_one_piece_on_negative_mounts():
     """The 2 × 2 tiling with the four mounts of one piece of equipment of
     negated stiffness (its equilibrium lifted, unstable): both paths name
     that piece, the same direction, and the same eigenvalue to 1e-6."""
-    data = tomllib.loads(tiled_text(2, bed_model="rigid"))
-    neg = [m for m in data["mount"] if m["body_j"] == "equipment B 1.0"]
-    assert len(neg) == 4
-    for m in neg:               # the linear law as a polynomial one, negated
-        m["law"] = "polynomial"
-        m["stiffness"] = [[0.0, -k] for k in m.pop("k")]
-        m.pop("c")
-    system, y = _equilibrium(dumps(data), "negative.toml")
+    system, y = _negated("equipment B 1.0")
     dense, sparse = _both(system, y)
     assert dense is not None and sparse is not None
     assert dense.body == sparse.body == "equipment B 1.0"
     assert sparse.direction == dense.direction
     assert sparse.eigenvalue == pytest.approx(dense.eigenvalue, rel=1e-6)
     assert sparse.rate == pytest.approx(dense.rate, rel=1e-6)
+
+
+def test_sparse_path_not_converged_falls_back_to_the_dense(monkeypatch):
+    """ARPACK not converging: the dense path answers (the same Instability)."""
+    from scipy.sparse.linalg import ArpackNoConvergence
+
+    import flexbed.dynamics.stability as stability
+
+    system, y = _negated("equipment A 0.1")
+    dense = instability(system, y)
+
+    def stuck(*args, **kwargs):
+        raise ArpackNoConvergence("no convergence", np.zeros(0), np.zeros((0, 0)))
+
+    monkeypatch.setattr(stability, "eigs", stuck)
+    assert instability(system, y, dense_limit=0) == dense
+    assert dense.body == "equipment A 0.1"
