@@ -1,5 +1,5 @@
 """Is a static equilibrium stable? The stiffness at rest, from the one
-linearisation (:func:`flexbed.dynamics.linear.model.linearise`).
+right-hand side's linearisation.
 
 About the equilibrium the linearised motion of the free coordinates
 (bodies' translations and small rotations, modal coordinates; the base is
@@ -10,6 +10,24 @@ The eigenvector's largest component names the body and the direction
 (x, y, z [m]; roll, pitch, yaw [rad] about the body axes; or a modal
 coordinate [kg^1/2 m]: components of different units compare as they
 are, which picks the motion that dominates the shape at the SI scale).
+
+Two paths, the same criterion (an eigenvalue below −RELATIVE_TOL · max|λ|)
+and the same steps of the central differences
+(:func:`flexbed.dynamics.linear.model.difference_steps`):
+
+- up to :data:`DENSE_LIMIT` free coordinates, M⁻¹K from the linearisation
+  of the linear model (:func:`flexbed.dynamics.linear.model.linearise`, one
+  column at a time) and every eigenvalue (dense);
+- above, M⁻¹K = −M⁻¹Kq from the block linearisation
+  (:func:`flexbed.dynamics.block_linearisation.linearised`: block-diagonal M
+  and its block inverse, block-sparse Kq by colour classes of the mount
+  graph, O(N) right-hand sides), max|λ| by Arnoldi iterations (ARPACK,
+  the eigenvalue of largest modulus) and the :data:`LEFTMOST_COUNT`
+  eigenvalues of smallest real part by Arnoldi iterations too; the most
+  negative of those and its eigenvector decide. Kq is not symmetric in
+  general (0.02–0.3 % on the tiled scenes), so the inertia of a symmetric
+  factorisation would not answer; ARPACK does not need the symmetry.
+  Should the iterations not converge, the dense path answers.
 """
 
 from __future__ import annotations
@@ -18,17 +36,27 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.sparse.linalg import ArpackNoConvergence, eigs
 
-from .linear.model import linearise
+from .block_linearisation import block_inverse, linearised
+from .jacobian import mount_graph
+from .linear.model import Coordinates, difference_steps, linearise
 from .system import System
 
-__all__ = ["Instability", "instability", "DIRECTIONS"]
+__all__ = ["Instability", "instability", "DIRECTIONS", "DENSE_LIMIT", "LEFTMOST_COUNT"]
 
 DIRECTIONS = ("x", "y", "z", "roll", "pitch", "yaw")
 
 #: eigenvalues below −RELATIVE_TOL · max |λ| count as negative (the
 #: linearisation's central differences carry errors of ~1e-6 relative)
 RELATIVE_TOL = 1e-6
+#: up to this many free coordinates (6 per body, then the modal ones) the
+#: dense path answers (the reference scene: 18 rigid, 18 + modes flexible)
+DENSE_LIMIT = 100
+#: how many eigenvalues of smallest real part the sparse path finds
+LEFTMOST_COUNT = 4
+#: ARPACK's relative tolerance of the eigenvalues of the sparse path
+_ARNOLDI_TOL = 1e-12
 
 
 @dataclass(frozen=True)
@@ -52,9 +80,23 @@ class Instability:
                 f"body {self.body!r} in {self.direction}")
 
 
-def instability(system: System, y_eq: np.ndarray) -> Instability | None:
+def instability(system: System, y_eq: np.ndarray,
+                dense_limit: int = DENSE_LIMIT) -> Instability | None:
     """The unstable direction of the equilibrium ``y_eq`` (ny,), or None when
-    every eigenvalue of M⁻¹K is ≥ 0 (to the linearisation's accuracy)."""
+    every eigenvalue of M⁻¹K is ≥ 0 (to the linearisation's accuracy).
+
+    ``dense_limit``: the most free coordinates answered by the dense path
+    (above it, the sparse path of the module docstring)."""
+    y_eq = np.asarray(y_eq, dtype=float)
+    if mount_graph(system, True).n > dense_limit:
+        found = _sparse(system, y_eq)
+        if found is not _UNANSWERED:
+            return found
+    return _dense(system, y_eq)
+
+
+def _dense(system: System, y_eq: np.ndarray) -> Instability | None:
+    """Every eigenvalue of M⁻¹K from :func:`linearise` (n_free³)."""
     lin = linearise(system, y_eq)
     c = lin.coords
     free = np.setdiff1d(np.arange(c.n_pos), c.base_index)      # the base is held
@@ -67,15 +109,58 @@ def instability(system: System, y_eq: np.ndarray) -> Instability | None:
     i = int(np.argmin(lam))
     if not (scale > 0 and lam[i] < -RELATIVE_TOL * scale):
         return None
-    j = int(free[np.argmax(np.abs(vecs[:, i].real))])
-    names = [system.scene.bodies[b].name for b in system.layout.rigid]
-    if j < c.base_index.size + 6 * c.n_rigid:
-        b, k = divmod(j - c.base_index.size, 6)
-        body, direction = names[b], DIRECTIONS[k]
+    return _found(system, float(lam[i]), int(np.argmax(np.abs(vecs[:, i].real))))
+
+
+_UNANSWERED = object()
+
+
+def _sparse(system: System, y_eq: np.ndarray):
+    """M⁻¹K block-sparse, its extreme eigenvalues by ARPACK: an
+    :class:`Instability`, None, or ``_UNANSWERED`` (not converged, or too
+    few coordinates for ARPACK: the dense path answers)."""
+    g = mount_graph(system, True)
+    n = g.n
+    if n < 4:                    # ARPACK's eigs needs k < n − 1
+        return _UNANSWERED
+    coords = Coordinates(system, y_eq)
+    step = difference_steps(system, coords)
+    nb3 = coords.base_index.size
+    q_steps = step[nb3:coords.n_pos]                           # the free positions, as the dense
+    v_steps = step[coords.n_pos + nb3:]
+    lin = linearised(system, y_eq, q_steps, v_steps)
+    S = -(block_inverse(system, lin.M) @ lin.Kq).tocsr()      # M⁻¹K (n, n)
+    if not np.all(np.isfinite(S.data)):
+        return _UNANSWERED
+    v0 = np.cos(np.arange(n) + 0.5)
+    try:
+        big = eigs(S, k=1, which="LM", tol=_ARNOLDI_TOL, maxiter=100 * n, v0=v0,
+                   return_eigenvectors=False)
+        vals, vecs = eigs(S, k=min(LEFTMOST_COUNT, n - 2), which="SR", tol=_ARNOLDI_TOL,
+                          maxiter=100 * n, v0=v0)
+    except ArpackNoConvergence:
+        return _UNANSWERED      # the dense path: slower, but it always answers
+    lam = vals.real
+    scale = max(float(np.abs(big[0])), float(np.max(np.abs(lam))))
+    i = int(np.argmin(lam))
+    if not (scale > 0 and lam[i] < -RELATIVE_TOL * scale):
+        return None
+    # a real eigenvalue's vector comes with an arbitrary complex phase: its moduli
+    return _found(system, float(lam[i]), int(np.argmax(np.abs(vecs[:, i]))))
+
+
+def _found(system: System, lam: float, j: int) -> Instability:
+    """The :class:`Instability` of the eigenvalue lam < 0 whose eigenvector's
+    largest component is the free coordinate j (6 per body, then the modal
+    coordinates)."""
+    n_rigid = len(system.layout.rigid)
+    if j < 6 * n_rigid:
+        b, k = divmod(j, 6)
+        body = system.scene.bodies[system.layout.rigid[b]].name
+        direction = DIRECTIONS[k]
     else:
-        m = j - c.base_index.size - 6 * c.n_rigid
-        body, direction = _modal_owner(system, m)
-    return Instability(float(lam[i]), math.sqrt(-float(lam[i])), body, direction)
+        body, direction = _modal_owner(system, j - 6 * n_rigid)
+    return Instability(lam, math.sqrt(-lam), body, direction)
 
 
 def _modal_owner(system: System, m: int) -> tuple[str, str]:

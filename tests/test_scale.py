@@ -426,7 +426,8 @@ def test_growth_exponent_and_one_row_of_the_scaling_table():
     assert np.isnan(growth_exponent(32, 0.0, 128, 1.0))
     row = stage_times(1)
     assert row["N"] == 2 and row["coordinates"] == 18
-    assert all(row[s] > 0.0 for s in ("statics", "simulate", "modal", "frf"))
+    assert all(row[s] > 0.0 for s in ("statics", "static", "simulate", "modal", "frf"))
+    assert row["static"] >= row["statics"]
 
 
 def test_mounted_system_by_colour_classes_equals_column_by_column(tiled8):

@@ -8,6 +8,8 @@ Stages, CPU seconds (``time.process_time``, every thread of the process):
 - statics: :func:`flexbed.dynamics.statics.solve_statics` from the scene's
   positions, the scene's ``static_tol`` (the stability check of the
   equilibrium is not in it);
+- static: ``flexbed static``'s solve, the statics above and the stability
+  check of the equilibrium (:func:`flexbed.dynamics.stability.instability`);
 - simulate: :func:`flexbed.dynamics.integrate.integrate` over the first
   1 s (the base's 1 s force burst), the scene's settings (``integrator =
   "auto"``: the stiffness check and the method choice are in the time),
@@ -35,6 +37,7 @@ from flexbed.bench.context import BenchContext
 from flexbed.bench.markdown import md_table
 from flexbed.bench.tiling import equipment_count, tiled_scene
 from flexbed.dynamics.integrate import integrate, warm_up
+from flexbed.dynamics.stability import instability
 from flexbed.dynamics.statics import solve_statics
 from flexbed.errors import NumericalError
 from flexbed.stages.system import compile_scene
@@ -53,7 +56,7 @@ SIMULATE_T_END = 1.0
 #: CPU seconds aimed at N = 128, and the largest growth exponent from 32 to 128
 AIMS = {"statics": 0.5, "simulate": 0.5, "modal": 0.5, "frf": 3.0}
 AIM_EXPONENT = 1.3
-STAGES = ("statics", "simulate", "modal", "frf")
+STAGES = ("statics", "static", "simulate", "modal", "frf")
 
 
 def growth_exponent(n_a: float, t_a: float, n_b: float, t_b: float) -> float:
@@ -71,19 +74,22 @@ def _cpu(fn):
 
 def stage_times(c: int, repeats: int = 1, log=lambda m: None) -> dict:
     """CPU seconds of each stage on the c × c tiling (median of ``repeats``),
-    with the sizes: {"N", "coordinates", "statics", "simulate", "modal",
-    "frf", "iterations", "method"}."""
+    with the sizes: {"N", "coordinates", "statics", "static", "simulate",
+    "modal", "frf", "iterations", "method"}."""
     sf = tiled_scene(c, bed_model="rigid")
     system = compile_scene(sf)
     n = equipment_count(c)
     log(f"bench scaling: N = {n} ...")
-    solve_statics(system, tol=sf.solver.static_tol)          # compiled code loaded
+    eq = solve_statics(system, tol=sf.solver.static_tol)     # compiled code loaded
+    instability(system, eq.y)
     times = {s: [] for s in STAGES}
     for _ in range(repeats):
         t, eq = _cpu(lambda: solve_statics(system, tol=sf.solver.static_tol))
         if not eq.success:
             raise NumericalError(f"{sf.source.name}: {eq.message}")
         times["statics"].append(t)
+        t_check, _ = _cpu(lambda y=eq.y: instability(system, y))
+        times["static"].append(t + t_check)
     y0 = system.initial_state(eq.y)
     settings = sf.solver.settings(t_end=SIMULATE_T_END)
     warm_up(system, y0, methods=("dop853", "radau"))
@@ -128,7 +134,7 @@ def section_scaling(ctx: BenchContext) -> str:
     last = rows_data[-1]
     aims = []
     if last["N"] == 128:
-        for s in STAGES:
+        for s in AIMS:
             ok = last[s] < AIMS[s] and exps[s] <= AIM_EXPONENT
             aims.append(f"- {s}: {last[s]:.3f} s (aim < {AIMS[s]:g} s), exponent "
                         f"{exps[s]:.2f} (aim ≤ {AIM_EXPONENT:g}): {'met' if ok else 'NOT met'}")
@@ -140,13 +146,14 @@ def section_scaling(ctx: BenchContext) -> str:
         "4.8c m carrying c² copies of the two pieces of equipment on their 4 mounts each, "
         "each copy on its own 4 mounts to the base), rigid bed: N = 2c² pieces of "
         "equipment. CPU seconds (median of 3 up to N = 8, one run above) of: statics "
-        "(Newton–Raphson from the scene's positions), simulate (the first "
+        "(Newton–Raphson from the scene's positions), static (`flexbed static`'s solve: "
+        "the statics and the stability check of the equilibrium), simulate (the first "
         f"{SIMULATE_T_END:g} s, the base's force burst, the scene's integrator and "
         "tolerances, stiffness check included), modal (linearisation and eigen-solution, "
         f"`flexbed modal`'s solve) and frf ({FRF_FREQUENCIES} given log-spaced frequencies, "
         "base acceleration along z to every body's centre of mass and every mount force). "
         "Coordinates: the mounted system's (6 per body). Last row: the growth exponent p of "
         "t ∝ Nᵖ between the last two sizes.", "",
-        md_table(["N", "coordinates", "statics [s]", "simulate [s]", "modal [s]", "frf [s]",
-                  "integrator"], rows, align="rrrrrrl"),
+        md_table(["N", "coordinates", "statics [s]", "static [s]", "simulate [s]", "modal [s]",
+                  "frf [s]", "integrator"], rows, align="rrrrrrrl"),
         "", "Aims at N = 128:", ""] + aims + [""])
