@@ -113,7 +113,7 @@ def _static(src: Path, out: Path) -> int:
     without building the argument parser and the thread-pool limits each
     time (they are the same for every example)."""
     args = argparse.Namespace(command="static", scene=str(src), output=str(out), tol=None,
-                              modes_file=None)
+                              modes_file=None, allow_unstable=False)
     try:
         return run_command(static, args)
     except FlexbedError as exc:
