@@ -29,29 +29,29 @@ def exact_peaks(fn, t, f, q):
     (a, ȧ) restart from the input's right-hand values."""
     zeta = 0.5 / q
     events = np.unique(np.concatenate([t, [b for b in fn.breakpoints if t[0] < b < t[-1]]]))
-    pos, neg = np.zeros(f.size), np.zeros(f.size)
-    for i, w in enumerate(2 * np.pi * f):
-        cache = {}
-        state = np.zeros(2)
-        best_p = best_n = 0.0
-        samples = set(t.tolist())
-        for a, b in zip(events[:-1], events[1:]):
-            h = b - a
-            key = round(h / DT * 1e9)
-            if key not in cache:
-                M = np.zeros((4, 4))
-                M[0, 1] = h
-                M[1, 0], M[1, 1], M[1, 2] = -w * w * h, -2 * zeta * w * h, -h
-                M[2, 3] = h
-                cache[key] = expm(M)
-            a0 = fn.value(a)                           # right value at a
-            slope = (fn.value(b, b) - a0) / h          # left value at b: the piece is linear
-            y = cache[key] @ np.array([state[0], state[1], a0, slope])
-            state = y[:2]
-            if b in samples:
-                x = -(2 * zeta * w * state[1] + w * w * state[0])
-                best_p, best_n = max(best_p, x), max(best_n, -x)
-        pos[i], neg[i] = best_p, best_n
+    w = 2 * np.pi * np.asarray(f, dtype=float)                  # every oscillator at once
+    a0 = np.array([fn.value(a) for a in events[:-1]])           # right value at a
+    left = np.array([fn.value(b, b) for b in events[1:]])       # left value at b
+    h_all = np.diff(events)
+    slopes = (left - a0) / h_all                                # the piece is linear
+    at_sample = np.isin(events[1:], t)
+    cache = {}
+    state = np.zeros((w.size, 2))
+    pos, neg = np.zeros(w.size), np.zeros(w.size)
+    for j, h in enumerate(h_all):
+        key = round(h / DT * 1e9)
+        if key not in cache:
+            M = np.zeros((w.size, 4, 4))
+            M[:, 0, 1] = h
+            M[:, 1, 0], M[:, 1, 1], M[:, 1, 2] = -w * w * h, -2 * zeta * w * h, -h
+            M[:, 2, 3] = h
+            cache[key] = expm(M)
+        E = cache[key]
+        state = (E[:, :2, :2] @ state[:, :, None])[:, :, 0] + E[:, :2, 2] * a0[j] \
+            + E[:, :2, 3] * slopes[j]
+        if at_sample[j]:
+            x = -(2 * zeta * w * state[:, 1] + w * w * state[:, 0])
+            pos, neg = np.maximum(pos, x), np.maximum(neg, -x)
     return pos, neg
 
 

@@ -104,6 +104,7 @@ def plot_tripartite(path: Path, title: str, frequency: np.ndarray, curves: dict,
     grey = dict(color="0.55", lw=0.5)
     label = dict(fontsize=7, color="0.3", rotation_mode="anchor")
     ff = np.array([f0, f1])
+    rising, falling = _angle(ax, fig, 1.0), _angle(ax, fig, -1.0)    # one draw each
     # constant displacement d (decades): PV = 2πf d, rising; labelled at the
     # right edge, or the top edge for those that leave through it
     for d in _decades(v0 / (2 * math.pi * f1), v1 / (2 * math.pi * f0), (1.0,)):
@@ -111,7 +112,7 @@ def plot_tripartite(path: Path, title: str, frequency: np.ndarray, curves: dict,
         fx = min(f1, v1 / (2 * math.pi * d))
         if fx > f0:
             ax.text(fx / 1.05, 2 * math.pi * fx / 1.05 * d, f"{d * 1e3:g} mm", ha="right",
-                    va="bottom", rotation=_angle(ax, fig, 1.0), **label)
+                    va="bottom", rotation=rising, **label)
     # constant pseudo-acceleration a (decades): PV = a/(2πf), falling; labelled
     # at the left edge, or the bottom edge for those that enter through the top
     for a in _decades(v0 * 2 * math.pi * f0 / g, v1 * 2 * math.pi * f1 / g, (1.0,)):
@@ -123,7 +124,7 @@ def plot_tripartite(path: Path, title: str, frequency: np.ndarray, curves: dict,
         else:
             continue
         ax.text(fx, a * g / (2 * math.pi * fx), f"{a:g} g", ha=ha, va="bottom",
-                rotation=_angle(ax, fig, -1.0), **label)
+                rotation=falling, **label)
     for c, v in curves.items():
         if np.max(v) > _FLOOR * top:
             ax.loglog(frequency, v, label=f"{c}", **{**STYLES[c], "lw": 1.6})
