@@ -49,9 +49,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from .rotation import A as rotation_matrix
+from .rotation import quat_mul
 from .system import System
 
-__all__ = ["MountGraph", "mount_graph", "ForceJacobian", "force_jacobian", "quat_mul_rows",
+__all__ = ["MountGraph", "mount_graph", "ForceJacobian", "force_jacobian",
            "rotvec_rows", "perturbed_positions", "perturbed_rates"]
 
 
@@ -127,16 +128,6 @@ def mount_graph(system: System, modal: bool = True) -> MountGraph:
     return per[modal]
 
 
-def quat_mul_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a ⊗ b over the leading axes, scalar first, (..., 4); the arithmetic of
-    :func:`flexbed.dynamics.rotation.quat_mul`."""
-    a0, av = a[..., :1], a[..., 1:]
-    b0, bv = b[..., :1], b[..., 1:]
-    s = a0 * b0 - np.sum(av * bv, axis=-1, keepdims=True)
-    v = a0 * bv + b0 * av + np.cross(av, bv)
-    return np.concatenate([s, v], axis=-1)
-
-
 def rotvec_rows(theta: np.ndarray) -> np.ndarray:
     """Euler parameters (..., 4) of the rotations by the vectors theta (..., 3) [rad]."""
     angle = np.sqrt(np.sum(theta * theta, axis=-1, keepdims=True))
@@ -160,7 +151,7 @@ def perturbed_positions(system: System, y: np.ndarray, DU: np.ndarray) -> np.nda
     q = Y[:, lay.q_rigid].reshape(k, n, 7)
     body = DU[:, :6 * n].reshape(k, n, 6)
     q[:, :, :3] += body[:, :, :3]
-    p = quat_mul_rows(q[:, :, 3:], rotvec_rows(body[:, :, 3:]))
+    p = quat_mul(q[:, :, 3:], rotvec_rows(body[:, :, 3:]))    # broadcasts over rows
     q[:, :, 3:] = p / np.sqrt(np.sum(p * p, axis=-1, keepdims=True))
     Y[:, lay.q_rigid] = q.reshape(k, 7 * n)
     if DU.shape[1] > 6 * n:
