@@ -42,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from flexbed.errors import InputError
+from flexbed.files.table_reader import short_repr
 from flexbed.files.scene import SceneFile
 from flexbed.study.frequency_metrics import FREQUENCY_KINDS
 from flexbed.study.metric_keys import OneColumn, PerMount, _options, resolve_point
@@ -113,32 +114,71 @@ class PeakMotion(OneColumn):
         return (float(v.max()),)
 
 
+#: ``sense`` of a peak mount metric: the largest |value|, or along an axis
+#: the largest compression (−Δx, reported positive) or extension (+Δx)
+SENSES = ("magnitude", "compression", "extension")
+#: ``part``: the value itself, or its change from the static one (the run
+#: starts at the equilibrium, so t = 0 is the static value)
+PARTS = ("total", "dynamic")
+
+
 @dataclass(frozen=True)
 class PeakMount(PerMount):
-    """Peak force or deflection of each mount over the run."""
+    """Peak force or deflection of each mount over the run: its magnitude,
+    or along an axis the largest compression or extension (deflection
+    only: Δx < 0 is compression, as the results file's sign), in total or
+    its dynamic part (less the static value)."""
 
     kind: str
     indices: tuple
     names: tuple
     axis: int | None
     label: str | None
+    sense: str = "magnitude"
+    part: str = "total"
     analysis = "simulate"
 
     @classmethod
     def build(cls, table: MetricTable, scene: SceneFile, where: str) -> "PeakMount":
-        opts = _options(table, ("mounts", "axis"), where)
+        opts = _options(table, ("mounts", "axis", "sense", "part"), where)
         idx, names = _mounts(scene, opts, where)
         if opts.get("name") and len(names) > 1:
             raise InputError(f"{where}: name applies to one mount (mounts = [...] with one name)")
-        return cls(table.kind, idx, names, _axis(opts, where), opts.get("name"))
+        sense, part = opts.get("sense", "magnitude"), opts.get("part", "total")
+        if sense not in SENSES:
+            raise InputError(f"{where}: sense = {short_repr(sense)} must be one of "
+                             f"{', '.join(SENSES)}")
+        if part not in PARTS:
+            raise InputError(f"{where}: part = {short_repr(part)} must be one of "
+                             f"{', '.join(PARTS)}")
+        axis = _axis(opts, where)
+        if sense != "magnitude" and (axis is None or table.kind != "peak_mount_deflection"):
+            raise InputError(f"{where}: sense = {sense!r} is the sign of a deflection along one "
+                             f"axis: give kind = \"peak_mount_deflection\" and axis = 1, 2 or 3")
+        return cls(table.kind, idx, names, axis, opts.get("name"), sense, part)
 
     unit = property(lambda self: "N" if self.kind == "peak_mount_force" else "m")
+
+    @property
+    def columns(self) -> tuple:
+        if self.label:
+            return (self.label,)
+        tail = ("" if self.sense == "magnitude" else f".{self.sense}") + \
+            ("" if self.part == "total" else ".dynamic")
+        return tuple(c + tail for c in PerMount.columns.fget(self))
 
     def values(self, outcomes: dict) -> tuple:
         run = outcomes["simulate"]
         data = run.mount_force if self.kind == "peak_mount_force" else run.mount_deflection
         data = data[:, list(self.indices)]                              # (k, m, 3)
-        v = np.abs(data[:, :, self.axis - 1]) if self.axis else np.linalg.norm(data, axis=2)
+        if self.part == "dynamic":
+            data = data - data[:1]
+        if self.sense == "compression":
+            v = -data[:, :, self.axis - 1]
+        elif self.sense == "extension":
+            v = data[:, :, self.axis - 1]
+        else:
+            v = np.abs(data[:, :, self.axis - 1]) if self.axis else np.linalg.norm(data, axis=2)
         return tuple(float(x) for x in v.max(axis=0))
 
 
@@ -161,7 +201,13 @@ class StaticDeflection(PerMount):
     label: str | None
     analysis = "static"
     unit = "m"
-    build = classmethod(PeakMount.build.__func__)
+    @classmethod
+    def build(cls, table: MetricTable, scene: SceneFile, where: str) -> "StaticDeflection":
+        opts = _options(table, ("mounts", "axis"), where)
+        idx, names = _mounts(scene, opts, where)
+        if opts.get("name") and len(names) > 1:
+            raise InputError(f"{where}: name applies to one mount (mounts = [...] with one name)")
+        return cls(table.kind, idx, names, _axis(opts, where), opts.get("name"))
 
     def values(self, outcomes: dict) -> tuple:
         dx = static_deflections(outcomes)[list(self.indices)]
