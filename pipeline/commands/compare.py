@@ -63,6 +63,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 
 def compare_scene(sf: SceneFile, out: Path, *, force: bool = False, log=print) -> dict:
     """Run the three cases into ``out``; return the rows and the files written."""
+    import numpy as np
+
     make_folder(out)
     name = sf.output_name
     data, reused = ensure_modes(sf, out / f"{name}-modes.h5", force=force,
@@ -92,7 +94,10 @@ def compare_scene(sf: SceneFile, out: Path, *, force: bool = False, log=print) -
         curves = {c: (runs[c].t, 1e3 * (runs[c].relative[point] - runs[c].relative[point][0]))
                   for c in CASES}
         safe = point.replace(" ", "_")
+        reach = np.max([np.abs(d).max(axis=0) for _, d in curves.values()], axis=0)   # (3,)
         for k, axis in enumerate("xyz"):
+            if reach[k] <= RELATIVE_FLOOR * reach.max():
+                continue        # no motion along this axis but round-off: nothing to draw
             files.append(plot_responses(
                 out / f"{name}-{safe}-relative-{axis}.png",
                 f"{point}: {axis} motion relative to {_relative_to(sf, point)}",
@@ -105,6 +110,12 @@ def compare_scene(sf: SceneFile, out: Path, *, force: bool = False, log=print) -
     return {"rows": rows, "table": table, "runs": runs, "files": files, "modes": data,
             "verdict_rows": verdicts,
             "verdict_table": verdict_markdown(verdicts, CASES, LABELS)}
+
+
+#: an axis of a point's relative motion is drawn when its largest motion
+#: reaches this share of the largest axis's (the reference scene's x motion
+#: is 1e-14 of its z, round-off of a symmetric scene)
+RELATIVE_FLOOR = 1e-9
 
 
 def _relative_to(sf: SceneFile, point: str) -> str:
