@@ -10,6 +10,7 @@ import numpy as np
 
 from .accuracy import Accuracy
 from .invariants import Invariants, modal_invariants, shell_invariants
+from .modal_stress import ModalStress, modal_stress
 from .modes import ModeSet, free_free_modes
 from .plate import PlateModel, assemble_plate
 from .grid_shapes import nodal_motions
@@ -50,6 +51,9 @@ class BedModes:
         The estimated discretisation error of each mode
         (:mod:`flexbed.fem.accuracy`); an auto mesh's says what was chosen
         (:mod:`flexbed.fem.auto_size`). None: not estimated.
+    stress : ModalStress or None
+        Each mode's stresses at the element centres
+        (:mod:`flexbed.fem.modal_stress`).
     """
 
     spec: PlateSpec
@@ -63,6 +67,7 @@ class BedModes:
     timings: dict = field(default_factory=dict)
     origin: np.ndarray = field(default_factory=lambda: np.zeros(2))
     accuracy: Accuracy | None = None
+    stress: ModalStress | None = None
 
 
 def bed_modes_from_model(model: PlateModel | ShellModel,
@@ -119,6 +124,7 @@ def compute_bed_modes(spec: PlateSpec, n_modes: int | None = None,
     else:
         invariants = modal_invariants(model, modes)
         cells = model.mesh.t.T.copy()
+    stress = modal_stress(model, modes.vectors)
     t3 = time.perf_counter()
     nodes = np.column_stack([model.nodes, np.full(model.nodes.shape[0],
                                                   getattr(model, "mid_z", 0.0))])
@@ -126,4 +132,4 @@ def compute_bed_modes(spec: PlateSpec, n_modes: int | None = None,
                     translation=translation, rotation=rotation, twist=twist,
                     invariants=invariants,
                     timings={"assemble": t1 - t0, "eigen": t2 - t1, "invariants": t3 - t2},
-                    origin=getattr(model, "origin", np.zeros(2)))
+                    origin=getattr(model, "origin", np.zeros(2)), stress=stress)

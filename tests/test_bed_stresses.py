@@ -136,3 +136,34 @@ def test_plane_stress_measures(sigma, vm, p):
     # von Mises from the principal stresses
     s1, s2 = principal(s)
     assert von_mises(s) == pytest.approx(np.sqrt(s1 * s1 - s1 * s2 + s2 * s2), rel=1e-12)
+
+
+def test_modal_stresses_round_trip_the_modes_file(tmp_path):
+    """Schema 1.4 stores each mode's stresses, stiffeners' too; a 1.3 file
+    (no group ``stress``) still reads, with no stresses."""
+    import h5py
+
+    from flexbed.fem.bed import compute_bed_modes
+    from flexbed.files.modes import read_modes_file, write_modes_file
+
+    bar = Stiffener("bar 1", (-0.2, -2.4), (-0.2, 2.4), section_of("flat", height=0.1, width=0.02),
+                    -0.1)
+    bed = compute_bed_modes(PlateSpec(theory="mindlin", nx=8, ny=24, stiffeners=(bar,)),
+                            n_modes=3)
+    path = write_modes_file(tmp_path / "m.h5", bed)
+    s = read_modes_file(path).stress
+    assert s.membrane.shape == (3, 192, 3)
+    for name in ("centres", "membrane", "bending"):
+        assert np.array_equal(getattr(s, name), getattr(bed.stress, name)), name
+    (st,), (ref,) = s.stiffeners, bed.stress.stiffeners
+    assert st.name == "bar 1" and np.array_equal(st.axial, ref.axial)
+    assert np.array_equal(st.gradient, ref.gradient) and st.axial.shape == (3, 24)
+    with h5py.File(path, "r") as f:
+        vm = f["stress/von_mises"][...]
+        assert f["stress/membrane"].attrs["units"] == "Pa kg^-1/2"
+    faces = bed.stress.faces(np.eye(3))
+    np.testing.assert_array_equal(vm, von_mises(faces))
+    with h5py.File(path, "r+") as f:
+        del f["stress"]
+        f.attrs["schema_version"] = "1.3"
+    assert read_modes_file(path).stress is None

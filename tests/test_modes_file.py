@@ -42,7 +42,7 @@ def test_plain_h5py_sees_units_on_every_dataset(tmp_path, bed):
     seen = []
     with h5py.File(path, "r") as f:
         assert f.attrs["schema"] == "flexbed.modes"
-        assert f.attrs["schema_version"] == "1.3"
+        assert f.attrs["schema_version"] == "1.4"
         assert str(f.attrs["creator"]).startswith("flexbed ")
         assert "T" in str(f.attrs["created"])
         assert f.attrs["input_hash"] == bed.spec.digest()

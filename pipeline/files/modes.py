@@ -1,7 +1,8 @@
 """The modes file: what the bed-modes stage hands to the dynamics stage.
 
-Schema ``flexbed.modes``, version 1.3 (1.0 – 1.2 files still read;
-1.2 adds triangles to ``mesh/cells``, 1.3 the group ``accuracy``). Layout
+Schema ``flexbed.modes``, version 1.4 (1.0 – 1.3 files still read;
+1.2 adds triangles to ``mesh/cells``, 1.3 the group ``accuracy``, 1.4 the
+group ``stress``: each mode's stresses, :mod:`flexbed.files.modes_stress`). Layout
 (every dataset has ``units``):
 
 =================================  ==============  =====================  =========
@@ -84,16 +85,19 @@ from flexbed.fem.invariants import Invariants
 from flexbed.fem.spec import PlateSpec
 
 from flexbed.errors import InputError
+from flexbed.files.modes_stress import read_stress, stress_datasets
 from flexbed.files.store import Dataset, read_file, write_file
 
 if TYPE_CHECKING:       # annotation only: reading a modes file needs no FE code
     from flexbed.fem.bed import BedModes
+    from flexbed.fem.modal_stress import ModalStress
 
 SCHEMA = "flexbed.modes"
 #: 1.1: plate/theory (absent: "kirchhoff"), Mindlin shells; 1.2: triangles in
 #: mesh/cells as (a, b, c, c) (a file of quads is laid out as in 1.1)
 #: 1.3: the group accuracy (absent: not estimated)
-VERSION = "1.3"
+#: 1.4: the group stress (absent: None)
+VERSION = "1.4"
 MAJOR = 1
 _LATER_KEYS = ("theory", "geometry", "masses", "stiffeners", "mesh_tolerance", "mesh_points")
 _JSON_KEYS = ("geometry", "masses", "stiffeners", "mesh_points")
@@ -200,6 +204,9 @@ class ModesData:
     accuracy : Accuracy or None
         Each mode's estimated discretisation error (None: not estimated,
         or a file older than 1.3).
+    stress : ModalStress or None
+        Each mode's stresses at the element centres (None: a file older
+        than 1.4).
     """
 
     path: Path | None
@@ -221,6 +228,7 @@ class ModesData:
     creator: str
     origin: np.ndarray = field(default_factory=lambda: np.zeros(3))
     accuracy: Accuracy | None = None
+    stress: ModalStress | None = None
 
     @property
     def n_modes(self) -> int:
@@ -302,6 +310,10 @@ def write_modes_file(path: str | Path, bed: BedModes) -> Path:
     if acc is not None:
         attrs["accuracy"] = {k: getattr(acc, k) for k in _ACCURACY_ATTRS}
         attrs["accuracy"]["element_size_units"] = "m"
+    if getattr(bed, "stress", None) is not None:
+        stress_d, stress_attrs = stress_datasets(bed.stress)
+        d.update(stress_d)
+        attrs.update(stress_attrs)
     return write_file(path, schema=SCHEMA, version=VERSION, datasets=d, attrs=attrs)
 
 
@@ -319,7 +331,8 @@ def modes_data(bed: BedModes, path: Path | None = None) -> ModesData:
         rigid_omega=np.asarray(m.rigid_omega, dtype=float), invariants=bed.invariants,
         next_frequency=(m.omega_next / (2 * math.pi) if math.isfinite(m.omega_next)
                         else math.inf),
-        created="", creator="", origin=_origin(bed.origin, bed.nodes), accuracy=bed.accuracy)
+        created="", creator="", origin=_origin(bed.origin, bed.nodes), accuracy=bed.accuracy,
+        stress=getattr(bed, "stress", None))
 
 
 def read_modes_file(path: str | Path) -> ModesData:
@@ -385,7 +398,7 @@ def read_modes_file(path: str | Path) -> ModesData:
         invariants=inv, next_frequency=float(root.get("next_frequency", math.inf)),
         created=str(root.get("created", "")), creator=str(root.get("creator", "")),
         origin=_origin(c.attrs.get("mesh", {}).get("origin_in_drawing_frame", (0.0, 0.0)),
-                       nodes), accuracy=accuracy)
+                       nodes), accuracy=accuracy, stress=read_stress(c, n))
 
 
 def _read_accuracy(c, n: int) -> Accuracy | None:
