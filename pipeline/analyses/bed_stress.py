@@ -1,0 +1,196 @@
+"""Stresses in the bed over a run, by modal superposition.
+
+σ(t) = Σ_i σ_i a_i(t): the modes file's modal stresses
+(:mod:`flexbed.fem.modal_stress`, at element centres) times the run's
+modal coordinates, taken to the file's modes through the run's
+``modal/basis`` (the kept modes, then the static correction's residual
+vectors, :mod:`flexbed.stages.residual_modes`), so that a run with
+``static_correction = true`` has its stresses corrected at the mounts as
+its motion is. von Mises and principal stresses come from the superposed
+components at each instant (never from the modes' own measures).
+
+The peak von Mises stress of the bed (over elements, both faces and time)
+and the peak |σ| at the extreme fibres of each stiffener are found with
+their place and time; t = 0 is the static equilibrium (the bed's sag)
+when the run starts from it. The time loop goes in chunks of frames, so
+memory stays at chunk × elements.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from flexbed.errors import InputError
+from flexbed.fem.modal_stress import ModalStress
+from flexbed.fem.stresses import von_mises
+
+__all__ = ["Peak", "BedStresses", "superpose", "bed_stresses_of_run"]
+
+#: frames per block of the superposition
+CHUNK = 512
+FACES = ("top", "bottom")
+
+
+@dataclass(frozen=True)
+class Peak:
+    """A peak stress and where and when it occurs.
+
+    Attributes
+    ----------
+    value : float
+        The stress [Pa] (von Mises in the plate; |σ| in a stiffener).
+    x, y : float
+        Place in the bed frame [m] (an element centre, or a beam element's
+        mid-point).
+    index : int
+        The element (or beam element) 0-based.
+    where : str
+        "top" or "bottom" face; a stiffener's fibre as its height above
+        the centroid ("fibre +0.05 m").
+    time : float
+        [s].
+    """
+
+    value: float
+    x: float
+    y: float
+    index: int
+    where: str
+    time: float
+
+
+@dataclass(frozen=True)
+class BedStresses:
+    """The bed's stresses over a run.
+
+    Attributes
+    ----------
+    time : ndarray (k,) [s]
+    peak_map : ndarray (ne,)
+        Each element's largest von Mises stress over both faces and the run [Pa].
+    initial : ndarray (ne, 2)
+        von Mises stress at t = time[0], top and bottom face [Pa].
+    bed : Peak
+        The plate's peak von Mises stress.
+    initial_peak : Peak
+        The plate's largest von Mises stress at t = time[0].
+    stiffeners : tuple of (str, Peak)
+        Each stiffener's peak |σ| at its extreme fibres.
+    centres : ndarray (ne, 2)
+        Element centres in the bed frame [m].
+    """
+
+    time: np.ndarray
+    peak_map: np.ndarray
+    initial: np.ndarray
+    bed: Peak
+    initial_peak: Peak
+    stiffeners: tuple
+    centres: np.ndarray
+
+
+def _peak(value: float, xy: np.ndarray, index: int, where: str, time: float) -> Peak:
+    return Peak(float(value), float(xy[0]), float(xy[1]), int(index), where, float(time))
+
+
+def superpose(stress: ModalStress, a: np.ndarray, t: np.ndarray,
+              chunk: int = CHUNK) -> BedStresses:
+    """Peaks of σ(t) = Σ σ_i a_i(t).
+
+    Parameters
+    ----------
+    stress : ModalStress
+        With n modes (already in the run's coordinates, see
+        :meth:`ModalStress.transformed`).
+    a : ndarray (k, n)
+        Modal coordinates [kg^1/2 m].
+    t : ndarray (k,)
+        Times [s].
+    chunk : int
+        Frames per block.
+
+    Returns
+    -------
+    BedStresses
+    """
+    a = np.asarray(a, dtype=float)
+    t = np.asarray(t, dtype=float)
+    ne = stress.centres.shape[0]
+    peak_map = np.zeros(ne)
+    best = (-1.0, 0, 0, 0)                                   # value, frame, element, face
+    initial = None
+    for s in range(0, t.size, chunk):
+        vm = von_mises(stress.faces(a[s:s + chunk]))            # (c, ne, 2)
+        if initial is None:
+            initial = vm[0].copy()
+        flat = int(np.argmax(vm))
+        f, e, face = np.unravel_index(flat, vm.shape)
+        if vm[f, e, face] > best[0]:
+            best = (float(vm[f, e, face]), s + int(f), int(e), int(face))
+        np.maximum(peak_map, vm.max(axis=(0, 2)), out=peak_map)
+    if initial is None:
+        raise InputError("the run has no frames: no stresses to recover")
+    value, frame, e, face = best
+    bed = _peak(value, stress.centres[e], e, FACES[face], t[frame])
+    e0, f0 = np.unravel_index(int(np.argmax(initial)), initial.shape)
+    initial_peak = _peak(initial[e0, f0], stress.centres[e0], e0, FACES[f0], t[0])
+    stiff = []
+    for st in stress.stiffeners:
+        if st.fibres.size == 0:
+            sig = (a @ st.axial)[..., None]
+            heights = np.zeros(1)
+        else:
+            sig, heights = st.fibre_stress(a), st.fibres
+        mag = np.abs(sig)                                          # (k, ke, f)
+        f, e, fib = np.unravel_index(int(np.argmax(mag)), mag.shape)
+        stiff.append((st.name, _peak(mag[f, e, fib], st.centres[e], e,
+                                     f"fibre {heights[fib]:+.4g} m", t[f])))
+    return BedStresses(time=t, peak_map=peak_map, initial=initial, bed=bed,
+                       initial_peak=initial_peak, stiffeners=tuple(stiff),
+                       centres=stress.centres)
+
+
+def run_stress(results: str | Path, modes_file: str | Path | None = None):
+    """The modal stresses in a flexible-bed run's coordinates and the run's
+    modal coordinates: (ModalStress, a (k, n), t (k,), ModesData).
+
+    Raises
+    ------
+    InputError
+        A rigid-bed run, a modes file without stresses (older than 1.4: re-run
+        ``flexbed modes``), or one that does not match the run.
+    """
+    from flexbed.analyses.points import find_modes_file
+    from flexbed.files.results import read_results
+
+    c = read_results(results)
+    bed = c.attrs.get("bed", {})
+    if str(bed.get("model", "rigid")) != "flexible":
+        raise InputError(f"{c.path}: the run's bed is rigid: it has no stresses (run with "
+                         f"[bed] model = \"flexible\")")
+    data, path = find_modes_file(c.path, bed, modes_file)
+    if data.stress is None:
+        raise InputError(f"{path}: the modes file holds no stresses (schema older than 1.4); "
+                         f"re-run 'flexbed modes --force'")
+    n = int(bed.get("n_modes", 0))
+    basis = c.datasets.get("modal/basis")
+    basis = np.eye(n) if basis is None else np.asarray(basis, dtype=float)
+    if basis.shape[0] > data.n_modes or basis.shape[1] != n:
+        raise InputError(f"{c.path}: the run's {n} modal coordinates draw on "
+                         f"{basis.shape[0]} modes, {path} holds {data.n_modes}; re-run "
+                         f"'flexbed modes'")
+    T = np.zeros((data.n_modes, n))
+    T[:basis.shape[0]] = basis
+    a = np.asarray(c.get("modal/coordinates"), dtype=float)[:, :n]
+    t = np.asarray(c.get("time"), dtype=float)
+    return data.stress.transformed(T), a, t, data
+
+
+def bed_stresses_of_run(results: str | Path, modes_file: str | Path | None = None
+                        ) -> BedStresses:
+    """:func:`superpose` over a results file (see :func:`run_stress`)."""
+    stress, a, t, _ = run_stress(results, modes_file)
+    return superpose(stress, a, t)
