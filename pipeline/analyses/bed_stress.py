@@ -18,7 +18,7 @@ memory stays at chunk × elements.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +27,8 @@ from flexbed.errors import InputError
 from flexbed.fem.modal_stress import ModalStress
 from flexbed.fem.stresses import von_mises
 
-__all__ = ["Peak", "BedStresses", "superpose", "bed_stresses_of_run"]
+__all__ = ["Peak", "BedStresses", "StressVerdict", "superpose", "bed_stresses_of_run",
+           "in_run_coordinates", "stress_verdicts"]
 
 #: frames per block of the superposition
 CHUNK = 512
@@ -153,6 +154,55 @@ def superpose(stress: ModalStress, a: np.ndarray, t: np.ndarray,
                        centres=stress.centres)
 
 
+def in_run_coordinates(stress: ModalStress, n_file: int, basis: np.ndarray) -> ModalStress:
+    """The modes file's n_file modal stresses in a run's coordinates,
+    a_file = basis @ a (basis (N' <= n_file, n))."""
+    T = np.zeros((n_file, basis.shape[1]))
+    T[:basis.shape[0]] = basis
+    return stress.transformed(T)
+
+
+@dataclass(frozen=True)
+class StressVerdict:
+    """A part of the bed (the plate, or a stiffener by name) against its
+    allowable stress: its peak (von Mises in the plate, |σ| at a
+    stiffener's extreme fibres) over the output samples, its place in the
+    scene's drawing frame, the allowable [Pa], the reasons (empty: passed)."""
+
+    part: str
+    peak: Peak
+    allowable: float
+    reasons: tuple
+
+    @property
+    def passed(self) -> bool:
+        return not self.reasons
+
+    @property
+    def usage(self) -> float:
+        """peak / allowable [1]."""
+        return self.peak.value / self.allowable
+
+
+def stress_verdicts(s: BedStresses, plate: float, stiffeners: float,
+                    origin: np.ndarray) -> tuple:
+    """The plate's and each stiffener's :class:`StressVerdict` (allowables
+    [Pa]; places moved to the drawing frame, whose origin is the bed
+    frame's ``origin`` (2,) or (3,))."""
+    o = np.asarray(origin, dtype=float)[:2]
+    out = []
+    for part, p, limit in [("plate", s.bed, plate)] + [(f"stiffener {name!r}", p, stiffeners)
+                                                        for name, p in s.stiffeners]:
+        p = replace(p, x=p.x + float(o[0]), y=p.y + float(o[1]))
+        reasons = ()
+        if p.value > limit:
+            reasons = (f"stress: peak {p.value / 1e6:.4g} MPa above the allowable "
+                       f"{limit / 1e6:.4g} MPa at ({p.x:.4g}, {p.y:.4g}) m, "
+                       f"{p.where}, t = {p.time:.4f} s",)
+        out.append(StressVerdict(part, p, float(limit), reasons))
+    return tuple(out)
+
+
 def run_stress(results: str | Path, modes_file: str | Path | None = None):
     """The modal stresses in a flexible-bed run's coordinates and the run's
     modal coordinates: (ModalStress, a (k, n), t (k,), ModesData).
@@ -182,11 +232,9 @@ def run_stress(results: str | Path, modes_file: str | Path | None = None):
         raise InputError(f"{c.path}: the run's {n} modal coordinates draw on "
                          f"{basis.shape[0]} modes, {path} holds {data.n_modes}; re-run "
                          f"'flexbed modes'")
-    T = np.zeros((data.n_modes, n))
-    T[:basis.shape[0]] = basis
     a = np.asarray(c.get("modal/coordinates"), dtype=float)[:, :n]
     t = np.asarray(c.get("time"), dtype=float)
-    return data.stress.transformed(T), a, t, data
+    return in_run_coordinates(data.stress, data.n_modes, basis), a, t, data
 
 
 def bed_stresses_of_run(results: str | Path, modes_file: str | Path | None = None

@@ -227,6 +227,7 @@ class Run:
         self.shapes = None
         self.translation = None
         self.modes_path = None
+        self.modes_data, self.basis = None, None      # a flexible bed's (bed stresses)
         # points on the bed are given in its drawing frame; the bed body's
         # frame has its origin at the bed's centre of mass, bed_centre
         self.bed_body = None
@@ -264,6 +265,7 @@ class Run:
             raise InputError(f"{self.path}: the run's {n} modal coordinates draw on "
                              f"{basis.shape[0]} modes, {path} holds {data.n_modes}; re-run "
                              f"'flexbed modes'")
+        self.modes_data, self.basis = data, basis
         a = np.asarray(c.get("modal/coordinates"), dtype=float)
         self.a = a[:, :n]
         self.ad = np.asarray(c.get("modal/rates"), dtype=float)[:, :n]

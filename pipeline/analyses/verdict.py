@@ -22,7 +22,10 @@ Per body after the base: the peak of |r̈| at its centre of mass (or the
 fragility's ``point``), inertial, in g against its fragility. Per point
 of interest: its peak absolute acceleration in g and, with
 ``relative_to``, its peak displacement relative to that body from t = 0.
-Per clearance: :mod:`flexbed.analyses.clearance`. Every extreme is located
+Per clearance: :mod:`flexbed.analyses.clearance`. With the bed's
+``allowable_stress``: the plate's peak von Mises stress and each
+stiffener's peak |σ| over the output samples against it
+(:mod:`flexbed.analyses.bed_stress`). Every extreme is located
 between the output samples (:mod:`flexbed.analyses.extremes`); the limits
 are :mod:`flexbed.files.limits`'.
 """
@@ -36,6 +39,7 @@ import numpy as np
 from flexbed.analyses.clearance import ClearanceResult, clearance
 from flexbed.analyses.extremes import extreme
 from flexbed.analyses.points import Point, Run
+from flexbed.errors import InputError
 from flexbed.files.limits import STANDARD_GRAVITY, Fragility, Limits, MountLimits
 from flexbed.files.store import Dataset
 
@@ -141,12 +145,15 @@ class PointVerdict:
 
 @dataclass(frozen=True)
 class Verdict:
-    """The whole verdict: mounts, bodies, points, clearances (ClearanceResult)."""
+    """The whole verdict: mounts, bodies, points, clearances (ClearanceResult),
+    the bed's stresses (StressVerdict per part; empty without an
+    allowable stress)."""
 
     mounts: tuple
     bodies: tuple
     points: tuple
     clearances: tuple
+    stresses: tuple = ()
 
     @property
     def reasons(self) -> tuple:
@@ -155,6 +162,7 @@ class Verdict:
         out += [f"body {b.name!r}: {r}" for b in self.bodies for r in b.reasons]
         out += [f"clearance {c.clearance.name!r}: {clearance_reason(c)}"
                 for c in self.clearances if not c.passed]
+        out += [f"bed {s.part}: {r}" for s in self.stresses for r in s.reasons]
         return tuple(out)
 
     @property
@@ -308,4 +316,19 @@ def judge(run: Run, limits: Limits, static_deflection: np.ndarray,
                    for b in range(1, len(run.names)))
     points = tuple(point_verdict(run, pt) for pt in run.scene_points)
     clearances = tuple(clearance(run, c) for c in limits.clearances)
-    return Verdict(mounts, bodies, points, clearances)
+    return Verdict(mounts, bodies, points, clearances, _stresses(run, limits))
+
+
+def _stresses(run: Run, limits: Limits) -> tuple:
+    """The bed's StressVerdicts (empty without an allowable stress)."""
+    lim = limits.allowable
+    if lim is None or run.modes_data is None:
+        return ()
+    from flexbed.analyses.bed_stress import in_run_coordinates, stress_verdicts, superpose
+    data = run.modes_data
+    if data.stress is None:
+        raise InputError(f"{data.path}: the modes file holds no stresses (schema older than "
+                         f"1.4) and the scene gives allowable_stress; re-run 'flexbed modes "
+                         f"--force'")
+    s = superpose(in_run_coordinates(data.stress, data.n_modes, run.basis), run.a, run.t)
+    return stress_verdicts(s, lim.plate, lim.stiffeners, data.origin)

@@ -98,6 +98,16 @@ def markdown(v: Verdict, title: str = "") -> str:
             lines.append(f"| {cl.name} | {cl.body} → {cl.other} ({cl.kind}) "
                          f"| {1e3 * c.minimum:.4f} | {c.time:.4f} | {1e3 * cl.minimum:g} "
                          f"| {1e3 * c.margin:.4f} | {_ok(c.passed)} |")
+    if v.stresses:
+        lines += ["", "## Bed stresses", "", "von Mises in the plate, |σ| at a stiffener's "
+                  "extreme fibres; places in the bed's drawing frame (as the scene's points).",
+                  "", "| part | peak [MPa] | at (x, y) [m] | where | at t [s] | allowable [MPa] "
+                  "| used [%] | verdict |", "|---|---|---|---|---|---|---|---|"]
+        for st in v.stresses:
+            p = st.peak
+            lines.append(f"| {st.part} | {p.value / 1e6:.4g} | ({p.x:.4g}, {p.y:.4g}) "
+                         f"| {p.where} | {p.time:.4f} | {st.allowable / 1e6:.4g} "
+                         f"| {100 * st.usage:.1f} | {_ok(st.passed)} |")
     return "\n".join(lines) + "\n"
 
 
@@ -148,6 +158,9 @@ def csv(v: Verdict) -> str:
         add("clearance", c.clearance.name, "", "minimum_distance", c.minimum, "m",
             c.clearance.minimum, c.time, c.passed)
         add("clearance", c.clearance.name, "", "margin", c.margin, "m", 0.0, c.time, c.passed)
+    for st in v.stresses:
+        add("bed_stress", st.part, "", "peak_stress", st.peak.value, "Pa", st.allowable,
+            st.peak.time, st.passed)
 
     def cell(x) -> str:
         if x is None or x == "":

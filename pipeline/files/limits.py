@@ -12,6 +12,11 @@
 - per ``[[body]]``: ``fragility = {peak = 40, units = "g"}``, the largest
   absolute acceleration the equipment may see (optionally at ``point``,
   body frame [m]; default its centre of mass);
+- on the flexible bed's ``[[body]]``: ``allowable_stress`` [Pa], the
+  largest von Mises stress its material may carry, one number for the
+  plate and its stiffeners or a table ``{plate = …, stiffeners = …}``
+  when they differ (judged against the stresses by modal superposition,
+  :mod:`flexbed.analyses.bed_stress`);
 - ``[[clearance]]`` tables: a point on one body and a point, a plane or a
   box on another body (or the base), with the smallest distance allowed
   [m].
@@ -38,7 +43,7 @@ from flexbed.errors import InputError
 from flexbed.files.drives import UNITS
 from flexbed.files.table_reader import short_repr
 
-__all__ = ["Limits", "MountLimits", "Fragility", "Clearance", "read_limits",
+__all__ = ["Limits", "MountLimits", "Fragility", "Clearance", "Allowable", "read_limits",
            "check_static_strokes", "MOUNT_LIMIT_KEYS", "JUDGED_ONLY_KEYS", "BODY_LIMIT_KEYS",
            "CLEARANCE_KEYS", "UNITS", "STANDARD_GRAVITY"]
 
@@ -52,7 +57,8 @@ MOUNT_LIMIT_KEYS = ("stroke_compression", "stroke_extension", "rated_load", "max
 #: hash); ``bump_stop`` changes the forces, so it is not one of them
 JUDGED_ONLY_KEYS = MOUNT_LIMIT_KEYS[:4]
 _STOP_KEYS = ("direction", "gap_compression", "gap_extension", "stiffness", "damping")
-BODY_LIMIT_KEYS = ("fragility",)
+BODY_LIMIT_KEYS = ("fragility", "allowable_stress")
+_ALLOWABLE_KEYS = ("plate", "stiffeners")
 _FRAGILITY_KEYS = ("peak", "units", "point")
 CLEARANCE_KEYS = ("name", "body", "point", "other", "other_point", "plane", "box", "minimum")
 _SHAPES = ("other_point", "plane", "box")
@@ -118,13 +124,25 @@ class Clearance:
 
 
 @dataclass(frozen=True, slots=True)
+class Allowable:
+    """The bed's allowable stresses [Pa]: plate and stiffeners (equal when
+    the scene gives one number)."""
+
+    body: str
+    plate: float
+    stiffeners: float
+
+
+@dataclass(frozen=True, slots=True)
 class Limits:
     """Every limit of a scene: mounts (MountLimits, only those with a
-    limit), fragility (Fragility per body that has one), clearances."""
+    limit), fragility (Fragility per body that has one), clearances, the
+    bed's allowable stress (Allowable or None)."""
 
     mounts: tuple = ()
     fragility: tuple = ()
     clearances: tuple = ()
+    allowable: Allowable | None = None
 
     def mount(self, name: str) -> MountLimits:
         """The limits of mount ``name`` (all None when it has none)."""
@@ -142,7 +160,8 @@ class Limits:
 
     @property
     def empty(self) -> bool:
-        return not (self.mounts or self.fragility or self.clearances)
+        return not (self.mounts or self.fragility or self.clearances
+                    or self.allowable is not None)
 
 
 def read_limits(reader, data: dict, names: list[str], bed_name: str | None = None,
@@ -184,13 +203,35 @@ def read_limits(reader, data: dict, names: list[str], bed_name: str | None = Non
         if "fragility" in t:
             fragility.append(_fragility(reader, f"body {t['name']!r}", t["fragility"],
                                         t["name"], i, bed_name, off_bed))
+    allowable = None
+    for t in data.get("body", []):
+        if "allowable_stress" in t:
+            allowable = _allowable(reader, t, bed_name, data.get("bed", {}))
     clearances = []
     for i, t in enumerate(reader.tables("clearance", data.get("clearance", []))):
         c = _clearance(reader, i, t, names, bed_name, off_bed)
         if any(c.name == o.name for o in clearances):
             reader.fail(f"clearance {c.name!r}", "name is used twice")
         clearances.append(c)
-    return Limits(tuple(mounts), tuple(fragility), tuple(clearances))
+    return Limits(tuple(mounts), tuple(fragility), tuple(clearances), allowable)
+
+
+def _allowable(reader, t: dict, bed_name, bed: dict) -> Allowable:
+    """``allowable_stress`` on a body: the flexible bed's only, > 0 [Pa]."""
+    where, key, value = f"body {t['name']!r}", "allowable_stress", t["allowable_stress"]
+    if t["name"] != bed_name:
+        reader.fail(where, f"{key}: only the bed's body carries stresses ([bed] body)")
+    if bed.get("model", "rigid") != "flexible":
+        reader.fail(where, f"{key} needs [bed] model = \"flexible\" (a rigid bed has no "
+                           f"stresses)")
+    if isinstance(value, dict):
+        reader.keys(f"{where}: {key}", value, _ALLOWABLE_KEYS, ("plate",))
+        plate = reader.number(where, f"{key}.plate", value["plate"], positive=True)
+        stiff = reader.number(where, f"{key}.stiffeners", value.get("stiffeners", plate),
+                              positive=True)
+        return Allowable(t["name"], plate, stiff)
+    v = reader.number(where, key, value, positive=True)
+    return Allowable(t["name"], v, v)
 
 
 def _stops(reader, where, value) -> tuple:
