@@ -50,6 +50,23 @@ def summary(s: BedStresses, origin: np.ndarray) -> str:
     return "\n".join(lines)
 
 
+def _bed_mount_points(results) -> np.ndarray:
+    """The mount points on the bed (drawing frame) from the run's scene, (m, 3) [m]."""
+    import tomllib
+
+    from flexbed.files.results import read_results
+    c = read_results(results)
+    try:
+        scene = tomllib.loads(str(c.datasets.get("scene/toml", "")))
+    except tomllib.TOMLDecodeError:
+        return np.zeros((0, 3))
+    names = [b.get("name") for b in scene.get("body", [])]
+    bed = scene.get("bed", {}).get("body") or (names[1] if len(names) > 1 else None)
+    pts = [m[f"point_{k}"] for m in scene.get("mount", []) for k in "ij"
+           if m.get(f"body_{k}") == bed and f"point_{k}" in m]
+    return np.array(pts, dtype=float).reshape(-1, 3)
+
+
 def run(args: argparse.Namespace) -> int:
     if isinstance(args.every, bool) or args.every < 1:
         raise InputError(f"--every {args.every}: must be an integer >= 1")
@@ -72,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
         f = plot_peak_map(Path(args.plot) / "bed-stress-peak.png",
                           f"peak von Mises stress over the run, {Path(args.results).name}",
                           data.nodes, data.cells, s.peak_map, (s.bed.x, s.bed.y), data.origin,
-                          lines=lines)
+                          mounts=_bed_mount_points(args.results), lines=lines)
         print(f"wrote {f}")
     if args.xdmf:
         from flexbed.fem.stresses import principal, von_mises

@@ -44,13 +44,13 @@ def plot_peak_map(path: Path, title: str, nodes: np.ndarray, cells: np.ndarray,
     span = np.ptp(xy, axis=0)
     tall = span[1] > span[0]
     w, h = (span[0], span[1]) if not tall else (span[1], span[0])
-    fig, ax = plt.subplots(figsize=(9.0, max(2.6, 9.0 * h / w * 0.9 + 1.2)))
+    fig, ax = plt.subplots(figsize=(9.0, max(3.6, 9.0 * h / w * 0.9 + 2.0)))
     if tall:                                   # long side across the page
         polys = [p[:, ::-1] for p in polys]
     coll = PolyCollection(polys, array=np.asarray(peak) / 1e6, cmap="viridis",
                           edgecolors="face", linewidths=0.2)
     ax.add_collection(coll)
-    fig.colorbar(coll, ax=ax, label="peak von Mises stress [MPa]", shrink=0.9)
+    fig.colorbar(coll, ax=ax, label="peak von Mises [MPa]", fraction=0.04, pad=0.02)
 
     def flip(p):
         p = np.asarray(p, dtype=float)
@@ -69,10 +69,14 @@ def plot_peak_map(path: Path, title: str, nodes: np.ndarray, cells: np.ndarray,
     ax.set_ylabel("x [m]" if tall else "y [m]")
     ax.set_aspect("equal")
     ax.autoscale_view()
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    pad = 0.06 * max(x1 - x0, y1 - y0)            # the mount markers clear of the frame
+    ax.set_xlim(x0 - pad, x1 + pad)
+    ax.set_ylim(y0 - pad, y1 + pad)
     handles, labels = ax.get_legend_handles_labels()
     keep = dict(zip(labels, handles))
-    ax.legend(keep.values(), keep.keys(), loc="upper center", bbox_to_anchor=(0.5, -0.25),
-              ncol=3, frameon=False)
+    fig.legend(keep.values(), keep.keys(), loc="lower center", ncol=3, frameon=False)
     ax.set_title(title)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.12, 1, 0.98))
     return save_figure(fig, path)
