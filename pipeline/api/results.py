@@ -137,6 +137,26 @@ class Results:
         pt = Point(name=name, body=body, position=xyz)
         return run.relative(pt, relative_to) if relative_to else run.absolute(pt)
 
+    def stresses(self):
+        """The flexible bed's stresses over the run by modal superposition
+        (:mod:`flexbed.analyses.bed_stress`): peak von Mises in the plate and
+        peak |σ| in each stiffener with place and time, the peak map.
+
+        Returns
+        -------
+        flexbed.analyses.bed_stress.BedStresses
+        """
+        from flexbed.analyses.bed_stress import in_run_coordinates, superpose
+
+        run = self._run()
+        data = run.modes_data
+        if data is None:
+            raise InputError("Results.stresses: the run's bed is rigid: it has no stresses")
+        if data.stress is None:
+            raise InputError(f"Results.stresses: {data.path}: the modes hold no stresses "
+                             f"(a modes file older than schema 1.4); re-run 'flexbed modes'")
+        return superpose(in_run_coordinates(data.stress, data.n_modes, run.basis), run.a, run.t)
+
     def points(self) -> dict[str, PointMotion]:
         """The scene's ``[[point]]`` tables: name → absolute motion, and
         ``name@body`` → the motion relative to its ``relative_to`` body."""
