@@ -60,6 +60,20 @@ def test_allowable_stress_at_or_below_zero_exits_2(tmp_path, capsys):
     assert "Traceback" not in err and not list(tmp_path.glob("bad-verdict*"))
 
 
+def test_stress_of_a_rigid_run_or_a_bad_option_is_refused_in_one_line(tmp_path, capsys):
+    path = tmp_path / "r.h5"
+    assert main(["simulate", "-o", str(path), "--t-end", "0.01", "--no-progress"]) == 0
+    capsys.readouterr()
+    assert main(["stress", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "the run's bed is rigid" in err and "\n" not in err
+    assert main(["stress", str(path), "--every", "0"]) == 2
+    assert "--every 0: must be an integer >= 1" in capsys.readouterr().err
+    (tmp_path / "file").write_text("")
+    assert main(["stress", str(path), "--plot", str(tmp_path / "file")]) == 2
+    assert "is not a folder" in capsys.readouterr().err
+
+
 @pytest.mark.slow
 def test_stress_command_and_verdict_against_hand_superposition(tmp_path, capsys, monkeypatch):
     """A short flexible run: the peak von Mises of ``flexbed stress`` and

@@ -16,7 +16,7 @@ import numpy as np
 
 from flexbed.analyses.bed_stress import BedStresses, run_stress, superpose
 from flexbed.errors import InputError
-from flexbed.files.destination import write_text
+from flexbed.files.destination import check_destination, write_text
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -70,6 +70,13 @@ def _bed_mount_points(results) -> np.ndarray:
 def run(args: argparse.Namespace) -> int:
     if isinstance(args.every, bool) or args.every < 1:
         raise InputError(f"--every {args.every}: must be an integer >= 1")
+    for option, value in (("--csv", args.csv), ("--plot", args.plot)):
+        if value is not None and Path(value).exists() and not Path(value).is_dir():
+            raise InputError(f"{option} {value}: is not a folder (it names an existing file "
+                             f"or device); give a folder for the output files")
+    if args.xdmf:
+        for suffix in (".xdmf", ".h5"):
+            check_destination(Path(args.xdmf).with_suffix(suffix))
     stress, a, t, data = run_stress(args.results, args.modes_file)
     s = superpose(stress, a, t)
     print(f"bed stresses by modal superposition ({stress.n_modes} coordinates), "
