@@ -18,9 +18,10 @@ modes → nodal mode shapes and modal invariants.
   invariants, whose contract is :data:`flexbed.files.modes.INVARIANTS`),
   mode shapes anywhere on the bed (:mod:`~flexbed.fem.grid_shapes` on the
   Kirchhoff grid, :mod:`~flexbed.fem.quad_shapes` on the shell's mesh),
-  :mod:`~flexbed.fem.export` (VTU for ParaView);
+  :mod:`~flexbed.fem.export` (VTU for ParaView), stresses
+  (:mod:`~flexbed.fem.stresses`, each mode's: :mod:`~flexbed.fem.modal_stress`);
 - a 3D-solid reference for checks only: :mod:`~flexbed.fem.solid`,
-  :mod:`~flexbed.fem.solid_check`.
+  :mod:`~flexbed.fem.solid_check`, :mod:`~flexbed.fem.solid_stress`.
 
 It may import NumPy, SciPy, scikit-fem (the only package that does) and
 meshio; never :mod:`flexbed.dynamics` (the modes file and plain arrays are

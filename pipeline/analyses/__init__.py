@@ -9,6 +9,7 @@
   :mod:`~flexbed.analyses.mode_shapes`: their shapes on meshes;
 - :mod:`~flexbed.analyses.frf`: transmissibility;
 - :mod:`~flexbed.analyses.shock`: shock response spectra;
+- :mod:`~flexbed.analyses.bed_stress`: the bed's stresses over a run;
 - :mod:`~flexbed.analyses.summary`: the tables of ``flexbed run``.
 
 It may import :mod:`flexbed.stages`, :mod:`flexbed.files`,

@@ -7,7 +7,8 @@ project computes at far tighter settings.
 :mod:`~flexbed.bench.modelling`, :mod:`~flexbed.bench.modes`,
 :mod:`~flexbed.bench.beds`, :mod:`~flexbed.bench.frequency`,
 :mod:`~flexbed.bench.inputs`, :mod:`~flexbed.bench.scaling` on the tiled scenes of
-:mod:`~flexbed.bench.tiling`, :mod:`~flexbed.bench.verdict`) over shared cases
+:mod:`~flexbed.bench.tiling`, :mod:`~flexbed.bench.verdict`,
+:mod:`~flexbed.bench.stress`) over shared cases
 (:mod:`~flexbed.bench.context`, :mod:`~flexbed.bench.cases`,
 :mod:`~flexbed.bench.reference`) and Markdown pieces
 (:mod:`~flexbed.bench.markdown`); its diagrams are

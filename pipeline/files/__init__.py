@@ -12,8 +12,9 @@
   (:mod:`~flexbed.files.results`), the frequency-domain analyses
   (:mod:`~flexbed.files.frequency`), all through
   :mod:`~flexbed.files.store`, the only module that imports h5py;
+- the modes file's stresses (:mod:`~flexbed.files.modes_stress`);
 - ParaView's XDMF (:mod:`~flexbed.files.xdmf`,
-  :mod:`~flexbed.files.mode_shapes`);
+  :mod:`~flexbed.files.mode_shapes`, :mod:`~flexbed.files.stress_xdmf`);
 - :mod:`~flexbed.files.destination`: where flexbed may write, atomically.
 
 It may import :mod:`flexbed.fem` and :mod:`flexbed.dynamics` (the data

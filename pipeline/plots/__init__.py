@@ -7,7 +7,8 @@
 - :mod:`~flexbed.plots.frequency`: over frequency (the decoupling map, Bode
   plots, shock response spectra);
 - :mod:`~flexbed.plots.bench`: the benchmark's error against cost;
-- :mod:`~flexbed.plots.study`: a study's metrics against its parameters.
+- :mod:`~flexbed.plots.study`: a study's metrics against its parameters;
+- :mod:`~flexbed.plots.stress`: the map of the bed's peak stress.
 
 The plots take plain arrays (and a study's table) and write files; they
 may import matplotlib, NumPy and :mod:`flexbed.files.destination`, nothing
