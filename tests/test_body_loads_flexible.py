@@ -40,6 +40,6 @@ def test_a_load_on_the_flexible_bed_keeps_the_energy_balance(tmp_path):
     strain = np.asarray(c.get("energy/strain"))
     balance = np.asarray(c.get("energy/balance"))
     assert np.max(np.abs(work)) > 1.0             # J: the load works
-    assert np.max(strain[:, 1]) > 0.01            # J: and bends the bed
+    assert np.ptp(strain[:, 1]) > 0.01               # J: and bends the bed (beyond its sag)
     # the energy balance moves with the integrator's error only
     assert np.max(np.abs(balance - balance[0])) < 1e-7 * np.max(np.abs(work))
