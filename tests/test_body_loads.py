@@ -164,3 +164,23 @@ def test_a_run_up_is_phase_continuous_and_reaches_the_closed_form_force():
     top = me * (2 * math.pi * f1) ** 2
     assert np.max(np.abs(Fx - F * np.cos(theta))) < 1e-5 * top
     assert np.max(np.abs(Fy - F * np.sin(theta))) < 1e-5 * top
+
+
+def test_a_load_as_a_frequency_response_input_gives_the_closed_form_transmissibility():
+    from flexbed.dynamics.frequency.frf import Outputs, responses
+    from flexbed.dynamics.frequency.load_inputs import load_input
+    from flexbed.dynamics.frequency.mounted import mounted_system
+    c = 2 * 0.05 * math.sqrt(K * M)
+    s = System(box(c, (BodyLoad("box", (0, 0, 0), 2, constant(0.0)),)))
+    eq = solve_statics(s, tol=1e-9)
+    ms = mounted_system(s, eq.y)
+    inp = load_input(ms, s, 0)
+    out = Outputs(np.zeros((0, 3 + ms.n)), ms.Bq, ms.Bv)
+    f = np.array([1.0, 6.366, 24.5, 100.0])           # Hz, through the 6.37 Hz bounce
+    w = 2 * np.pi * f
+    _, force = responses(ms, w, inp, out)
+    # force into the base per unit force on the box: (k + icω) / (k − mω² + icω)
+    k, cc = 4 * K, 4 * c
+    exact = (k + 1j * cc * w) / (k - M * w ** 2 + 1j * cc * w)
+    assert np.max(np.abs(force[:, 2] - exact) / np.abs(exact)) < 1e-8
+    assert np.max(np.abs(force[:, :2])) < 1e-8

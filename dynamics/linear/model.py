@@ -21,7 +21,7 @@ the statics' tolerance) and the inputs ``u`` of the base:
   the base's acceleration, so ``B = 1/m_base`` there — exactly;
 - a load on a body [N or N m], one channel each: B's column is the
   right-hand side's response to that load alone at unit value
-  (:func:`_load_column`), exact since the rates are affine in a load;
+  (:func:`load_column`), exact since the rates are affine in a load;
 - driven base: the drive's displacement [m] and velocity [m/s] along each
   axis; translating the base is translating every other body the other way
   (mount forces depend on relative positions and velocities only, gravity is
@@ -49,7 +49,8 @@ from ..piecewise import PiecewisePolynomial
 from ..system import System
 from ..time_functions import Curve
 
-__all__ = ["Coordinates", "Linearisation", "linearise", "difference_steps", "balanced"]
+__all__ = ["Coordinates", "Linearisation", "linearise", "difference_steps", "balanced",
+           "load_column"]
 
 _SINE_PIECE = 0.2                          # longest piece of an analytic sinusoid: 0.2/ω
 
@@ -387,7 +388,7 @@ def difference_steps(system: System, coords: Coordinates, rate_step: float = 1e-
 _UNIT = Curve(np.arange(4.0), np.ones(4))       # 1 from t = 0 on
 
 
-def _load_column(system: System, coords: Coordinates, y_eq: np.ndarray, i: int) -> np.ndarray:
+def load_column(system: System, coords: Coordinates, y_eq: np.ndarray, i: int) -> np.ndarray:
     """B's column of the scene's i-th load on a body (nz,): ż at the
     equilibrium with that load alone at 1 N (or N m), less ż with no load
     on a body, from the one right-hand side (exact: the right-hand side is
@@ -429,7 +430,7 @@ def linearise(system: System, y_eq: np.ndarray, rate_step: float = 1e-6,
     B = np.zeros((nz, len(chans)))
     for c, (kind, k) in enumerate(kinds):
         if kind == "body":
-            B[:, c] = _load_column(system, coords, y_eq, k)
+            B[:, c] = load_column(system, coords, y_eq, k)
         elif kind == "load":
             B[coords.base_v_index[k], c] = 1.0 / system.m_base
         else:              # only the dynamic rows: the kinematic ones do not see the base
