@@ -75,7 +75,9 @@ def scene_text() -> str:
     return text + MACHINERY
 
 
-def main(out: Path) -> dict:
+def main(out: Path, png: Path = HERE / "machinery-loads.png") -> dict:
+    """Run the example into the folder ``out``, the figure to ``png``;
+    returns the two designs' :class:`flexbed.api.transmission.Transmitted`."""
     out.mkdir(parents=True, exist_ok=True)
     path = out / "machinery.toml"
     path.write_text(scene_text())
@@ -103,7 +105,7 @@ def main(out: Path) -> dict:
         np.savetxt(out / f"{label.split()[0]}-bands.csv",
                    np.column_stack([tr.bands.nominal, tr.band_levels]), delimiter=",",
                    header="nominal_Hz,Fx_dB_re_1N,Fy_dB_re_1N,Fz_dB_re_1N", comments="")
-    png = plot_transmitted(HERE / "machinery-loads.png",
+    png = plot_transmitted(png,
                            "pump (24.5 Hz) and generator (29.6 Hz) on the reference bed: "
                            "force into the base, z",
                            {label: (tr.spectrum, tr.bands) for label, tr in forces.items()},
