@@ -4,6 +4,7 @@ spectrum against the closed form of a tone, third-octave bands, insertion
 loss, the command line, and bad loads in a scene file (one line, exit 2)."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -140,3 +141,13 @@ def test_bad_loads_in_a_scene_file_are_one_line_and_exit_2(tmp_path, capsys, ext
     err = capsys.readouterr().err.strip()
     assert message in err and "\n" not in err and "Traceback" not in err
     assert not (tmp_path / "eq.h5").exists()
+
+
+def test_modes_auto_sees_the_loads_on_bodies(tmp_path):
+    from flexbed.stages.modes_auto import input_frequency
+    sc = load_scene(_scene(tmp_path)).scene          # base held: its inputs are none
+    assert not sc.base.drives and not sc.base.loads
+    assert input_frequency(replace(sc, loads=()), 1.0) == 0.0
+    # at least the generator's order 2, 59.2 Hz (the pump's switch-on at t = 0, a step
+    # of its cosine component, spreads to about 100 Hz, as the rule says)
+    assert 59.2 <= input_frequency(sc, 1.0) < 150.0
