@@ -151,3 +151,12 @@ def test_modes_auto_sees_the_loads_on_bodies(tmp_path):
     # at least the generator's order 2, 59.2 Hz (the pump's switch-on at t = 0, a step
     # of its cosine component, spreads to about 100 Hz, as the rule says)
     assert 59.2 <= input_frequency(sc, 1.0) < 150.0
+
+
+def test_a_load_point_far_from_its_rigid_body_is_warned_about(tmp_path):
+    from flexbed.errors import FlexbedWarning
+    far = ("[[load]]\nname = \"far\"\nbody = \"equipment A\"\npoint = [0.0, 0.0, 150.0]\n"
+           "direction = \"z\"\nshape = \"sinusoid\"\namplitude = 1.0\nfrequency = 10.0\n")
+    with pytest.warns(FlexbedWarning, match="load 'far': point = .* from the centre of body "
+                                            "'equipment A'"):
+        load_scene(_scene(tmp_path, far))
