@@ -44,6 +44,7 @@ COMMANDS = {
     "simulate": "time integration of the mount system -> results file",
     "compare": "rigid vs flexible vs damped flexible bed -> tables and plots",
     "post": "points of interest and mount forces from a results file",
+    "transmitted": "force into the base: spectra, third-octaves, insertion loss",
     "srs": "shock response spectra of points from a results file",
     "qualify": "shock verdict against the scene's limits (exit 3: FAIL)",
     "run": "the whole pipeline on one scene, into one folder",
