@@ -39,15 +39,20 @@ class BaseInputs:
         Constant external force on a free base (read-only): the scene's
         ``support``, or ``−(total mass) g`` for ``"static"``.
     items : tuple
-        The scene's drives, then its loads (:class:`flexbed.dynamics.scene.Drive`,
-        :class:`~flexbed.dynamics.scene.Load`).
+        The scene's drives, then its loads on the base, then its loads on
+        other bodies (:class:`flexbed.dynamics.scene.Drive`,
+        :class:`~flexbed.dynamics.scene.Load`,
+        :class:`~flexbed.dynamics.body_loads.BodyLoad`).
     roles : tuple of int
-        0 for a drive, 1 for a load, per item.
+        0 for a drive, 1 for a load on the base, 2 for a load on a body,
+        per item.
     compiled : tuple of TimeFunction
         Their compiled shapes, in the same order.
     drives, loads : tuple of 3 tuples of TimeFunction
         The compiled drives (accelerations [m/s²]) and loads [N] per
         direction X, Y, Z, in scene order.
+    body_loads : tuple of TimeFunction
+        The compiled loads on bodies [N or N m], in scene order.
     breakpoints : tuple of float
         Times [s] > 0 where an input (or a derivative) jumps, sorted.
     """
@@ -60,14 +65,16 @@ class BaseInputs:
     drives: tuple
     loads: tuple
     breakpoints: tuple
+    body_loads: tuple = ()
 
     @classmethod
     def of(cls, scene: Scene, gravity: np.ndarray) -> BaseInputs:
         """Compile the inputs of ``scene``'s base; ``gravity`` (3,) [m/s²]
         gives a ``"static"`` support."""
         base = scene.base
-        items = tuple(base.drives) + tuple(base.loads)
+        items = tuple(base.drives) + tuple(base.loads) + tuple(scene.loads)
         compiled = tuple(d.shape.compile() for d in items)
+        body_loads = compiled[len(base.drives) + len(base.loads):]
         drives = [[], [], []]
         loads = [[], [], []]
         bps = set()
@@ -76,6 +83,8 @@ class BaseInputs:
             bps.update(f.breakpoints)
         for d, f in zip(base.loads, compiled[len(base.drives):]):
             loads[d.direction].append(f)
+            bps.update(f.breakpoints)
+        for f in body_loads:
             bps.update(f.breakpoints)
         if isinstance(base.support, str):
             support = (-scene.total_mass * gravity if base.support == "static"
@@ -87,9 +96,11 @@ class BaseInputs:
         support = np.array(support, dtype=float)
         support.flags.writeable = False
         return cls(r0=r0, support=support, items=items,
-                   roles=(0,) * len(base.drives) + (1,) * len(base.loads), compiled=compiled,
+                   roles=(0,) * len(base.drives) + (1,) * len(base.loads)
+                   + (2,) * len(scene.loads), compiled=compiled,
                    drives=tuple(tuple(f) for f in drives), loads=tuple(tuple(f) for f in loads),
-                   breakpoints=tuple(sorted(b for b in bps if b > 0.0)))
+                   breakpoints=tuple(sorted(b for b in bps if b > 0.0)),
+                   body_loads=tuple(body_loads))
 
     def motion_at(self, t: float, seg_end: float = math.inf):
         """The base's prescribed position [m], velocity [m/s] and acceleration
@@ -119,7 +130,8 @@ class BaseInputs:
         """Longest adaptive step [s] allowed on [t_a, t_b] by the inputs active
         there (inf: none)."""
         out = np.inf
-        for f in (f for k in range(3) for f in self.drives[k] + self.loads[k]):
+        for f in tuple(f for k in range(3) for f in self.drives[k] + self.loads[k]) \
+                + self.body_loads:
             lo, hi = f.support
             if lo < t_b and hi > t_a:
                 out = min(out, f.max_step)

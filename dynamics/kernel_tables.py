@@ -21,7 +21,8 @@ from .kernel import Compiled, pack
 from .laws import LawBank
 from .time_functions import Sinusoid
 
-__all__ = ["kernel_storage", "law_tables", "flexible_tables", "input_tables", "work_arrays",
+__all__ = ["kernel_storage", "law_tables", "flexible_tables", "input_tables", "load_points",
+           "work_arrays",
            "stack_tables"]
 
 
@@ -150,34 +151,39 @@ def flexible_tables(flex: tuple, nb: int, end_body: np.ndarray, S: np.ndarray) -
                 **{"fx_" + key: v for key, v in fx.items()})
 
 
-def input_tables(items: tuple, roles: tuple, compiled: tuple) -> dict:
-    """The base's inputs, one row each (see :mod:`flexbed.dynamics.kernel`).
+def input_tables(items: tuple, roles: tuple, compiled: tuple, body_index=None) -> dict:
+    """The inputs, one row each (see :mod:`flexbed.dynamics.kernel`).
 
     Parameters
     ----------
-    items : tuple of Drive and Load
-        The scene's drives, then its loads
+    items : tuple of Drive, Load and BodyLoad
+        The scene's drives, its loads on the base, its loads on bodies
         (:attr:`flexbed.dynamics.base_inputs.BaseInputs.items`).
     roles : tuple of int
-        0 for a drive, 1 for a load, per item.
+        0 for a drive, 1 for a load on the base, 2 on a body, per item.
     compiled : tuple of TimeFunction
         Their compiled shapes, in the same order.
+    body_index : callable, optional
+        Body name → index (needed when there are loads on bodies).
 
     Returns
     -------
     dict
-        ``in_ints`` (ni, 3) kind (0 piecewise, 1 sinusoid), direction,
-        role (0 drive, 1 load); ``in_sin`` (ni, 5) amplitude, ω [rad/s],
-        phase [rad], start, end [s]; ``in_b``, ``in_o``, ``in_c`` the value,
-        first and second integral of a piecewise input
-        (:func:`stack_tables`).
+        ``in_ints`` (ni, 6) kind (0 piecewise, 1 sinusoid), direction,
+        role, body, frame (0 inertial, 1 body), quantity (0 force, 1
+        moment); ``in_sin`` (ni, 5) amplitude, ω [rad/s], phase [rad],
+        start, end [s]; ``in_b``, ``in_o``, ``in_c`` the value, first and
+        second integral of a piecewise input (:func:`stack_tables`).
     """
-    in_ints = np.zeros((len(items), 3), dtype=np.int64)
+    in_ints = np.zeros((len(items), 6), dtype=np.int64)
     in_sin = np.zeros((len(items), 5))
     tables = []
     for i, (item, role) in enumerate(zip(items, roles)):
         sh = item.shape
-        in_ints[i] = (1 if isinstance(sh, Sinusoid) else 0, item.direction, role)
+        in_ints[i, :3] = (1 if isinstance(sh, Sinusoid) else 0, item.direction, role)
+        if role == 2:
+            in_ints[i, 3:] = (body_index(item.body), item.frame == "body",
+                              item.quantity == "moment")
         if isinstance(sh, Sinusoid):
             in_sin[i] = (sh.amplitude, 2.0 * math.pi * sh.frequency, sh.phase, sh.start,
                          sh.start + sh.duration)
@@ -187,6 +193,25 @@ def input_tables(items: tuple, roles: tuple, compiled: tuple) -> dict:
             tables.append([f.value, f.first, f.second])
     in_b, in_o, in_c = stack_tables(tables, 3)
     return dict(in_ints=in_ints, in_sin=in_sin, in_b=in_b, in_o=in_o, in_c=in_c)
+
+
+def load_points(items: tuple, roles: tuple, flex: tuple, body_index) -> dict:
+    """The loads on bodies' points: ``in_pt`` (ni, 3) [m] in the body frame
+    and ``in_phi`` (ni, 3, nm) the mode shapes there [kg^-1/2] on a
+    flexible body (zero rows for the base's inputs and rigid bodies)."""
+    nm = max((fc.eom.n for fc in flex), default=0)
+    pt = np.zeros((len(items), 3))
+    phi = np.zeros((len(items), 3, nm))
+    by_body = {fc.body: fc for fc in flex}
+    for i, (item, role) in enumerate(zip(items, roles)):
+        if role != 2:
+            continue
+        pt[i] = item.point
+        fc = by_body.get(body_index(item.body))
+        if fc is not None:
+            fb = fc.eom.body
+            phi[i, :, :fc.eom.n] = fb.point_shapes[fb.point_index(item.point)]
+    return dict(in_pt=pt, in_phi=phi)
 
 
 def work_arrays(nb: int, M: int, nf: int, nm: int) -> dict:
@@ -242,7 +267,8 @@ def kernel_storage(system) -> tuple[tuple[np.ndarray, np.ndarray], Compiled]:
         d0=np.ascontiguousarray(system.d0),
         **law_tables(system.laws, M),
         **flexible_tables(flex, nb, system.end_body, system.S),
-        **input_tables(inputs.items, inputs.roles, inputs.compiled),
+        **input_tables(inputs.items, inputs.roles, inputs.compiled, system.scene.body_index),
+        **load_points(inputs.items, inputs.roles, flex, system.scene.body_index),
         **work_arrays(nb, M, nf, nm)), lay.ny)
     for name, v in zip(views._fields, views):
         if not name.startswith("w_"):

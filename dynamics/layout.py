@@ -20,7 +20,7 @@
 
 ``w`` — energy quadratures (4) [J], integrated along with the motion:
 ``W_mount`` (work of all mount forces on the bodies, springs and dampers),
-``W_ext`` (work of the base's external loads and support force),
+``W_ext`` (work of the external loads: the base's, its support, loads on bodies),
 ``W_drive`` (work of the force that makes a driven base follow its drive),
 ``W_struct`` (work of the flexible bodies' structural damping, ≤ 0).
 

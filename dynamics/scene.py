@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .body_loads import check_loads
 from .errors import SceneError
 from .flexible import FlexibleBody
 from .laws import BumpStop, CurveLaw, LinearLaw, PolynomialLaw
@@ -286,6 +287,9 @@ class Scene:
         Bodies modelled as flexible (floating frame), by name. Their mass
         and inertia come from the FlexibleBody and must agree with the
         body's table within 1e-4 (rounding of published values).
+    loads : tuple of BodyLoad
+        External forces and moments on bodies other than the base
+        (:mod:`flexbed.dynamics.body_loads`); they add up.
     """
 
     bodies: tuple
@@ -294,6 +298,7 @@ class Scene:
     gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, -9.81]))
     name: str = "scene"
     flexible: tuple = ()
+    loads: tuple = ()
 
     def __post_init__(self):
         bodies = tuple(self.bodies)
@@ -362,6 +367,7 @@ class Scene:
                         fb.point_index(point)   # raises if no shapes for that point
         if len({n for n, _ in flexible}) != len(flexible):
             raise SceneError("a body is listed as flexible twice")
+        object.__setattr__(self, "loads", check_loads(self.loads, names, dict(flexible)))
         object.__setattr__(self, "flexible", flexible)
         object.__setattr__(self, "bodies", bodies)
         object.__setattr__(self, "mounts", mounts)

@@ -41,12 +41,13 @@ from __future__ import annotations
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
-           "Modal", "Transmissibility", "Qualification", "InputError", "NumericalError",
+           "Modal", "Transmissibility", "Qualification", "transmitted", "Transmitted",
+           "InputError", "NumericalError",
            "__version__"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
         "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison", "Modal",
-        "Transmissibility", "Qualification"}
+        "Transmissibility", "Qualification", "transmitted", "Transmitted"}
 
 
 def __getattr__(name: str):

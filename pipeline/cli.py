@@ -45,6 +45,7 @@ COMMANDS = {
     "compare": "rigid vs flexible vs damped flexible bed -> tables and plots",
     "post": "points of interest and mount forces from a results file",
     "stress": "stresses in a flexible bed over a run, peaks, map, XDMF",
+    "transmitted": "force into the base: spectra, third-octaves, insertion loss",
     "srs": "shock response spectra of points from a results file",
     "qualify": "shock verdict against the scene's limits (exit 3: FAIL)",
     "run": "the whole pipeline on one scene, into one folder",

@@ -6,7 +6,8 @@
 - :mod:`.modal`: natural frequencies, damping ratios, mode shapes, the
   kinetic- and strain-energy tables and modal effective masses;
 - :mod:`.frf`: transmissibility and mount forces per frequency, on a grid
-  refined until every resonance is resolved.
+  refined until every resonance is resolved;
+- :mod:`.load_inputs`: loads on bodies (forces, unbalances) as inputs.
 
 May import NumPy, SciPy and, from :mod:`flexbed.dynamics`, the compiled
 system, the rotations and the linear room's linearisation; never ``fem``

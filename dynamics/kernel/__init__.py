@@ -22,6 +22,10 @@ function per step (:mod:`.rhs`):
    contact force past its gap: decided by Δx, or held by an integrator,
    :mod:`flexbed.dynamics.contacts`), ``F = A_i Uᵀ f`` on P_i and ``−F``
    on P_j;
+4b. every load on a body (force or moment, inertial or body axis, at a
+   body-frame point ū that moves with the modes on a flexible body): added
+   to the body's force, its moment ``ū × F̄`` and, on a flexible body, the
+   modal forces ``Φᵀ F̄``, as a mount end's force is;
 5. Newton–Euler per rigid body (``m r̈ = F + m g``,
    ``J ω̄̇ = n̄ − ω̄ × J ω̄``) and, per flexible body, the floating-frame
    equations in the body frame ``M̄(a) [Aᵀ r̈, ω̄̇, ä] = Q̄`` from the modal
@@ -46,7 +50,7 @@ Modules: :mod:`.storage` (the fields, packing, views), :mod:`.inputs`
 :mod:`flexbed.dynamics.jitcache` only, nothing else of flexbed: the scene
 reaches it as arrays.
 
-Inputs (drives and loads of the base), one row each: ``in_kind`` 0 for a
+Inputs (drives and loads of the base, loads on bodies), one row each: ``in_kind`` 0 for a
 piecewise polynomial (value, first and second integral as three tables of
 breaks, origins and ascending coefficients, padded with +inf breaks and
 zero rows), 1 for a windowed sinusoid (``in_sin`` = amplitude, ω, phase,

@@ -4,7 +4,7 @@ for what it computes, in order), compiled once as a C function.
 :func:`evaluate` builds its views of the scene's fields, then calls one
 compiled function per section: :func:`_base_inputs` (1),
 :func:`_rotations` (2), :func:`_mount_ends` (3), :func:`_mount_forces`
-(4), :func:`_newton_euler` and :func:`_floating_frame` (5),
+(4), :func:`_body_loads` (4b), :func:`_newton_euler` and :func:`_floating_frame` (5),
 :func:`_rates_and_powers` (6). They take the views already built, and
 numba inlines them (``inline="always"``) into the one C function, which
 is the code of one long function, operation for operation: same results
@@ -118,7 +118,7 @@ def _base_inputs(t, seg_end, y, mode, qb, vb, r0_base, support, in_ints, in_sin,
                 for which in range(3):
                     base[2 - which, c] += input_value(kind, in_sin[i], in_b[i], in_o[i], in_c[i],
                                                  which, t, seg_end)
-        elif mode == 2:
+        elif mode == 2 and in_ints[i, 2] == 1:
             # a load's value: which = role − 1 = 0, a number known at run time only
             # (a literal 0 would compile input_value a second time)
             val = input_value(kind, in_sin[i], in_b[i], in_o[i], in_c[i], in_ints[i, 2] - 1, t,
@@ -390,6 +390,112 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
 
 
 @njit(cache=True, no_cpython_wrapper=True, inline="always")
+def _body_loads(t, seg_end, y, qr, vr, in_ints, in_sin, in_b, in_o, in_c, in_pt, in_phi,
+                body_flex, fx_ints, A, force, torque, w_flexQ):
+    """Section 4b: the external loads on bodies (role 2 inputs), added to
+    the bodies' forces and moments and to the flexible bodies' generalized
+    forces as a mount end's force is (:func:`_mount_forces`).
+
+    Parameters
+    ----------
+    t, seg_end : float
+        Time and end of the segment [s].
+    y : (ny,) float64
+        State.
+    qr, vr : int
+        Offsets in y of the bodies' coordinates and velocities.
+    in_ints, in_sin, in_b, in_o, in_c, in_pt, in_phi
+        The inputs (:data:`flexbed.dynamics.kernel.FIELDS`).
+    body_flex, fx_ints
+        Flexible body index per body; per flexible body its modes and
+        their offsets in y.
+    A : (nb, 3, 3) float64
+        Rotation matrices (section 2).
+    force, torque, w_flexQ
+        Added to: inertial force [N], body-frame moment about the frame
+        origin [N m], body-frame generalized force of a flexible body.
+
+    Returns
+    -------
+    float
+        The power of the loads [W]: F · Ṗ for a force at P, m̄ · ω̄ for a
+        moment.
+    """
+    p_load = 0.0
+    for i in range(in_ints.shape[0]):
+        if in_ints[i, 2] != 2:
+            continue
+        # which = role − 2 = 0, known at run time only (see _base_inputs)
+        val = input_value(in_ints[i, 0], in_sin[i], in_b[i], in_o[i], in_c[i],
+                          in_ints[i, 2] - 2, t, seg_end)
+        b = in_ints[i, 3]
+        c = in_ints[i, 1]
+        Ab = A[b]
+        # the load's axis in the body frame
+        if in_ints[i, 4] == 1:
+            g0 = val if c == 0 else 0.0
+            g1 = val if c == 1 else 0.0
+            g2 = val if c == 2 else 0.0
+        else:
+            g0 = Ab[c, 0] * val
+            g1 = Ab[c, 1] * val
+            g2 = Ab[c, 2] * val
+        v = vr + 6 * (b - 1)
+        wx, wy, wz = y[v + 3], y[v + 4], y[v + 5]
+        if in_ints[i, 5] == 1:              # a moment
+            torque[b, 0] += g0
+            torque[b, 1] += g1
+            torque[b, 2] += g2
+            p_load += g0 * wx + g1 * wy + g2 * wz
+            continue
+        for r in range(3):
+            force[b, r] += Ab[r, 0] * g0 + Ab[r, 1] * g1 + Ab[r, 2] * g2
+        u0, u1, u2 = in_pt[i, 0], in_pt[i, 1], in_pt[i, 2]
+        k = body_flex[b]
+        # body-frame velocity of the point relative to the frame's: ω̄ × ū (+ Φ ȧ)
+        d0 = 0.0
+        d1 = 0.0
+        d2 = 0.0
+        if k >= 0:
+            n = fx_ints[k, 1]
+            oa = fx_ints[k, 2]
+            ov = fx_ints[k, 3]
+            for j in range(n):
+                u0 += in_phi[i, 0, j] * y[oa + j]
+                u1 += in_phi[i, 1, j] * y[oa + j]
+                u2 += in_phi[i, 2, j] * y[oa + j]
+                d0 += in_phi[i, 0, j] * y[ov + j]
+                d1 += in_phi[i, 1, j] * y[ov + j]
+                d2 += in_phi[i, 2, j] * y[ov + j]
+        t0 = u1 * g2 - u2 * g1
+        t1 = u2 * g0 - u0 * g2
+        t2 = u0 * g1 - u1 * g0
+        torque[b, 0] += t0
+        torque[b, 1] += t1
+        torque[b, 2] += t2
+        d0 += wy * u2 - wz * u1
+        d1 += wz * u0 - wx * u2
+        d2 += wx * u1 - wy * u0
+        # Aᵀ ṙ: the frame's velocity in the body frame
+        rd0, rd1, rd2 = y[v], y[v + 1], y[v + 2]
+        d0 += Ab[0, 0] * rd0 + Ab[1, 0] * rd1 + Ab[2, 0] * rd2
+        d1 += Ab[0, 1] * rd0 + Ab[1, 1] * rd1 + Ab[2, 1] * rd2
+        d2 += Ab[0, 2] * rd0 + Ab[1, 2] * rd1 + Ab[2, 2] * rd2
+        p_load += g0 * d0 + g1 * d1 + g2 * d2
+        if k >= 0:
+            Qk = w_flexQ[k]
+            Qk[0] += g0
+            Qk[1] += g1
+            Qk[2] += g2
+            Qk[3] += t0
+            Qk[4] += t1
+            Qk[5] += t2
+            for j in range(fx_ints[k, 1]):
+                Qk[6 + j] += in_phi[i, 0, j] * g0 + in_phi[i, 1, j] * g1 + in_phi[i, 2, j] * g2
+    return p_load
+
+
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
 def _newton_euler(y, nb, vr, g, mass, J, Jinv, body_flex, force, torque, acc):
     """Section 5, rigid bodies: ``m r̈ = F + m g``, ``J ω̄̇ = n̄ − ω̄ × J ω̄``.
 
@@ -518,7 +624,7 @@ def _floating_frame(y, dy, nf, vr, g, fx_ints, fx_m, fx_I2, fx_I3, fx_I4, fx_I5,
 
 @njit(cache=True, no_cpython_wrapper=True, inline="always")
 def _rates_and_powers(y, dy, nb, vr, mode, qb, vb, w0, mass, g, force, Fx, base, acc, p_mount,
-                      p_struct):
+                      p_struct, p_load):
     """Section 6: the bodies' velocity rates into dy, a free base's
     equations and the powers that feed the energy quadratures.
 
@@ -561,13 +667,16 @@ def _rates_and_powers(y, dy, nb, vr, mode, qb, vb, w0, mass, g, force, Fx, base,
     p_mount, p_struct : float
         The powers of the mounts (section 4) and of the structural damping
         (section 5) [W].
+    p_load : float
+        The power of the loads on bodies (section 4b) [W], counted with the
+        external loads' work.
     """
     for b in range(1, nb):
         v = vr + 6 * (b - 1)
         for c in range(6):
             dy[v + c] = acc[b, c]
     dy[w0] = p_mount
-    dy[w0 + 1] = 0.0
+    dy[w0 + 1] = p_load
     dy[w0 + 2] = 0.0
     dy[w0 + 3] = p_struct
     if mode == 2:
@@ -672,6 +781,8 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
     stop_kc = _v2(F_ptr, meta[58], np.float64)
     w_contact = _v1(F_ptr, meta[59], np.float64)
     w_hold = _v1(F_ptr, meta[60], np.float64)
+    in_pt = _v2(F_ptr, meta[61], np.float64)
+    in_phi = _v3(F_ptr, meta[62], np.float64)
     nb, M, nf, mode = ints[0], ints[1], ints[2], ints[3]
     qr, vr, qb, vb, w0 = ints[4], ints[5], ints[6], ints[7], ints[8]
     # the six sections of flexbed.dynamics.kernel, in order
@@ -684,12 +795,14 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
                             law_kind, law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c,
                             (stop_gap, stop_kc, w_contact, w_hold), w_A, w_P, w_Pd, w_ub, w_dx,
                             w_dxd, w_f, w_F, w_force, w_torque, w_flexQ)       # 4.
+    p_load = _body_loads(t, seg_end, y, qr, vr, in_ints, in_sin, in_b, in_o, in_c, in_pt,
+                         in_phi, body_flex, fx_ints, w_A, w_force, w_torque, w_flexQ)  # 4b.
     _newton_euler(y, nb, vr, gravity, mass, J, Jinv, body_flex, w_force, w_torque, w_acc)  # 5.
     p_struct = _floating_frame(y, dy, nf, vr, gravity, fx_ints, fx_m, fx_I2, fx_I3, fx_I4, fx_I5,
                                fx_I6, fx_K, fx_C, fx_I7, fx_I8, fx_I9, w_A, w_flexQ, w_acc, w_M,
                                w_Q, w_T, w_gb)
     _rates_and_powers(y, dy, nb, vr, mode, qb, vb, w0, mass, gravity, w_force, Fx, w_base, w_acc,
-                      p_mount, p_struct)                                       # 6.
+                      p_mount, p_struct, p_load)                               # 6.
 
 _compiled = []
 

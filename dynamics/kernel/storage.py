@@ -49,8 +49,10 @@ FIELDS = (
     "fx_I7",            # (nf, 3, 3)
     "fx_I8",            # (nf, nm, 3, 3)
     "fx_I9",            # (nf, nm, nm, 3, 3)
-    # inputs of the base
-    "in_ints",          # (ni, 3): kind, direction, role (0 drive, 1 load)
+    # inputs: drives and loads of the base, loads on bodies
+    "in_ints",          # (ni, 6): kind, direction, role (0 drive, 1 load on the base, 2 load
+                        # on a body), body, frame (0 inertial, 1 body), quantity (0 force,
+                        # 1 moment)
     "in_sin",           # (ni, 5): amplitude, ω [rad/s], phase [rad], start, end [s]
     "in_b",             # (ni, 3, nbi) breaks of value, first, second integral (+inf padded)
     "in_o",             # (ni, 3, nbi + 1) origins
@@ -76,6 +78,9 @@ FIELDS = (
     "w_contact",        # (3M or 0,) contact held by an integrator: −1 compression, 0 none,
                         # +1 extension (read only while w_hold[0] = 1)
     "w_hold",           # (1,) 1: the contacts of w_contact hold; 0: decided by Δx
+    # loads on bodies, one row per input (zero for the base's)
+    "in_pt",            # (ni, 3) [m] point of application in the body frame
+    "in_phi",           # (ni, 3, nm) mode shapes at the point [kg^-1/2] (flexible body)
 )
 
 Compiled = namedtuple("Compiled", FIELDS)
@@ -96,6 +101,7 @@ KINDS = {
     "w_torque": ("f", 2), "w_flexQ": ("f", 2), "w_acc": ("f", 2), "w_base": ("f", 2),
     "w_M": ("f", 3), "w_Q": ("f", 1), "w_T": ("f", 3), "w_gb": ("f", 1),
     "stop_gap": ("f", 2), "stop_kc": ("f", 2), "w_contact": ("f", 1), "w_hold": ("f", 1),
+    "in_pt": ("f", 2), "in_phi": ("f", 3),
 }
 
 

@@ -19,6 +19,9 @@ the statics' tolerance) and the inputs ``u`` of the base:
 
 - free base: the sum of the loads along each axis [N]; they enter only as
   the base's acceleration, so ``B = 1/m_base`` there — exactly;
+- a load on a body [N or N m], one channel each: B's column is the
+  right-hand side's response to that load alone at unit value
+  (:func:`load_column`), exact since the rates are affine in a load;
 - driven base: the drive's displacement [m] and velocity [m/s] along each
   axis; translating the base is translating every other body the other way
   (mount forces depend on relative positions and velocities only, gravity is
@@ -33,6 +36,7 @@ Propagated exactly, with an estimate of its error, by
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import weakref
@@ -43,8 +47,10 @@ from scipy.linalg import matrix_balance
 
 from ..piecewise import PiecewisePolynomial
 from ..system import System
+from ..time_functions import Curve
 
-__all__ = ["Coordinates", "Linearisation", "linearise", "difference_steps", "balanced"]
+__all__ = ["Coordinates", "Linearisation", "linearise", "difference_steps", "balanced",
+           "load_column"]
 
 _SINE_PIECE = 0.2                          # longest piece of an analytic sinusoid: 0.2/ω
 
@@ -269,11 +275,13 @@ def _channels(system: System) -> tuple[tuple[_Channel, ...], tuple[tuple[str, in
                   for kind in ("displacement", "velocity") for k in range(3)]
     else:
         groups = []
+    groups += [("body", i, [ld.shape]) for i, ld in enumerate(system.scene.loads)]
     for kind, k, shapes in groups:
         if not shapes:
             continue
         fs = [system.compiled_input(s) for s in shapes]
-        attr = {"load": "values", "displacement": "seconds", "velocity": "firsts"}[kind]
+        attr = {"load": "values", "body": "values", "displacement": "seconds",
+                "velocity": "firsts"}[kind]
         funcs = [getattr(f, attr) for f in fs]
         polys = tuple(getattr(f, {"values": "value", "firsts": "first", "seconds": "second"}[attr])
                       for f in fs)
@@ -286,14 +294,15 @@ def _channels(system: System) -> tuple[tuple[_Channel, ...], tuple[tuple[str, in
             else:                                              # an analytic sinusoid
                 knots.extend(f.breakpoints)
                 max_piece = min(max_piece, _SINE_PIECE / (2 * math.pi * float(s.frequency)))
-                sines.append(_sine_part(s, kind))
+                sines.append(_sine_part(s, "load" if kind == "body" else kind))
 
         def values(t, funcs=funcs):
             t = np.asarray(t, dtype=float)
             return sum(fn(t) for fn in funcs)
 
-        chans.append(_Channel(f"{kind} {'xyz'[k]}", values, np.unique(knots), max_piece,
-                              tuple(sines), polys))
+        label = (f"load {system.scene.loads[k].name}" if kind == "body"
+                 else f"{kind} {'xyz'[k]}")
+        chans.append(_Channel(label, values, np.unique(knots), max_piece, tuple(sines), polys))
         kinds.append((kind, k))
     return tuple(chans), tuple(kinds)
 
@@ -376,6 +385,21 @@ def difference_steps(system: System, coords: Coordinates, rate_step: float = 1e-
     return step
 
 
+_UNIT = Curve(np.arange(4.0), np.ones(4))       # 1 from t = 0 on
+
+
+def load_column(system: System, coords: Coordinates, y_eq: np.ndarray, i: int) -> np.ndarray:
+    """B's column of the scene's i-th load on a body (nz,): ż at the
+    equilibrium with that load alone at 1 N (or N m), less ż with no load
+    on a body, from the one right-hand side (exact: the right-hand side is
+    affine in a load's value; the base's inputs are the same in both)."""
+    scene = system.scene
+    one = dataclasses.replace(scene.loads[i], shape=_UNIT)
+    with_one = System(dataclasses.replace(scene, loads=(one,)))
+    without = System(dataclasses.replace(scene, loads=()))
+    return coords.rate(with_one.rhs(0.0, y_eq)) - coords.rate(without.rhs(0.0, y_eq))
+
+
 def linearise(system: System, y_eq: np.ndarray, rate_step: float = 1e-6,
               translation_step: float = 1e-6) -> Linearisation:
     """Linearise the system about its static equilibrium ``y_eq`` (ny,).
@@ -405,7 +429,9 @@ def linearise(system: System, y_eq: np.ndarray, rate_step: float = 1e-6,
     chans, kinds = _channels(system)
     B = np.zeros((nz, len(chans)))
     for c, (kind, k) in enumerate(kinds):
-        if kind == "load":
+        if kind == "body":
+            B[:, c] = load_column(system, coords, y_eq, k)
+        elif kind == "load":
             B[coords.base_v_index[k], c] = 1.0 / system.m_base
         else:              # only the dynamic rows: the kinematic ones do not see the base
             cols = coords.r_index[:, k] if kind == "displacement" else coords.v_index[:, k]

@@ -218,7 +218,7 @@ def results_contents(sf: SceneFile, system: System, run: Run, *, start: str,
     for i, key in enumerate(("work_mount", "work_external", "work_drive", "work_structural")):
         ds[f"energy/{key}"] = Dataset(h["work"][:, i], "J", {
             0: "work of all mount forces on the bodies (springs and dampers)",
-            1: "work of the base's external loads and support force",
+            1: "work of the external loads (the base's, its support, loads on bodies)",
             2: "work of the force that drives the base",
             3: "work of the flexible bodies' structural (modal) damping"}[i])
     ds["energy/strain"] = Dataset(h["strain"], "J", "elastic energy of flexible bodies, ½aᵀKa")

@@ -39,7 +39,7 @@ def body_sizes(scene: Scene, bed_body: str | None, bed: BedSection) -> dict[str,
 
 
 def warn_far_points(label: str, scene: Scene, bed_body: str | None, bed: BedSection) -> None:
-    """A FlexbedWarning for each mount point more than :data:`FAR_POINT`
+    """A FlexbedWarning for each mount point (and load point) more than :data:`FAR_POINT`
     times its body's size (:func:`body_sizes`) from the body's centre of
     mass; ``label`` is the scene file's name as messages show it."""
     sizes = body_sizes(scene, bed_body, bed)
@@ -55,3 +55,10 @@ def warn_far_points(label: str, scene: Scene, bed_body: str | None, bed: BedSect
                     f"{d:.3g} m from the centre of body {body!r}, more than {FAR_POINT:g} x "
                     f"its size ({sizes[body]:.3g} m): a point in the wrong frame or unit?"),
                     stacklevel=3)
+    for ld in scene.loads:
+        d = float(np.linalg.norm(ld.point))
+        if ld.body in sizes and d > FAR_POINT * sizes[ld.body]:
+            warnings.warn(FlexbedWarning(
+                f"{label}: load {ld.name!r}: point = {ld.point.tolist()} is {d:.3g} m from the "
+                f"centre of body {ld.body!r}, more than {FAR_POINT:g} x its size "
+                f"({sizes[ld.body]:.3g} m): a point in the wrong frame or unit?"), stacklevel=3)

@@ -35,6 +35,7 @@ from flexbed.files.bed_section import BedSection, plate_mismatch, read_bed, with
 from flexbed.files.drives import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
 from flexbed.files.destination import check_source
+from flexbed.files.loads import read_loads
 from flexbed.files.limits import (BODY_LIMIT_KEYS, JUDGED_ONLY_KEYS, MOUNT_LIMIT_KEYS, Limits,
                                   read_limits)
 from flexbed.files.sanity import warn_far_points
@@ -43,7 +44,8 @@ __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse
            "read_solver", "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
 
 
-_TOP = ("scene", "body", "base", "bed", "mount", "solver", "point", "clearance")
+_TOP = ("scene", "body", "base", "bed", "mount", "solver", "point", "clearance", "load",
+        "unbalance")
 _SCENE_KEYS = ("name", "description", "gravity")
 _BODY_KEYS = ("name", "mass", "inertia", "position", "orientation_deg", "velocity",
               "angular_velocity") + BODY_LIMIT_KEYS
@@ -197,8 +199,11 @@ class _Reader(ShapeReader):
                     if getattr(m, f"body_{k}") == names[at]]
             mounts, points = points_on_bed(bed, names[at], mounts, points, self.fail)
             bed = with_mount_points(bed, ends)        # an auto mesh: nodes there
+        loads = read_loads(self, data, names, names[at] if at is not None else None,
+                           lambda: bed.mass_properties.centre, _off_bed(bed))
         try:
-            scene = Scene(tuple(bodies), base, tuple(mounts), np.array(gravity), name)
+            scene = Scene(tuple(bodies), base, tuple(mounts), np.array(gravity), name,
+                          loads=loads)
         except SceneError as exc:
             self.fail("", str(exc))
         warn_far_points(self.label, scene, bodies_raw[at]["name"] if at is not None else None,
@@ -212,6 +217,9 @@ class _Reader(ShapeReader):
                       for m in data.get("mount", [])]
         statics = {"gravity": gravity, "body": at_rest, "mount": mounts_raw,
                    "bed": data.get("bed", {}), "static_tol": solver.static_tol}
+        for key in ("load", "unbalance"):     # a constant load moves the equilibrium
+            if key in data:
+                statics[key] = data[key]
         return SceneFile(scene=scene, bed=bed, solver=solver, points=tuple(points),
                          source=path, text=text, digest=digest,
                          statics_digest=_digest(statics, {}), limits=limits)

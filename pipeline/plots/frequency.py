@@ -40,7 +40,7 @@ def plot_bode(path: Path, title: str, frequency: np.ndarray, H: np.ndarray, name
     """|H| (log–log) and phase [deg] over frequency for the columns of H
     (k, c); dotted vertical lines at the natural frequencies; the band
     where an isolation column is below 1 shaded."""
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True,
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9.5, 6), sharex=True,
                                  gridspec_kw={"height_ratios": [2, 1]})
     for j, name in enumerate(names):
         a1.loglog(frequency, np.abs(H[:, j]), lw=1.0, label=name)
@@ -61,7 +61,7 @@ def plot_bode(path: Path, title: str, frequency: np.ndarray, H: np.ndarray, name
     a1.set_title(title)
     for ax in (a1, a2):
         ax.grid(True, which="both", alpha=0.3)
-    a1.legend(loc="best", fontsize=7)
+    a1.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, borderaxespad=0.0)
     fig.tight_layout()
     return save_figure(fig, path)
 
@@ -79,7 +79,7 @@ def plot_shock_spectrum(path: Path, title: str, frequency: np.ndarray,
         shock does not reach) is left out, and the axis spans four decades
     """
     top = max([float(np.max(v)) for v in (*curves.values(), *reference.values())] + [0.0])
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = plt.subplots(figsize=(8, 4.5))
     for c, v in curves.items():
         if np.max(v) > 1e-6 * top:
             ax.loglog(frequency, v, label=f"{c}", **STYLES[c])
@@ -92,6 +92,6 @@ def plot_shock_spectrum(path: Path, title: str, frequency: np.ndarray,
     ax.set_ylabel("maximax absolute acceleration [m/s²]")
     ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(loc="best", fontsize=8)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
     fig.tight_layout()
     return save_figure(fig, path)

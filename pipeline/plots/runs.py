@@ -22,14 +22,14 @@ def plot_responses(path: Path, title: str, curves: dict[str, tuple[np.ndarray, n
     ----------
     curves : dict case -> (t [s], value)
     """
-    fig, ax = plt.subplots(figsize=(8, 4))
+    fig, ax = plt.subplots(figsize=(9.5, 4))
     for case, (t, v) in curves.items():
         ax.plot(t, v, label=labels.get(case, case), **STYLES.get(case, {}))
     ax.set_xlabel("time [s]")
     ax.set_ylabel(ylabel)
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize=8)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
     fig.tight_layout()
     return save_figure(fig, path)
 

@@ -77,6 +77,7 @@ def flexible_body(sf: SceneFile, data: ModesData, *, n_modes: int | None = None,
     pts = [m.point_i for m in sf.scene.mounts if m.body_i == name]
     pts += [m.point_j for m in sf.scene.mounts if m.body_j == name]
     pts += [p.position for p in sf.points if p.body == name]
+    pts += [ld.point for ld in sf.scene.loads if ld.body == name]
     points = np.unique(np.array(pts, dtype=float).reshape(-1, 3), axis=0)
     shapes = mode_shapes(data.plate.theory, data.nodes, data.cells, data.translation[:n],
                          data.rotation[:n], data.twist[:n])

@@ -10,7 +10,8 @@ rigid-body motions of the bodies those inputs set going. So
 and every elastic mode below ``f_cut`` is kept (at least one), where
 
 - ``f_input`` [Hz] is the highest significant frequency of the base's
-  inputs: the drives' accelerations or the loads' forces, summed per axis,
+  inputs and of the loads on bodies: the drives' accelerations or the
+  loads' forces, summed per axis (each load on a body alone),
   sampled finely over 0 – t_end; it is the lowest frequency below which a
   fraction ``1 − AUTO_ENERGY`` (99.9 %) of their spectral energy lies (of
   the axis with the highest such frequency). The spectrum is that of the
@@ -50,9 +51,11 @@ def input_frequency(scene: Scene, t_end: float) -> float:
     base = scene.base
     inputs = base.loads if base.motion == "free" else base.drives if base.motion == "driven" \
         else ()
+    inputs = tuple(inputs) + tuple(scene.loads)     # a load on a body: an "axis" of its own
     if not inputs:
         return 0.0
-    funcs = [(d.direction, d.shape.compile()) for d in inputs]
+    funcs = [(d.direction if i < len(inputs) - len(scene.loads) else 3 + i, d.shape.compile())
+             for i, d in enumerate(inputs)]
     spacing = [t_end / 200.0]
     for d in inputs:
         f = d.shape.compile()
@@ -65,7 +68,7 @@ def input_frequency(scene: Scene, t_end: float) -> float:
     n = int(math.ceil(t_end / dt)) + 1
     t = np.linspace(0.0, t_end, n)
     f_hi = 0.0
-    for axis in range(3):
+    for axis in sorted({k for k, _ in funcs}):
         u = sum((f.values(t) for k, f in funcs if k == axis), np.zeros(n))
         if not np.any(u):
             continue
