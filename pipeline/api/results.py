@@ -139,8 +139,9 @@ class Results:
 
     def stresses(self):
         """The flexible bed's stresses over the run by modal superposition
-        (:mod:`flexbed.analyses.bed_stress`): peak von Mises in the plate and
-        peak |σ| in each stiffener with place and time, the peak map.
+        (:mod:`flexbed.analyses.bed_stress`): the peak von Mises stress in the
+        plate and the peak absolute stress at each stiffener's extreme fibres,
+        with place and time, and the map of each element's peak.
 
         Returns
         -------
