@@ -33,7 +33,7 @@ from .modal import Modes
 from .mounted import MountedSystem
 
 __all__ = ["Outputs", "Input", "Sweep", "responses", "resonance_grid", "peak_search", "sweep",
-           "mount_outputs", "isolation"]
+           "mount_outputs", "isolation", "unit_crossings"]
 
 _CHUNK = 128                          # frequencies per batched solve
 #: above this many coordinates the sparse path (:func:`_responses_sparse`;
@@ -57,11 +57,15 @@ class Outputs:
     """Linear outputs: ``positions`` (p, 3 + n) Jacobians of point
     coordinates over [base translation, q] [m per m]; ``forces`` (f, n)
     and ``force_rates`` (f, n) of forces over relative q and q̇ [N per m,
-    N s per m]. Rows of each kind in the caller's order."""
+    N s per m] (any output linear in the relative motion: a mount's
+    deflection is ``D`` with zero rates). Rows of each kind in the caller's
+    order. ``order``: the points' time derivative returned, 0
+    displacement [m], 1 velocity [m/s], 2 acceleration [m/s²] (default)."""
 
     positions: np.ndarray
     forces: np.ndarray
     force_rates: np.ndarray
+    order: int = 2
 
 
 def mount_outputs(ms: MountedSystem) -> tuple[np.ndarray, np.ndarray]:
@@ -77,7 +81,8 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
     -------
     acceleration : (k, p) complex
         Point accelerations per unit input [1 or m/s² per N] (``−ω²``
-        times the positions).
+        times the positions); with ``out.order`` 1 or 0 the velocities
+        (``iω`` times) [s, m/s per N] or the displacements [s², m per N].
     force : (k, f) complex
         Forces per unit input [N per m/s², or N per N].
     """
@@ -105,9 +110,18 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
         else:
             u = q = x
             pos = q @ Yq.T
-        acc[s:s + w.size] = -(w * w)[:, None] * pos
+        acc[s:s + w.size] = _derivative(pos, w, out.order)
         frc[s:s + w.size] = u @ out.forces.T + (1j * w)[:, None] * (u @ out.force_rates.T)
     return acc, frc
+
+
+def _derivative(pos: np.ndarray, w: np.ndarray, order: int) -> np.ndarray:
+    """``(iω)^order`` times the positions (k, p) at ω (k,) [rad/s]."""
+    if order == 2:
+        return -(w * w)[:, None] * pos
+    if order == 1:
+        return (1j * w)[:, None] * pos
+    return pos
 
 
 _PLANS: dict = {}
@@ -155,7 +169,7 @@ def _responses_sparse(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Out
     else:
         U = X
         pos = (Yq @ X.T).T
-    acc = -(w * w)[:, None] * pos
+    acc = _derivative(pos, w, out.order)
     frc = (Fs @ U.T).T + (1j * w)[:, None] * (Fr @ U.T).T
     return acc, frc
 
@@ -311,3 +325,40 @@ def isolation(transmissibility: np.ndarray) -> np.ndarray:
     """Isolation efficiency 1 − |T| [1] where |T| < 1, NaN elsewhere."""
     m = np.abs(transmissibility)
     return np.where(m < 1.0, 1.0 - m, np.nan)
+
+
+def unit_crossings(evaluate, frequency: np.ndarray, magnitude: np.ndarray,
+                   rtol: float = 1e-12) -> np.ndarray:
+    """The frequency above which each output's |H| stays below 1 (the
+    isolation crossing), located between grid points rather than read off
+    the grid.
+
+    Parameters
+    ----------
+    evaluate : callable
+        f (k,) [Hz] → |H| (k, outputs) of the same outputs.
+    frequency : (k,) array
+        The grid [Hz], increasing.
+    magnitude : (k, o) array
+        |H| on the grid.
+    rtol : float
+        Relative width [1] at which a crossing is located (Brent's method on
+        ``|H(f)| − 1`` between the last grid point with |H| ≥ 1 and the next).
+
+    Returns
+    -------
+    (o,) array
+        The crossing [Hz]; NaN where |H| ≥ 1 at the grid's top (no isolation
+        in the band) or |H| < 1 on the whole grid (no crossing in it).
+    """
+    from scipy.optimize import brentq
+
+    out = np.full(magnitude.shape[1], np.nan)
+    for j in range(magnitude.shape[1]):
+        above = np.flatnonzero(magnitude[:, j] >= 1.0)
+        if not above.size or above[-1] + 1 >= frequency.size:
+            continue
+        lo, hi = frequency[above[-1]], frequency[above[-1] + 1]
+        out[j] = brentq(lambda f, j=j: float(evaluate(np.array([f]))[0, j]) - 1.0, lo, hi,
+                        xtol=rtol * hi, rtol=4.0 * np.finfo(float).eps)
+    return out

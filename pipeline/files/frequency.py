@@ -29,6 +29,9 @@
   ``response/phase_deg``;
 - ``resonances/frequency``, ``resonances/damping_ratio`` (m,): the modes
   in the band; ``peaks`` (P, 3): output index, frequency [Hz], |H|;
+  ``isolation_from`` (o,) [Hz]: the isolation crossing (|H| = 1, located
+  between grid points) of the absolute accelerations along the input's
+  axis, NaN for the other outputs;
 - root attributes ``input`` (what drives it), ``solve_time`` [s CPU],
   ``evaluations``; ``scene/toml``.
 """
@@ -123,6 +126,9 @@ def frf_contents(sf, r) -> tuple[dict, dict]:
                          "output index, peak frequency, peak |H|"),
         "scene/toml": Dataset(sf.text, "", "the scene file this came from"),
     }
+    if r.isolation_from is not None:
+        ds["isolation_from"] = Dataset(r.isolation_from, "Hz", "isolation crossing |H| = 1 "
+                                       "of each isolation column (NaN elsewhere)")
     attrs = {"": {"input": r.input, "solve_time": float(r.solve_time),
                   "evaluations": int(r.evaluations), "scene_digest": sf.digest}}
     return ds, attrs
