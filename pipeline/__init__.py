@@ -42,11 +42,12 @@ from __future__ import annotations
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
            "Modal", "Transmissibility", "Qualification", "InputError", "NumericalError",
+           "random_vibration", "RandomVibration",
            "__version__"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
         "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison", "Modal",
-        "Transmissibility", "Qualification"}
+        "Transmissibility", "Qualification", "random_vibration", "RandomVibration"}
 
 
 def __getattr__(name: str):
