@@ -147,24 +147,36 @@ class Miles:
 
 def miles(f: np.ndarray, psd: np.ndarray, total: np.ndarray, modes: Modes) -> Miles:
     """:class:`Miles` of outputs with PSDs ``psd`` (k, o) on the grid f (k,)
-    [Hz] of :func:`random_grid` and mean squares ``total`` (o,)."""
+    [Hz] of :func:`random_grid` and mean squares ``total`` (o,).
+
+    A mode is a candidate for an output when its PSD at fₙ is the highest
+    at any natural frequency within its half-power band (a heavily damped
+    mode's wide band holding a lightly damped mode's sharp peak does not
+    own that peak); of the candidates, the one holding the largest share of
+    the mean square in its band is the output's mode."""
     o = psd.shape[1]
     best = np.full(o, -1)
     share = np.zeros(o)
     at = np.zeros(o)
-    for k, (fn, z) in enumerate(zip(modes.frequency, modes.damping_ratio)):
-        if not (np.isfinite(fn) and 0.0 < z < 1.0 and f[0] < fn < f[-1]):
-            continue
-        band = (f >= fn * (1.0 - z) * (1 - 1e-12)) & (f <= fn * (1.0 + z) * (1 + 1e-12))
+    fn_all, z_all = modes.frequency, modes.damping_ratio
+    ok = np.isfinite(fn_all) & (z_all > 0.0) & (z_all < 1.0) & (fn_all > f[0]) & (fn_all < f[-1])
+    idx = np.flatnonzero(ok)
+    near = np.argmin(np.abs(f[None, :] - fn_all[idx, None]), axis=1)   # fₙ's grid point
+    peak = psd[near]                                                    # (modes, o)
+    for m, k in enumerate(idx):
+        fn, z = fn_all[k], z_all[k]
+        lo, hi = fn * (1.0 - z) * (1 - 1e-12), fn * (1.0 + z) * (1 + 1e-12)
+        band = (f >= lo) & (f <= hi)
         if band.sum() < 2:
             continue
+        inside = (fn_all[idx] >= lo) & (fn_all[idx] <= hi)
+        owner = np.all(peak[inside] <= peak[m], axis=0)                 # (o,)
         part = np.trapezoid(psd[band], f[band], axis=0)
         sh = np.divide(part, total, out=np.zeros(o), where=total > 0.0)
-        better = sh > share
+        better = owner & (sh > share)
         best[better], share[better] = k, sh[better]
-        i = int(np.argmin(np.abs(f - fn)))
-        at[better] = psd[i, better]
-    fn = np.where(best >= 0, modes.frequency[best], np.nan)
-    z = np.where(best >= 0, modes.damping_ratio[best], np.nan)
+        at[better] = peak[m, better]
+    fn = np.where(best >= 0, fn_all[best], np.nan)
+    z = np.where(best >= 0, z_all[best], np.nan)
     rms = np.where(share >= HALF_POWER_SHARE, np.sqrt(np.pi * z * fn * at), np.nan)
     return Miles(fn, z, share, rms)

@@ -10,9 +10,10 @@ PSDs:
 - ``response/psd`` (k, o) [unit^2/Hz]; ``response/rms``,
   ``response/rms_error`` (the integration error's estimate),
   ``response/three_sigma``, ``response/peak`` (o,) [unit];
-  ``response/rms_g`` (o,) [g] of the accelerations (NaN elsewhere);
-- ``miles/rms`` (o,) [unit] (NaN where no mode dominates),
-  ``miles/frequency`` (o,) [Hz], ``miles/damping_ratio``,
+  ``response/acceleration_index`` (a,) the acceleration outputs and
+  ``response/acceleration_rms_g`` (a,) [g] their RMS;
+- ``miles/output`` (s,) the outputs one mode dominates, ``miles/rms`` (s,)
+  [unit], ``miles/frequency`` (s,) [Hz], ``miles/damping_ratio`` (s,);
   ``miles/half_power_share`` (o,) [1];
 - ``resonances/frequency``, ``resonances/damping_ratio`` (m,);
 - root attributes ``psd_source``, ``peak_factor``, ``solve_time`` [s CPU];
@@ -48,6 +49,7 @@ def write_random_contents(path, datasets: dict, attrs: dict) -> Path:
 def random_contents(sf, r) -> tuple[dict, dict]:
     """The datasets and group attributes of :func:`write_random`'s file, in memory."""
     acc = r.acceleration
+    dom = np.isfinite(r.miles.rms)
     ds = {
         "frequency": Dataset(r.frequency, "Hz", "frequencies"),
         "input/psd": Dataset(r.input_psd, "g^2/Hz", "base acceleration PSD along X, Y, Z"),
@@ -62,14 +64,18 @@ def random_contents(sf, r) -> tuple[dict, dict]:
                                       "RMS integration error estimate (Richardson)"),
         "response/three_sigma": Dataset(r.three_sigma, "see outputs/units", "3 sigma"),
         "response/peak": Dataset(r.peak, "see outputs/units", "peak_factor sigma"),
-        "response/rms_g": Dataset(np.where(acc, r.rms / _G0, np.nan), "g",
-                                  "RMS of the accelerations in g (NaN for other outputs)"),
-        "miles/rms": Dataset(r.miles.rms, "see outputs/units",
-                             "Miles' RMS sqrt(pi zeta fn S(fn)) where one mode dominates"),
-        "miles/frequency": Dataset(r.miles.frequency, "Hz", "the dominant mode's frequency"),
-        "miles/damping_ratio": Dataset(r.miles.damping_ratio, "1", "its damping ratio"),
-        "miles/half_power_share": Dataset(r.miles.share, "1",
-                                          "share of the mean square in its half-power band"),
+        "response/acceleration_index": Dataset(np.flatnonzero(acc), "1",
+                                               "the acceleration outputs' indices"),
+        "response/acceleration_rms_g": Dataset(r.rms[acc] / _G0, "g",
+                                               "RMS of those accelerations in g"),
+        "miles/output": Dataset(np.flatnonzero(dom), "1",
+                                "indices of the outputs one mode dominates"),
+        "miles/rms": Dataset(r.miles.rms[dom], "see outputs/units",
+                             "their Miles' RMS sqrt(pi zeta fn S(fn))"),
+        "miles/frequency": Dataset(r.miles.frequency[dom], "Hz", "the dominant mode's frequency"),
+        "miles/damping_ratio": Dataset(r.miles.damping_ratio[dom], "1", "its damping ratio"),
+        "miles/half_power_share": Dataset(r.miles.share, "1", "per output, the largest share "
+                                          "of the mean square in a mode's half-power band"),
         "resonances/frequency": Dataset(r.resonances, "Hz", "natural frequencies in the band"),
         "resonances/damping_ratio": Dataset(r.damping_ratio, "1", "their damping ratios"),
         "scene/toml": Dataset(sf.text, "", "the scene file this came from"),
