@@ -10,13 +10,13 @@ density matrix [(m/s²)²/Hz], Hermitian, the outputs' one-sided PSDs are
     S_y(f) = Σ_d Σ_e H_d(f) S_de(f) conj(H_e(f)),
 
 their mean squares ``σ² = ∫ S_y df`` (zero mean: the responses about the
-static equilibrium). The integral is the trapezoidal rule on a grid with,
-around each mode, points at ``fₙ (1 + ζ tan θ)`` for θ evenly spaced on
-(−θ_max, θ_max): the substitution that makes a mode's Lorentzian peak
-``1/(1 + s²)`` flat in θ, so its half-power band (s = ±1, θ = ±45°) gets a
-quarter of the points and the rule converges fast; the error stated is
-Richardson's, ``|I_h − I_2h| / 3`` from the grid and its every-other-point
-subgrid.
+static equilibrium). The grid has, around each mode, points at
+``fₙ (1 + ζ tan θ)`` for θ evenly spaced (the substitution that makes a
+mode's Lorentzian peak ``1/(1 + s²)`` flat in θ, so its half-power band,
+s = ±1 or θ = ±45°, is evenly covered), then, in the tails, points growing
+geometrically away from fₙ. The integral is Simpson's rule for uneven
+steps, and the error stated its difference from the trapezoidal rule (a
+bound: the lower-order rule's error).
 
 Miles' equation [2], generalised to any output dominated by one mode:
 ``σ² ≈ π ζ fₙ S_y(fₙ)``, exact for a lightly damped single-degree-of-freedom
@@ -41,10 +41,14 @@ from .modal import Modes
 __all__ = ["loglog_interpolate", "random_grid", "response_psd", "mean_square", "miles",
            "Miles", "HALF_POWER_SHARE"]
 
-#: points a mode adds to the grid (odd: fₙ itself is one)
-POINTS_PER_MODE = 61
-#: the mode's points span fₙ (1 ± ζ tan θ_max), tan θ_max = this
-SPREAD = 40.0
+#: a mode's core: s = tan θ with θ in steps of 45°/CORE_STEPS (the
+#: half-power points s = ±1 among them) up to ±CORE_LIMIT steps (63°: s = ±1.96)
+CORE_STEPS = 10
+CORE_LIMIT = 14
+#: beyond the core, s grows geometrically by this ratio …
+TAIL_RATIO = 1.08
+#: … until the points are this many times as far apart as the base grid's
+TAIL_REACH = 10.0
 #: an output is single-mode dominated when the half-power band of one mode
 #: holds at least this share of its mean square (an isolated lightly damped
 #: mode holds (2/π) atan(1) = 0.5 there)
@@ -88,23 +92,29 @@ def loglog_interpolate(f_break: np.ndarray, level: np.ndarray, f: np.ndarray) ->
 def random_grid(modes: Modes, f_min: float, f_max: float, n: int,
                 breakpoints: np.ndarray | None = None) -> np.ndarray:
     """Frequencies [Hz] on [f_min, f_max]: n log-spaced, the input's
-    breakpoints (its corners), and :data:`POINTS_PER_MODE` around each
-    damped mode in the band at ``fₙ (1 + ζ tan θ)``, θ evenly spaced with
-    ``tan θ_max =`` :data:`SPREAD` (θ = ±45°, the half-power points, among
-    them); an undamped mode has no finite mean square and adds nothing."""
-    g = [np.geomspace(f_min, f_max, max(n, 2))]
+    breakpoints (its corners), and around each damped mode in the band
+    points at ``fₙ (1 + ζ s)``: s = tan θ, θ evenly spaced
+    (:data:`CORE_STEPS`, :data:`CORE_LIMIT`: the half-power points s = ±1
+    among them, up to s = ±1.96), then s growing by :data:`TAIL_RATIO` until the spacing is
+    :data:`TAIL_REACH` times the base grid's (or f would leave (0, 2fₙ)).
+    An undamped mode has no finite mean square and adds nothing."""
+    n = max(n, 2)
+    g = [np.geomspace(f_min, f_max, n)]
     if breakpoints is not None:
         g.append(np.asarray(breakpoints, dtype=float))
-    th_max = np.arctan(SPREAD)
-    side = (POINTS_PER_MODE - 1) // 4                     # points beyond each half-power point
-    mid = POINTS_PER_MODE - 2 * side                      # on [−45°, 45°], ends included
-    outer = np.linspace(-th_max, -np.pi / 4, side, endpoint=False)
-    inner = np.linspace(-np.pi / 4, np.pi / 4, mid)
-    inner[mid // 2] = 0.0                                 # fₙ itself
-    s = np.tan(np.concatenate([outer, inner, -outer[::-1]]))
+    step = np.log(f_max / f_min) / (n - 1)                 # the base grid's relative spacing
+    core = np.tan(np.arange(-CORE_LIMIT, CORE_LIMIT + 1) * (np.pi / 4.0 / CORE_STEPS))
+    core[CORE_LIMIT] = 0.0
+    core[CORE_LIMIT - CORE_STEPS], core[CORE_LIMIT + CORE_STEPS] = -1.0, 1.0
+    edge = core[-1]
     for f, z in zip(modes.frequency, modes.damping_ratio):
-        if np.isfinite(f) and f > 0.0 and 0.0 < z < 1.0 and f_min <= f <= f_max:
-            g.append(f * (1.0 + z * s))
+        if not (np.isfinite(f) and f > 0.0 and 0.0 < z < 1.0 and f_min <= f <= f_max):
+            continue
+        reach = min(TAIL_REACH * step / z, 0.999 / z)
+        k = int(np.ceil(np.log(max(reach, edge) / edge) / np.log(TAIL_RATIO)))
+        tail = edge * TAIL_RATIO ** np.arange(1, k + 1)
+        s = np.concatenate([-tail[::-1], core, tail])
+        g.append(f * (1.0 + z * s))
     g = np.unique(np.concatenate(g))
     return g[(g >= f_min) & (g <= f_max)]
 
@@ -120,15 +130,22 @@ def response_psd(H: np.ndarray, S: np.ndarray) -> np.ndarray:
 
 
 def mean_square(f: np.ndarray, psd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """σ² (o,) = ∫ psd df by the trapezoidal rule on the grid f (k,) [Hz],
-    and its error estimate (o,): ``|I_h − I_2h| / 3`` with I_2h the rule on
-    every other point (the last kept)."""
-    whole = np.trapezoid(psd, f, axis=0)
-    keep = np.arange(0, f.size, 2)
-    if keep[-1] != f.size - 1:
-        keep = np.append(keep, f.size - 1)
-    half = np.trapezoid(psd[keep], f[keep], axis=0)
-    return whole, np.abs(whole - half) / 3.0
+    """σ² (o,) = ∫ psd df over the grid f (k,) [Hz] by Simpson's rule for
+    uneven steps (a parabola through each pair of steps; the last step
+    alone, when their number is odd, by the trapezoidal rule), and a bound
+    on its error (o,): its difference from the trapezoidal rule on the
+    same points (the lower-order rule's error, which is larger)."""
+    h = np.diff(f)
+    trap = 0.5 * (h[:, None] * (psd[1:] + psd[:-1])).sum(axis=0)
+    m = h.size // 2
+    h0, h1 = h[0:2 * m:2], h[1:2 * m:2]
+    y0, y1, y2 = psd[0:2 * m:2], psd[1:2 * m + 1:2], psd[2:2 * m + 1:2]
+    w = ((h0 + h1) / 6.0)[:, None]
+    simpson = (w * ((2.0 - h1 / h0)[:, None] * y0 + ((h0 + h1) ** 2 / (h0 * h1))[:, None] * y1
+                    + (2.0 - h0 / h1)[:, None] * y2)).sum(axis=0)
+    if h.size % 2:
+        simpson = simpson + 0.5 * h[-1] * (psd[-1] + psd[-2])
+    return simpson, np.abs(simpson - trap)
 
 
 @dataclass(frozen=True)

@@ -138,7 +138,8 @@ def random_response(sf, mt: Mounted, psd: BasePSD, *,
         Default: the scene's [[point]] tables, else every body's centre of mass.
     n : int
         Log-spaced frequencies of the base grid (2 … :data:`MAX_GRID`); each
-        mode in the band adds 61 about its resonance, the PSD its breakpoints.
+        damped mode in the band adds its own about its resonance (29 in its core, and
+        tails out to 10 base steps), the PSD its breakpoints.
     peak_factor : float
         The peak reported besides 3σ is ``peak_factor`` σ (> 0).
     frequencies : array [Hz], optional

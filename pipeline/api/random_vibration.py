@@ -74,7 +74,7 @@ def random_vibration(scene: SceneFile, *, psd, points: Sequence[tuple] | None = 
     points : sequence of (name, body, position[, relative_to]), optional
         Default: the scene's [[point]] tables, else every body's centre of mass.
     n : int
-        Log-spaced frequencies of the base grid (each mode adds 61).
+        Log-spaced frequencies of the base grid (each damped mode adds its own).
     peak_factor : float
         The peak reported besides 3σ: ``peak_factor`` σ.
     modes, equilibrium : as in :func:`flexbed.modal`.

@@ -61,7 +61,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                         help="the --point motions relative to this body, in its frame")
     parser.add_argument("-n", type=int, default=2000, metavar="N",
                         help="log-spaced frequencies of the base grid (default 2000); each "
-                             "mode in the band adds 61 about its resonance")
+                             "damped mode in the band adds its own about its resonance")
     parser.add_argument("--peak-factor", type=float, default=3.0, metavar="K",
                         help="the peak reported besides 3 sigma is K sigma (default 3)")
     parser.add_argument("--equilibrium", default=None, metavar="FILE",
