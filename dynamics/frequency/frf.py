@@ -33,7 +33,8 @@ from .modal import Modes
 from .mounted import MountedSystem
 
 __all__ = ["Outputs", "Input", "Sweep", "responses", "resonance_grid", "peak_search", "sweep",
-           "mount_outputs", "isolation", "unit_crossings"]
+           "mount_outputs", "isolation", "unit_crossings", "base_responses",
+           "dynamic_stiffness"]
 
 _CHUNK = 128                          # frequencies per batched solve
 #: above this many coordinates the sparse path (:func:`_responses_sparse`;
@@ -99,8 +100,7 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
     Yb, Yq = out.positions[:, :3], out.positions[:, 3:]
     for s in range(0, omega.size, _CHUNK):
         w = omega[s:s + _CHUNK]
-        G = (ms.K[None] - (w * w)[:, None, None] * ms.M[None]
-             + (1j * w)[:, None, None] * ms.C[None])
+        G = dynamic_stiffness(ms, w)
         x = np.linalg.solve(G, np.broadcast_to(rhs + 0j, (w.size, n))[..., None])[..., 0]
         if inp.kind == "base":
             xb = -1.0 / (w * w)                                    # base displacement
@@ -113,6 +113,55 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
         acc[s:s + w.size] = _derivative(pos, w, out.order)
         frc[s:s + w.size] = u @ out.forces.T + (1j * w)[:, None] * (u @ out.force_rates.T)
     return acc, frc
+
+
+def dynamic_stiffness(ms: MountedSystem, w: np.ndarray) -> np.ndarray:
+    """``G(ω) = K − ω² M + iω C`` (k, n, n) complex at ω (k,) [rad/s]."""
+    return (ms.K[None] - (w * w)[:, None, None] * ms.M[None]
+            + (1j * w)[:, None, None] * ms.C[None])
+
+
+def base_responses(ms: MountedSystem, omega: np.ndarray, axes: list[int], out: Outputs
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`responses` to unit base accelerations along several ``axes``
+    (r,) at once: one factorisation of G per frequency for all of them.
+
+    Returns ``(points (k, r, p), forces (k, r, f))`` complex, as
+    :func:`responses` per axis (the same equations; a system above
+    :data:`DENSE_LIMIT` coordinates is solved by :func:`responses`, axis by
+    axis)."""
+    omega = np.asarray(omega, dtype=float).reshape(-1)
+    r = len(axes)
+    pts = np.empty((omega.size, r, out.positions.shape[0]), dtype=complex)
+    frc = np.empty((omega.size, r, out.forces.shape[0]), dtype=complex)
+    if ms.n > DENSE_LIMIT and ms.sparse is not None:
+        for j, d in enumerate(axes):
+            pts[:, j], frc[:, j] = responses(ms, omega, Input("base", d), out)
+        return pts, frc
+    iota = ms.iota[:, axes]                                          # (n, r)
+    rhs = -(ms.M @ iota) + 0j                                        # (n, r)
+    Yb, Yq = out.positions[:, :3], out.positions[:, 3:]
+    for s in range(0, omega.size, _CHUNK):
+        w = omega[s:s + _CHUNK]
+        u = np.linalg.solve(dynamic_stiffness(ms, w),
+                            np.broadcast_to(rhs, (w.size,) + rhs.shape))   # (k, n, r)
+        u = u.transpose(0, 2, 1).reshape(-1, ms.n)                   # (k r, n)
+        xb = np.repeat(-1.0 / (w * w), r)                            # base displacement
+        q = u + xb[:, None] * np.tile(iota.T, (w.size, 1))
+        pos = _real_product(q, Yq.T) + xb[:, None] * np.tile(Yb[:, axes].T, (w.size, 1))
+        pts[s:s + w.size] = _derivative(pos, np.repeat(w, r), out.order).reshape(
+            w.size, r, -1)
+        frc[s:s + w.size] = (_real_product(u, out.forces.T) + np.repeat(1j * w, r)[:, None]
+                             * _real_product(u, out.force_rates.T)).reshape(w.size, r, -1)
+    return pts, frc
+
+
+def _real_product(z: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """``z @ a`` for complex z (m, n) and real a (n, p), as two real products."""
+    out = np.empty((z.shape[0], a.shape[1]), dtype=complex)
+    out.real = z.real @ a
+    out.imag = z.imag @ a
+    return out
 
 
 def _derivative(pos: np.ndarray, w: np.ndarray, order: int) -> np.ndarray:

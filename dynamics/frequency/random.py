@@ -125,8 +125,15 @@ def response_psd(H: np.ndarray, S: np.ndarray) -> np.ndarray:
     H : (k, d, o) complex — outputs per unit input along each of d axes;
     S : (k, d, d) complex Hermitian — the inputs' cross-spectral density
     [input unit² per Hz]."""
-    SH = np.einsum("kde,keo->kdo", S, np.conj(H))
-    return np.einsum("kdo,kdo->ko", H, SH).real
+    d = S.shape[1]
+    out = np.zeros((H.shape[0], H.shape[2]))
+    for i in range(d):
+        if np.any(S[:, i, i] != 0.0):
+            out += S[:, i, i].real[:, None] * (H[:, i].real ** 2 + H[:, i].imag ** 2)
+        for j in range(i + 1, d):
+            if np.any(S[:, i, j] != 0.0):                  # S_ij + S_ji: 2 Re(H_i S_ij H_j*)
+                out += 2.0 * (S[:, i, j][:, None] * H[:, i] * np.conj(H[:, j])).real
+    return out
 
 
 def mean_square(f: np.ndarray, psd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

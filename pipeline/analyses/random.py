@@ -112,13 +112,12 @@ def transfer(ms, omega: np.ndarray, axes: list[int], out: dfrf.Outputs) -> np.nd
     p = out.positions.shape[0] // 3
     o = 9 * p + out.forces.shape[0]
     H = np.zeros((omega.size, 3, o), dtype=complex)
-    for d in axes:
-        disp, rel = dfrf.responses(ms, omega, dfrf.Input("base", d), out)
-        disp = disp.reshape(omega.size, p, 1, 3)
-        pts = np.concatenate([-(omega * omega)[:, None, None, None] * disp,
-                              (1j * omega)[:, None, None, None] * disp, disp], axis=2)
-        H[:, d, :9 * p] = pts.reshape(omega.size, 9 * p)
-        H[:, d, 9 * p:] = rel
+    disp, rel = dfrf.base_responses(ms, omega, axes, out)              # (k, r, ·)
+    disp = disp.reshape(omega.size, len(axes), p, 1, 3)
+    w = omega[:, None, None, None, None]
+    pts = np.concatenate([-(w * w) * disp, (1j * w) * disp, disp], axis=3)
+    H[:, axes, :9 * p] = pts.reshape(omega.size, len(axes), 9 * p)
+    H[:, axes, 9 * p:] = rel
     return H
 
 
