@@ -15,15 +15,15 @@ def plot_psd(path: Path, title: str, frequency: np.ndarray, psd: np.ndarray, nam
              unit: str, rms: np.ndarray, input_psd: np.ndarray | None = None,
              input_names: list[str] | None = None, resonances: np.ndarray | None = None) -> Path:
     """PSDs (k, c) [unit²/Hz] on log–log axes, each labelled with its RMS
-    [unit]; the input's PSDs (k, d) [same unit²/Hz] dashed in black and
-    grey; dotted vertical lines at the natural frequencies."""
+    [unit]; the input's PSDs (k, d) [same unit²/Hz] in black and greys;
+    dotted vertical lines at the natural frequencies."""
     fig, ax = plt.subplots(figsize=(8, 5))
     top = float(np.max(psd)) if psd.size else 1.0
     if input_psd is not None:
         for j, name in enumerate(input_names or []):
             ok = input_psd[:, j] > 0.0
-            ax.loglog(frequency[ok], input_psd[ok, j], color=("k", "0.4", "0.7")[j % 3],
-                      lw=1.4, ls="--", label=f"input {name}")
+            ax.loglog(frequency[ok], input_psd[ok, j], color=("k", "0.35", "0.6")[j % 3],
+                      lw=1.4, ls=("--", ":", "-.")[j % 3], label=f"input {name}")
             top = max(top, float(input_psd[:, j].max()))
     for j, name in enumerate(names):
         ok = psd[:, j] > 0.0
