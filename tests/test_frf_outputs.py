@@ -69,3 +69,15 @@ def test_bad_quantity_is_one_line():
     from flexbed.errors import InputError
     with pytest.raises(InputError, match="quantity = 'jerk'"):
         flexbed.frf(flexbed.load_scene(), quantity="jerk")
+
+
+def test_the_frf_file_stores_the_crossing(isolator, tmp_path):
+    import h5py
+
+    import flexbed
+    t = flexbed.frf(isolator, points=[("c", "mass", [0, 0, 0])], band=(1.0, 40.0), n=60)
+    path, _ = t.save(tmp_path / "iso")
+    with h5py.File(path) as f:
+        assert list(f["isolation/output"][()]) == [t.column("c az")]
+        assert f["isolation/frequency"][0] == t.result.isolation_from[t.column("c az")]
+        assert f["isolation/frequency"].attrs["units"] == "Hz"

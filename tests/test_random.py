@@ -187,3 +187,26 @@ output_dt = {dt}
     assert abs(np.mean(got) - ms_random) < 3 * stderr
     # and the discrete spectrum's expected value is the random response's integral
     assert np.sum(c) == pytest.approx(ms_random, rel=1e-3)
+
+
+def test_the_command_writes_its_files(tmp_path, capsys):
+    import h5py
+
+    from flexbed.cli import main
+    from test_modal import _one_stage as stage
+    (tmp_path / "iso.toml").write_text(stage(BETA))
+    (tmp_path / "p.csv").write_text("frequency_Hz,z\n1,0.04\n400,0.04\n")
+    code = main(["random", str(tmp_path / "iso.toml"), "--psd", str(tmp_path / "p.csv"),
+                 "--point", "c=mass:0,0,0", "-o", str(tmp_path / "r"), "--peak-factor", "4.5"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "4.5 sigma" in out and "c az" in out
+    for suffix in (".h5", "-rms.csv", "-psd.csv", "-acceleration.png", "-deflection.png"):
+        assert (tmp_path / f"r{suffix}").stat().st_size > 0
+    with h5py.File(tmp_path / "r.h5") as f:
+        names = [n.decode() for n in f["outputs/names"][()]]
+        j = names.index("c az")
+        assert f["response/peak"][j] == pytest.approx(4.5 * f["response/rms"][j], rel=1e-15)
+        assert list(f["miles/output"][()]).count(j) == 1
+    rows = (tmp_path / "r-rms.csv").read_text().splitlines()
+    assert rows[0].startswith("output,unit,rms,3sigma,peak_4.5sigma,rms_g")
