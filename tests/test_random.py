@@ -210,3 +210,24 @@ def test_the_command_writes_its_files(tmp_path, capsys):
         assert list(f["miles/output"][()]).count(j) == 1
     rows = (tmp_path / "r-rms.csv").read_text().splitlines()
     assert rows[0].startswith("output,unit,rms,3sigma,peak_4.5sigma,rms_g")
+
+
+def test_cross_spectra_of_fully_coherent_axes_add_the_amplitudes():
+    """A rank-one input S = a aᴴ (axes fully coherent, complex coherence) is one
+    input along a: S_y = |Σ_d H_d a_d|², what the coherence table builds."""
+    from flexbed.analyses.psd_spec import G0 as g0
+    from flexbed.analyses.psd_spec import psd_from_tables
+    from flexbed.dynamics.frequency.random import response_psd
+    rng = np.random.default_rng(3)
+    H = rng.normal(size=(5, 3, 4)) + 1j * rng.normal(size=(5, 3, 4))
+    gamma = np.exp(0.7j)
+    spec = psd_from_tables({"x": [[1, 0.02], [100, 0.02]], "z": [[1, 0.05], [100, 0.05]]},
+                           {"xz": [gamma.real, gamma.imag]}, "t")
+    f = np.linspace(2, 90, 5)
+    S = spec.matrix(f)
+    a = g0 * np.array([math.sqrt(0.02), 0.0, math.sqrt(0.05) * np.conj(gamma)])
+    exact = np.abs(np.einsum("kdo,d->ko", H, a)) ** 2
+    np.testing.assert_allclose(response_psd(H, S), exact, rtol=1e-13)
+    from flexbed.errors import InputError
+    with pytest.raises(InputError, match=r"t: \[coherence\] xy: both axes need a table"):
+        psd_from_tables({"x": [[1, 0.02], [100, 0.02]]}, {"xy": 0.5}, "t")
