@@ -6,7 +6,10 @@
 - :mod:`.modal`: natural frequencies, damping ratios, mode shapes, the
   kinetic- and strain-energy tables and modal effective masses;
 - :mod:`.frf`: transmissibility and mount forces per frequency, on a grid
-  refined until every resonance is resolved.
+  refined until every resonance is resolved;
+- :mod:`.random`: stationary random response: PSD interpolation, the
+  grid that resolves every half-power band, response PSDs, mean squares
+  with their error, Miles' equation.
 
 May import NumPy, SciPy and, from :mod:`flexbed.dynamics`, the compiled
 system, the rotations and the linear room's linearisation; never ``fem``

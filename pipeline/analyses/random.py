@@ -1,5 +1,5 @@
 """Random vibration of a scene's mounted system under base acceleration PSDs
-(:mod:`flexbed.analyses.psd_spec`), by the frequency responses of
+(:mod:`flexbed.files.psd`), by the frequency responses of
 :mod:`flexbed.dynamics.frequency.frf` and the spectral sums of
 :mod:`flexbed.dynamics.frequency.random`.
 
@@ -21,7 +21,7 @@ from flexbed.analyses.frf import MAX_GRID, default_points
 from flexbed.analyses.linear_points import PointJacobians
 from flexbed.analyses.modal import Mounted
 from flexbed.analyses.points import Point
-from flexbed.analyses.psd_spec import G0, BasePSD
+from flexbed.files.psd import G0, BasePSD
 from flexbed.dynamics.frequency import frf as dfrf
 from flexbed.dynamics.frequency import random as drandom
 from flexbed.errors import InputError

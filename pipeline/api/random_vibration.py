@@ -14,7 +14,7 @@ from typing import Sequence
 
 from flexbed.analyses import random as arandom
 from flexbed.analyses.frf import MAX_GRID
-from flexbed.analyses.psd_spec import BasePSD, load_psd, psd_from_tables
+from flexbed.files.psd import BasePSD, load_psd, psd_from_tables
 from flexbed.api.arguments import Arguments
 from flexbed.api.frequency import _mounted, _save
 from flexbed.errors import InputError
@@ -68,7 +68,7 @@ def random_vibration(scene: SceneFile, *, psd, points: Sequence[tuple] | None = 
     ----------
     scene : SceneFile
     psd : path, or dict
-        A PSD file (:mod:`flexbed.analyses.psd_spec`: TOML or CSV, g²/Hz),
+        A PSD file (:mod:`flexbed.files.psd`: TOML or CSV, g²/Hz),
         or ``{"x"|"y"|"z": [[f Hz, level g²/Hz], ...], "coherence":
         {"xz": γ}}``.
     points : sequence of (name, body, position[, relative_to]), optional

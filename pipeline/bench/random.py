@@ -11,7 +11,7 @@ import statistics
 import numpy as np
 
 from flexbed.analyses.modal import mounted
-from flexbed.analyses.psd_spec import psd_from_tables
+from flexbed.files.psd import psd_from_tables
 from flexbed.analyses.random import random_response
 from flexbed.bench.context import BenchContext
 from flexbed.bench.frequency import FLEX_MODES, _case

@@ -73,7 +73,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from flexbed.analyses.frf import MAX_GRID
     from flexbed.analyses.points import parse_point
-    from flexbed.analyses.psd_spec import G0, load_psd
+    from flexbed.files.psd import G0, load_psd
     from flexbed.analyses.random import psd_csv, random_response, rms_csv
     from flexbed.files.destination import write_text
     from flexbed.files.random import write_random
