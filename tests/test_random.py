@@ -118,7 +118,7 @@ def test_bad_psd_is_one_line_exit_2(tmp_path, capsys, text, message):
 
 
 def test_csv_psd_is_read(tmp_path):
-    from flexbed.analyses.psd_spec import load_psd
+    from flexbed.files.psd import load_psd
     p = tmp_path / "p.csv"
     p.write_text("# MIL-STD-810-like\nfrequency_Hz,x,z\n20,0.01,0.02\n1000,0.01,0.02\n")
     s = load_psd(p)
@@ -215,8 +215,8 @@ def test_the_command_writes_its_files(tmp_path, capsys):
 def test_cross_spectra_of_fully_coherent_axes_add_the_amplitudes():
     """A rank-one input S = a aᴴ (axes fully coherent, complex coherence) is one
     input along a: S_y = |Σ_d H_d a_d|², what the coherence table builds."""
-    from flexbed.analyses.psd_spec import G0 as g0
-    from flexbed.analyses.psd_spec import psd_from_tables
+    from flexbed.files.psd import G0 as g0
+    from flexbed.files.psd import psd_from_tables
     from flexbed.dynamics.frequency.random import response_psd
     rng = np.random.default_rng(3)
     H = rng.normal(size=(5, 3, 4)) + 1j * rng.normal(size=(5, 3, 4))
