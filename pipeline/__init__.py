@@ -42,12 +42,13 @@ from __future__ import annotations
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
            "Modal", "Transmissibility", "Qualification", "transmitted", "Transmitted",
-           "InputError", "NumericalError",
+           "random_vibration", "RandomVibration", "InputError", "NumericalError",
            "__version__"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
         "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison", "Modal",
-        "Transmissibility", "Qualification", "transmitted", "Transmitted"}
+        "Transmissibility", "Qualification", "transmitted", "Transmitted", "random_vibration",
+        "RandomVibration"}
 
 
 def __getattr__(name: str):

@@ -41,6 +41,7 @@ COMMANDS = {
     "static": "static equilibrium (paper Table 2) -> equilibrium file",
     "modal": "mounted-system modes, energy table, effective masses",
     "frf": "transmissibility to points, mounts and the base",
+    "random": "random vibration from base acceleration PSDs: RMS, 3 sigma",
     "simulate": "time integration of the mount system -> results file",
     "compare": "rigid vs flexible vs damped flexible bed -> tables and plots",
     "post": "points of interest and mount forces from a results file",

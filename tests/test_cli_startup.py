@@ -80,7 +80,7 @@ def test_help_lists_every_command_and_each_commands_options(capsys):
     expected = {"simulate": "--integrator", "compare": "--t-end", "run": "--integrator",
                 "post": "--modes-file", "bench": "--quick", "modes": "--fmax",
                 "static": "--tol", "scene": "--output", "modal": "--equilibrium",
-                "frf": "--relative-to",
+                "frf": "--relative-to", "random": "--psd",
                 "srs": "--per-octave", "qualify": "--results",
                 "sweep": "--scheduler", "transmitted": "--reference"}
     assert set(expected) == set(COMMANDS)

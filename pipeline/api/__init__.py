@@ -50,6 +50,7 @@ from flexbed.api.comparison import Comparison, compare
 from flexbed.api.equilibrium import Statics, statics
 from flexbed.api.frequency import Modal, Transmissibility, frf, modal
 from flexbed.api.qualification import Qualification, qualify
+from flexbed.api.random_vibration import RandomVibration, random_vibration
 from flexbed.api.results import Results, open_results, srs
 from flexbed.api.simulation import simulate
 from flexbed.api.studies import sweep
@@ -59,4 +60,5 @@ from flexbed.files.variants import vary
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
-           "Modal", "Transmissibility", "Qualification", "transmitted", "Transmitted"]
+           "Modal", "Transmissibility", "Qualification", "transmitted", "Transmitted",
+           "random_vibration", "RandomVibration"]
