@@ -30,7 +30,8 @@ The rooms, each importing only those above it (and :mod:`flexbed.fem`,
 
 Two imports go the other way, both on first call: a scene file with
 ``modes = "auto"`` asks :mod:`flexbed.stages.modes_auto` for its cut-off,
-and :func:`flexbed.sweep` runs :mod:`flexbed.study`.
+and :func:`flexbed.sweep` runs :mod:`flexbed.study` (:func:`flexbed.optimize`,
+:mod:`flexbed.optimization`).
 
 Beside them: :mod:`flexbed.errors`, :mod:`flexbed.console`,
 :mod:`flexbed.interrupts`, :mod:`flexbed.threads`, :mod:`flexbed.words`,
@@ -42,11 +43,11 @@ from __future__ import annotations
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
            "Modal", "Transmissibility", "Qualification", "InputError", "NumericalError",
-           "__version__"]
+           "__version__", "optimize"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
         "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison", "Modal",
-        "Transmissibility", "Qualification"}
+        "Transmissibility", "Qualification", "optimize"}
 
 
 def __getattr__(name: str):

@@ -113,6 +113,8 @@ class Evaluator:
             return
         path = self.folder / LOG
         new = not path.is_file()
+        if new:
+            self.folder.mkdir(parents=True, exist_ok=True)
         with path.open("a", newline="", encoding="utf-8") as fh:
             w = csv.writer(fh)
             if new:
