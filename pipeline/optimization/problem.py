@@ -196,12 +196,12 @@ def make_problem(spec: OptimizeSpec) -> Problem:
             raise InputError(f"{where}: [optimize.set]: {exc}") from None
     x0 = []
     for i, v in enumerate(spec.variables, 1):
-        x0.append(_start(where, base, i, v))
         for end in (v.low, v.high):
             try:
                 vary(base, {p: sign * end for p, sign in v.paths})
             except InputError as exc:
                 raise InputError(f"{where}: variable {i} ({v.path}) = {end!r}: {exc}") from None
+        x0.append(_start(where, base, i, v))
     goals = spec.objectives + spec.constraints
     metrics = tuple(_metric(where, g, base) for g in goals)
     analyses = ordered({m.analysis for m in metrics})

@@ -108,9 +108,10 @@ def comparison_text(opt: Optimum, before, after) -> str:
 
 
 def plot_convergence(opt: Optimum, path: Path) -> Path:
-    """Each evaluation's objective (feasible: filled, infeasible: open) and
-    the best feasible objective so far; the largest violation on a log
-    axis below."""
+    """Each evaluation's objective above the optimum's (feasible: filled,
+    infeasible: open) and the best feasible one so far, on a log axis (the
+    gap spans decades as a method converges); with constraints, the largest
+    violation below, also on a log axis."""
     from flexbed.plots.figure import plt, save_figure
 
     hist = [e for e in opt.history if e.ok]
@@ -124,21 +125,29 @@ def plot_convergence(opt: Optimum, path: Path) -> Path:
         if feas[i]:
             run = min(run, f[i])
         best[i] = run if np.isfinite(run) else np.nan
-    fig, (ax, bx) = plt.subplots(2, 1, figsize=(7, 5.5), sharex=True,
-                                 gridspec_kw={"height_ratios": [2, 1]})
-    ax.plot(n[feas], f[feas], "o", ms=3, color="tab:blue", label="feasible evaluation")
-    ax.plot(n[~feas], f[~feas], "o", ms=3, mfc="none", color="tab:red",
-            label="infeasible evaluation")
-    ax.plot(n, best, "k-", lw=1.5, label="best feasible so far")
-    ax.set_ylabel("objective [1]")
+    floor = 1e-16 * max(1.0, abs(opt.objective))
+    gap = np.maximum(f - opt.objective, 0.0) + floor
+    constrained = any(g.role == "constraint" for g in opt.problem.goals)
+    fig, axes = plt.subplots(2 if constrained else 1, 1, figsize=(7, 5.5 if constrained else 4),
+                             sharex=True, squeeze=False,
+                             gridspec_kw={"height_ratios": [2, 1] if constrained else [1]})
+    ax = axes[0, 0]
+    ax.semilogy(n[feas], gap[feas], "o", ms=3, color="tab:blue", label="feasible evaluation")
+    ax.semilogy(n[~feas], gap[~feas], "o", ms=3, mfc="none", color="tab:red",
+                label="infeasible evaluation")
+    ax.semilogy(n, np.maximum(best - opt.objective, 0.0) + floor, "k-", lw=1.5,
+                label="best feasible so far")
+    ax.set_ylabel("objective − optimum's [1]")
     ax.set_title(f"{opt.problem.spec.name}: {opt.problem.spec.method}, "
-                 f"{opt.evaluations} evaluations")
+                 f"{opt.evaluations} evaluations, optimum {opt.objective:.6g}", fontsize=10)
     ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
-    ax.grid(True, alpha=0.3)
-    bx.semilogy(n, np.maximum(viol, 1e-16), ".", ms=3, color="tab:red")
-    bx.set_ylabel("largest violation [share of bound]")
-    bx.set_xlabel("evaluation (in the order asked; repeats included)")
-    bx.grid(True, which="both", alpha=0.3)
+    ax.grid(True, which="both", alpha=0.3)
+    if constrained:
+        bx = axes[1, 0]
+        bx.semilogy(n, np.maximum(viol, 1e-16), ".", ms=3, color="tab:red")
+        bx.set_ylabel("largest violation\n[share of bound]")
+        bx.grid(True, which="both", alpha=0.3)
+    axes[-1, 0].set_xlabel("evaluation (in the order asked; repeats included)")
     fig.tight_layout()
     return save_figure(fig, path)
 
