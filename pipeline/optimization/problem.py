@@ -5,9 +5,10 @@ The optimisers work in u ∈ [0, 1]ⁿ, one coordinate per variable (x = low +
 u (high − low)), so that SLSQP and trust-constr see variables of one size
 and a finite-difference step is a share of each range. A point's scene is
 the base scene with every variable's paths set (``tie``: the same value,
-``mirror``: its negative); a catalogue variable (``values``) is relaxed to
-its range by the gradient methods and snapped to the nearest value at the
-end (differential evolution snaps at every evaluation).
+``mirror``: its negative, ``link``: factor × value + offset); a
+catalogue variable (``values``) is relaxed to its range by the gradient
+methods and snapped to the nearest value at the end (differential
+evolution snaps at every evaluation).
 
 Objective (minimised): Σ wᵢ sᵢ rᵢ / scaleᵢ, sᵢ = +1 (minimize) or −1
 (maximize), rᵢ the metric's column, or its columns reduced (``reduce``,
@@ -102,8 +103,8 @@ class Problem:
 
     def changes(self, x) -> dict:
         """path → value for every path the variables set."""
-        return {p: float(sign * xi) + 0.0 for v, xi in zip(self.variables, x)
-                for p, sign in v.paths}
+        return {p: float(factor * xi + offset) + 0.0 for v, xi in zip(self.variables, x)
+                for p, factor, offset in v.paths}
 
     def scene(self, x) -> SceneFile:
         """The base scene with the variables at ``x`` (checked)."""
@@ -198,7 +199,7 @@ def make_problem(spec: OptimizeSpec) -> Problem:
     for i, v in enumerate(spec.variables, 1):
         for end in (v.low, v.high):
             try:
-                vary(base, {p: sign * end for p, sign in v.paths})
+                vary(base, {p: f * end + o for p, f, o in v.paths})
             except InputError as exc:
                 raise InputError(f"{where}: variable {i} ({v.path}) = {end!r}: {exc}") from None
         x0.append(_start(where, base, i, v))

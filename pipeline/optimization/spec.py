@@ -37,7 +37,7 @@ MAX_EVALUATIONS = 100_000
 _TOP = ("optimize", "variable", "objective", "constraint")
 _HEAD_KEYS = ("name", "scene", "method", "starts", "seed", "set", "max_evaluations",
               "tolerance", "step", "differences", "pareto", "population")
-_VARIABLE_KEYS = ("path", "low", "high", "values", "start", "tie", "mirror")
+_VARIABLE_KEYS = ("path", "low", "high", "values", "start", "tie", "mirror", "link")
 _GOAL_KEYS = ("weight", "sense", "reduce", "scale")
 _CONSTRAINT_KEYS = ("lower", "upper", "excitation")
 
@@ -51,7 +51,10 @@ class Variable:
     largest); values : tuple of float or None — a catalogue (the variable
     takes one of them); start : float or None (None: the scene's value);
     tie : tuple of str — entries set to the same value; mirror : tuple of
-    str — entries set to its negative (a symmetric layout's other side).
+    str — entries set to its negative (a symmetric layout's other side);
+    link : tuple of (path, factor, offset) — entries set to factor × value
+    + offset (a mount's point on the bed that follows its point on the
+    equipment).
     """
 
     path: str
@@ -61,12 +64,13 @@ class Variable:
     start: float | None = None
     tie: tuple = ()
     mirror: tuple = ()
+    link: tuple = ()
 
     @property
     def paths(self) -> tuple:
-        """Every (path, sign) this variable sets."""
-        return ((self.path, 1.0),) + tuple((p, 1.0) for p in self.tie) \
-            + tuple((p, -1.0) for p in self.mirror)
+        """Every (path, factor, offset) this variable sets."""
+        return ((self.path, 1.0, 0.0),) + tuple((p, 1.0, 0.0) for p in self.tie) \
+            + tuple((p, -1.0, 0.0) for p in self.mirror) + self.link
 
 
 @dataclass(frozen=True, slots=True)
@@ -254,6 +258,7 @@ def _variable(where: str, i: int, t: dict) -> Variable:
                          f"the scene (e.g. \"mount.M5.k[2]\")")
     entry = f"variable {i} ({path})"
     tie, mirror = (_paths(t.get(k), where, entry, k) for k in ("tie", "mirror"))
+    link = _links(t.get("link"), where, entry)
     start = t.get("start")
     if start is not None and (not is_finite_number(start) or isinstance(start, bool)):
         raise InputError(f"{where}: {entry}: start = {short_repr(start)} must be a finite "
@@ -269,7 +274,7 @@ def _variable(where: str, i: int, t: dict) -> Variable:
             raise InputError(f"{where}: {entry}: values = {short_repr(values)} must be a list "
                              f"of at least two finite numbers")
         values = tuple(sorted(float(v) for v in set(values)))
-        return Variable(path, values[0], values[-1], values, start, tie, mirror)
+        return Variable(path, values[0], values[-1], values, start, tie, mirror, link)
     lo, hi = t.get("low"), t.get("high")
     for key, v in (("low", lo), ("high", hi)):
         if v is None or not is_finite_number(v) or isinstance(v, bool):
@@ -280,13 +285,35 @@ def _variable(where: str, i: int, t: dict) -> Variable:
     if start is not None and not lo <= start <= hi:
         raise InputError(f"{where}: {entry}: start = {start!r} lies outside [{lo!r}, {hi!r}]")
     return Variable(path, float(lo), float(hi), None,
-                    None if start is None else float(start), tie, mirror)
+                    None if start is None else float(start), tie, mirror, link)
+
+
+def _links(value: Any, where: str, entry: str) -> tuple:
+    if value is None:
+        return ()
+    if not isinstance(value, list) or not all(isinstance(t, dict) for t in value):
+        raise InputError(f"{where}: {entry}: link must be a list of tables {{path = ..., "
+                         f"factor = ..., offset = ...}}")
+    out = []
+    for t in value:
+        _known(t, ("path", "factor", "offset"), where, f"{entry}: link")
+        p = t.get("path")
+        if not isinstance(p, str) or not p:
+            raise InputError(f"{where}: {entry}: link path = {short_repr(p)} must be a scene "
+                             f"path")
+        f, o = t.get("factor", 1.0), t.get("offset", 0.0)
+        for key, v in (("factor", f), ("offset", o)):
+            if not is_finite_number(v) or isinstance(v, bool):
+                raise InputError(f"{where}: {entry}: link {p!r}: {key} = {short_repr(v)} must "
+                                 f"be a finite number")
+        out.append((p, float(f), float(o)))
+    return tuple(out)
 
 
 def _check_paths(where: str, variables: tuple) -> None:
     seen: dict = {}
     for v in variables:
-        for p, _ in v.paths:
+        for p, _, _ in v.paths:
             if p in seen:
                 raise InputError(f"{where}: path {p!r} is set by variable {seen[p]} and by "
                                  f"{v.path!r}")
