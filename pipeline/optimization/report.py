@@ -156,15 +156,17 @@ def _plot_transmissibility(initial, best, path: Path) -> Path:
     from flexbed.api import frf
     from flexbed.plots.figure import plt, save_figure
 
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = plt.subplots(figsize=(8.5, 4.5))
     for scene, style, tag in ((initial, "--", "initial"), (best, "-", "optimum")):
         t = frf(scene)
+        colours = iter(plt.rcParams["axes.prop_cycle"].by_key()["color"])
         for j, name in enumerate(t.names):
-            if name.endswith("az"):
-                ax.loglog(t.frequency, t.magnitude[:, j], style, lw=1.0, label=f"{name}, {tag}")
+            if name.endswith(" az") and "@" not in name:      # absolute, vertical
+                ax.loglog(t.frequency, t.magnitude[:, j], style, lw=1.0,
+                          color=next(colours), label=f"{name[:-3]}, {tag}")
     ax.set_xlabel("frequency [Hz]")
-    ax.set_ylabel("transmissibility |T| from base z [1]")
+    ax.set_ylabel("transmissibility |T|, base z to point z [1]")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="lower left", framealpha=0.9)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), framealpha=0.9)
     fig.tight_layout()
     return save_figure(fig, path)
