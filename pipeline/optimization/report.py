@@ -108,10 +108,11 @@ def comparison_text(opt: Optimum, before, after) -> str:
 
 
 def plot_convergence(opt: Optimum, path: Path) -> Path:
-    """Each evaluation's objective above the optimum's (feasible: filled,
-    infeasible: open) and the best feasible one so far, on a log axis (the
-    gap spans decades as a method converges); with constraints, the largest
-    violation below, also on a log axis."""
+    """Each evaluation's objective's distance from the optimum's (feasible:
+    filled, infeasible: open — an infeasible point may lie below) and the
+    best feasible one so far's, on a log axis (the gap spans decades as a
+    method converges); with constraints, the largest violation below, also
+    on a log axis."""
     from flexbed.plots.figure import plt, save_figure
 
     hist = [e for e in opt.history if e.ok]
@@ -126,7 +127,7 @@ def plot_convergence(opt: Optimum, path: Path) -> Path:
             run = min(run, f[i])
         best[i] = run if np.isfinite(run) else np.nan
     floor = 1e-16 * max(1.0, abs(opt.objective))
-    gap = np.maximum(f - opt.objective, 0.0) + floor
+    gap = np.abs(f - opt.objective) + floor
     constrained = any(g.role == "constraint" for g in opt.problem.goals)
     fig, axes = plt.subplots(2 if constrained else 1, 1, figsize=(7, 5.5 if constrained else 4),
                              sharex=True, squeeze=False,
@@ -135,9 +136,9 @@ def plot_convergence(opt: Optimum, path: Path) -> Path:
     ax.semilogy(n[feas], gap[feas], "o", ms=3, color="tab:blue", label="feasible evaluation")
     ax.semilogy(n[~feas], gap[~feas], "o", ms=3, mfc="none", color="tab:red",
                 label="infeasible evaluation")
-    ax.semilogy(n, np.maximum(best - opt.objective, 0.0) + floor, "k-", lw=1.5,
+    ax.semilogy(n, np.abs(best - opt.objective) + floor, "k-", lw=1.5,
                 label="best feasible so far")
-    ax.set_ylabel("objective − optimum's [1]")
+    ax.set_ylabel("|objective − optimum's| [1]")
     ax.set_title(f"{opt.problem.spec.name}: {opt.problem.spec.method}, "
                  f"{opt.evaluations} evaluations, optimum {opt.objective:.6g}", fontsize=10)
     ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
