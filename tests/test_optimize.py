@@ -212,3 +212,23 @@ def test_the_focal_layout_decouples_in_the_modal_analysis(tmp_path):
             assert y == pytest.approx(1.0, abs=1e-13) and roll == pytest.approx(1.0, abs=1e-13)
         else:
             assert y < 1.0 - 1e-4 and roll < 1.0 - 1e-4
+
+
+def test_a_catalogue_variable_ends_on_a_catalogue_value(tmp_path, client):
+    body = ANGLE.replace("low = 0.0\nhigh = 30.0", "values = [0.0, 5.0, 7.5, 10.0, 20.0]") + \
+        DECOUPLE
+    opt = flexbed.optimize(write(tmp_path, 'method = "slsqp"\n', body), scheduler=client)
+    assert opt.values["mount.M3.axes_deg[0]"] == 7.5          # the nearest to 7.78 deg
+
+
+def test_a_pareto_front_runs_from_one_objective_to_the_other(tmp_path, client):
+    body = ANGLE + DECOUPLE + '[[objective]]\nkind = "highest_frequency"\nscale = 10.0\n'
+    out = tmp_path / "out"
+    opt = flexbed.optimize(write(tmp_path, "pareto = 3\n", body), scheduler=client,
+                           output=out, plots=False)
+    assert len(opt.pareto) == 3
+    # w = 0: the highest frequency alone, lowest at the upper bound; w = 1: decoupling alone
+    assert opt.pareto[0].x[0] == 30.0
+    assert abs(opt.pareto[-1].x[0] - focal_angle()) < 1e-3
+    rows = (out / "pareto.csv").read_text().splitlines()
+    assert len(rows) == 4 and rows[0].startswith("w,mount.M3.axes_deg[0],objective1")

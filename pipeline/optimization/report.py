@@ -7,6 +7,7 @@ transmissibility from the base (z) to the scene's points.
 Files in the folder: ``optimum.toml`` (a scene file: ``flexbed modal
 optimum.toml`` reads it), ``convergence.png``, ``comparison.md``,
 ``transmissibility.png`` (when the scene has points of interest),
+``pareto.csv`` (a two-objective front),
 beside ``evaluations.csv`` (:mod:`flexbed.optimization.evaluate`).
 """
 
@@ -22,7 +23,8 @@ from flexbed.study.layout_metrics import DIRECTIONS, direction_shares
 
 __all__ = ["write_report", "comparison_text", "plot_convergence", "FILES"]
 
-FILES = ("optimum.toml", "convergence.png", "comparison.md", "transmissibility.png")
+FILES = ("optimum.toml", "convergence.png", "comparison.md", "transmissibility.png",
+         "pareto.csv")
 
 
 def write_report(opt: Optimum, folder: Path, *, plots: bool = True) -> list[Path]:
@@ -32,6 +34,8 @@ def write_report(opt: Optimum, folder: Path, *, plots: bool = True) -> list[Path
     initial, best = opt.problem.scene(opt.x0), opt.scene
     modal = _modal(initial), _modal(best)
     out.append(write_text(folder / "comparison.md", comparison_text(opt, *modal)))
+    if opt.pareto:
+        out.append(write_text(folder / "pareto.csv", pareto_csv(opt)))
     if plots:
         out.append(plot_convergence(opt, folder / "convergence.png"))
         if initial.points and modal[0] is not None and modal[1] is not None:
@@ -104,6 +108,21 @@ def comparison_text(opt: Optimum, before, after) -> str:
         if m is not None:
             lines += ["", f"Kinetic energy decoupling table, {title} [%]:", "",
                       m.energy_table()]
+    return "\n".join(lines) + "\n"
+
+
+def pareto_csv(opt: Optimum) -> str:
+    """The Pareto front's points: the weight w of the first objective, the
+    variables (scene units), both objectives as minimised (signed,
+    scaled) and their metrics' columns."""
+    p = opt.problem
+    ws = np.linspace(0.0, 1.0, len(opt.pareto))
+    head = ["w"] + [v.path for v in p.variables] + ["objective1", "objective2"] + list(p.columns)
+    lines = [",".join(head)]
+    for w, e in zip(ws, opt.pareto):
+        obj = p.objectives(e.result.values) if e.ok else [float("nan")] * 2
+        lines.append(",".join(repr(float(v)) for v in
+                              [w, *e.x, *obj, *e.result.values]))
     return "\n".join(lines) + "\n"
 
 
