@@ -21,6 +21,10 @@ Kinds:
 - ``highest_frequency`` [Hz]: the highest natural frequency of those
   rigid-body modes (or of ``modes = [first, last]``): the number a
   constraint holds below an excitation frequency / √2.
+- ``rigid_frequencies`` [Hz]: the natural frequency of each of those
+  modes, one column each (``rigid_frequency.mode1`` …): the same bound as
+  a constraint per mode, which a gradient method follows better than the
+  maximum (a maximum has a kink where two modes cross).
 
 A rigid-body mode a point's scene lacks at run time (overdamped, or an
 elastic mode of the bed dominating) fails that point.
@@ -38,7 +42,7 @@ from flexbed.files.table_reader import short_repr
 from flexbed.study.metric_keys import OneColumn, _options
 from flexbed.study.spec import MetricTable
 
-__all__ = ["Decoupling", "HighestFrequency", "LAYOUT_KINDS", "direction_shares",
+__all__ = ["Decoupling", "HighestFrequency", "RigidFrequencies", "LAYOUT_KINDS", "direction_shares",
            "rigid_modes", "DIRECTIONS"]
 
 #: the directions of a rigid body's coordinates, as the modal labels end
@@ -191,5 +195,37 @@ class HighestFrequency(OneColumn):
         return (float(np.max(np.asarray(m.frequency)[idx])),)
 
 
+@dataclass(frozen=True)
+class RigidFrequencies:
+    """The natural frequency of each rigid-body mode [Hz]."""
+
+    kind: str
+    first: int
+    last: int
+    analysis = "modal"
+
+    @classmethod
+    def build(cls, table: MetricTable, scene: SceneFile, where: str) -> "RigidFrequencies":
+        opts = _options(table, ("modes",), where)
+        if opts.get("name"):
+            raise InputError(f"{where}: name does not apply (one column per mode)")
+        first, last = _range(scene, opts, where)
+        return cls(table.kind, first, last)
+
+    @property
+    def columns(self) -> tuple:
+        return tuple(f"rigid_frequency.mode{k}" for k in range(self.first, self.last + 1))
+
+    @property
+    def units(self) -> tuple:
+        return ("Hz",) * (self.last - self.first + 1)
+
+    def values(self, outcomes: dict) -> tuple:
+        m = outcomes["modal"]
+        idx, _ = _chosen(m, self.first, self.last, "direction")
+        return tuple(float(f) for f in np.asarray(m.frequency)[idx])
+
+
 #: the kinds this module adds to :data:`flexbed.study.metrics.KINDS`
-LAYOUT_KINDS = {"decoupling": Decoupling, "highest_frequency": HighestFrequency}
+LAYOUT_KINDS = {"decoupling": Decoupling, "highest_frequency": HighestFrequency,
+                "rigid_frequencies": RigidFrequencies}

@@ -287,7 +287,7 @@ KINDS = {"peak_displacement": PeakMotion, "peak_acceleration": PeakMotion,
          "compare": CompareFigure}
 
 KINDS.update(FREQUENCY_KINDS)       # natural_frequency, effective_mass_fraction, …
-KINDS.update(LAYOUT_KINDS)          # decoupling, highest_frequency
+KINDS.update(LAYOUT_KINDS)          # decoupling, highest_frequency, rigid_frequencies
 
 
 def build_metric(table: MetricTable, scene: SceneFile, study_name: str):
