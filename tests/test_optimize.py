@@ -232,3 +232,21 @@ def test_a_pareto_front_runs_from_one_objective_to_the_other(tmp_path, client):
     assert abs(opt.pareto[-1].x[0] - focal_angle()) < 1e-3
     rows = (out / "pareto.csv").read_text().splitlines()
     assert len(rows) == 4 and rows[0].startswith("w,mount.M3.axes_deg[0],objective1")
+
+
+def test_rigid_frequencies_and_the_highest_are_the_modal_frequencies(tmp_path):
+    from flexbed.study.metrics import KINDS
+    from flexbed.study.spec import MetricTable
+
+    problem = make_problem(read_optimize(write(tmp_path, "")))
+    scene = problem.scene([10.0])
+    m = flexbed.modal(scene)
+    every = KINDS["rigid_frequencies"].build(MetricTable(1, "rigid_frequencies", ()), scene, "t")
+    top = KINDS["highest_frequency"].build(MetricTable(2, "highest_frequency", ()), scene, "t")
+    dec = KINDS["decoupling"].build(MetricTable(3, "decoupling", ()), scene, "t")
+    assert every.columns[0] == "rigid_frequency.mode1" and len(every.columns) == 6
+    assert every.values({"modal": m}) == tuple(float(f) for f in m.frequency)
+    assert top.values({"modal": m}) == (float(m.frequency.max()),)
+    shares = dec.values({"modal": m})
+    assert len(shares) == 6 and all(0.5 < s <= 1.0 for s in shares)
+    assert shares[2] == pytest.approx(1.0, abs=1e-12)          # yaw, alone by symmetry
