@@ -11,9 +11,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from flexbed.threads import limited
+
 __all__ = ["optimize"]
 
 
+@limited()
 def optimize(file, scheduler=None, *, output: str | Path | None = None,
              workers: int | None = None, plots: bool = True):
     """Optimise a mount layout on Dask (as ``flexbed optimize``).
@@ -34,6 +37,10 @@ def optimize(file, scheduler=None, *, output: str | Path | None = None,
         Size of the local cluster.
     plots : bool
         Write ``convergence.png`` and ``transmissibility.png``.
+
+    BLAS pools are held to ``FLEXBED_THREADS`` threads in the call, as on
+    the command line: SciPy's optimisers then round alike in both, so a
+    re-run retraces the logged path and reuses its evaluations.
 
     Returns
     -------

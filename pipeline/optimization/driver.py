@@ -99,7 +99,9 @@ def optimize_problem(problem: Problem, client, folder: Path | None = None) -> Op
             outcomes.append(local(ev, u0, spec.method, step=spec.step,
                                   central=spec.differences == "central",
                                   tolerance=spec.tolerance, budget=budget, start=i))
-    candidates = [o.best for o in outcomes] + front + [initial]
+    # the methods' ends, and the best point seen at all (a stencil's point,
+    # a line search's trial may beat where a method stopped)
+    candidates = [o.best for o in outcomes] + front + [initial, best_of(ev.history)]
     best = _snap(ev, best_of(candidates))
     message = "; ".join(f"start {o.start + 1}: {o.message}" for o in outcomes) or \
         f"Pareto front of {len(front)} points"
