@@ -101,6 +101,7 @@ def client(cluster):
         yield c
 
 
+@pytest.mark.slow
 def test_the_focal_inclination_is_found_to_1e_6_from_several_starts(tmp_path, client):
     path = write(tmp_path, 'method = "slsqp"\ndifferences = "central"\ntolerance = 1e-14\n'
                            'starts = 3\nseed = 4\n')
@@ -118,6 +119,7 @@ def test_the_focal_inclination_is_found_to_1e_6_from_several_starts(tmp_path, cl
     assert problem.values(problem.u0)[0] == 10.0
 
 
+@pytest.mark.slow
 def test_a_rerun_reuses_the_log_and_finds_the_same_optimum(tmp_path, client):
     path = write(tmp_path, 'method = "slsqp"\n')
     out = tmp_path / "out"
@@ -221,6 +223,7 @@ def test_a_catalogue_variable_ends_on_a_catalogue_value(tmp_path, client):
     assert opt.values["mount.M3.axes_deg[0]"] == 7.5          # the nearest to 7.78 deg
 
 
+@pytest.mark.slow
 def test_a_pareto_front_runs_from_one_objective_to_the_other(tmp_path, client):
     body = ANGLE + DECOUPLE + '[[objective]]\nkind = "highest_frequency"\nscale = 10.0\n'
     out = tmp_path / "out"
