@@ -30,7 +30,8 @@ The rooms, each importing only those above it (and :mod:`flexbed.fem`,
 
 Two imports go the other way, both on first call: a scene file with
 ``modes = "auto"`` asks :mod:`flexbed.stages.modes_auto` for its cut-off,
-and :func:`flexbed.sweep` runs :mod:`flexbed.study`.
+and :func:`flexbed.sweep` runs :mod:`flexbed.study` (:func:`flexbed.optimize`,
+:mod:`flexbed.optimization`).
 
 Beside them: :mod:`flexbed.errors`, :mod:`flexbed.console`,
 :mod:`flexbed.interrupts`, :mod:`flexbed.threads`, :mod:`flexbed.words`,
@@ -43,12 +44,12 @@ __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "ope
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
            "Modal", "Transmissibility", "Qualification", "transmitted", "Transmitted",
            "random_vibration", "RandomVibration", "InputError", "NumericalError",
-           "__version__"]
+           "optimize", "__version__"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
         "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison", "Modal",
         "Transmissibility", "Qualification", "transmitted", "Transmitted", "random_vibration",
-        "RandomVibration"}
+        "RandomVibration", "optimize"}
 
 
 def __getattr__(name: str):

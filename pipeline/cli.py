@@ -51,6 +51,7 @@ COMMANDS = {
     "run": "the whole pipeline on one scene, into one folder",
     "bench": "benchmarks: speed against error, written as a report",
     "sweep": "a design study of many variants on Dask -> one table and plots",
+    "optimize": "mount layout optimisation on Dask -> optimum scene and log",
 }
 
 

@@ -82,7 +82,8 @@ def test_help_lists_every_command_and_each_commands_options(capsys):
                 "static": "--tol", "scene": "--output", "modal": "--equilibrium",
                 "frf": "--relative-to", "random": "--psd",
                 "srs": "--per-octave", "qualify": "--results",
-                "sweep": "--scheduler", "transmitted": "--reference"}
+                "sweep": "--scheduler", "transmitted": "--reference",
+                "optimize": "--scheduler"}
     assert set(expected) == set(COMMANDS)
     for name, option in expected.items():
         with pytest.raises(SystemExit):
