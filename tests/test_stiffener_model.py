@@ -148,3 +148,57 @@ def test_bench_times_auto_on_the_stiffened_bed():
     acc = run.bed.accuracy
     assert acc.worst <= 0.005 and "stiffeners along mesh lines" in acc.mesh
     assert np.all(np.abs(err) < 0.01), err
+
+
+def _scene(tmp_path, keys: str, name: str = "s.toml"):
+    """The built-in scene with a flexible Mindlin 4 x 24 bed and one stiffener
+    along its centre line, with ``keys`` added to its table."""
+    from flexbed.files.builtin import builtin_scene_path
+    text = builtin_scene_path().read_text().replace(
+        'model = "rigid"', 'model = "flexible"\ntheory = "mindlin"', 1)
+    text = text.replace("nx = 10\nny = 10\n", "nx = 4\nny = 24\n")
+    stiff = ('[[bed.stiffener]]\nname = "keel"\nstart = [0.0, -2.4]\nend = [0.0, 2.4]\n' + keys)
+    path = tmp_path / name
+    path.write_text(text.replace("rayleigh = [0.0, 0.01]\n", "rayleigh = [0.0, 0.01]\n" + stiff, 1))
+    return path
+
+
+def test_scene_keys_model_and_shear_area(tmp_path):
+    """model defaults to "timoshenko" (a general section: only with its
+    shear_area, else "euler-bernoulli"); the spec's dictionary (what a modes
+    file stores) keeps the model, and an Euler-Bernoulli stiffener's is the
+    one it had before the key (so is its digest)."""
+    import flexbed
+    from flexbed.fem.spec import PlateSpec
+    flat = 'section = "flat"\nheight = 0.1\nwidth = 0.02\n'
+    general = ('section = "general"\narea = 2e-3\nIy = 1.6e-6\nIz = 6.7e-8\nJ = 2.4e-7\n'
+               'offset = -0.1\n')
+    read = {keys: flexbed.load_scene(_scene(tmp_path, keys)).bed.plate
+            for keys in (flat, flat + 'model = "euler-bernoulli"\n', general,
+                         general + "shear_area = 1.5e-3\n")}
+    models = [p.stiffeners[0].model for p in read.values()]
+    assert models == ["timoshenko", "euler-bernoulli", "euler-bernoulli", "timoshenko"]
+    for plate in read.values():
+        again = PlateSpec.from_dict(plate.as_dict())
+        assert again.digest() == plate.digest()
+        assert again.stiffeners[0].model == plate.stiffeners[0].model
+    old = read[flat + 'model = "euler-bernoulli"\n'].as_dict()["stiffeners"][0]
+    assert "model" not in old and "shear_area" not in old["section"]
+
+
+@pytest.mark.parametrize("keys, message", [
+    ('section = "flat"\nheight = 0.1\nwidth = 0.02\nmodel = "beam"\n',
+     "model = 'beam' must be one of \"timoshenko\", \"euler-bernoulli\""),
+    ('section = "flat"\nheight = 0.1\nwidth = 0.02\nshear_area = 1e-3\n',
+     "shear_area = 0.001 applies to section = 'general' only"),
+    ('section = "general"\narea = 2e-3\nIy = 1.6e-6\nIz = 6.7e-8\nJ = 2.4e-7\noffset = -0.1\n'
+     'model = "timoshenko"\n', "model = 'timoshenko' needs the section's shear_area > 0"),
+    ('section = "general"\narea = 2e-3\nIy = 1.6e-6\nIz = 6.7e-8\nJ = 2.4e-7\noffset = -0.1\n'
+     'shear_area = 0\n', "shear_area = 0 must be a number > 0")])
+def test_bad_model_keys_exit_2(tmp_path, capsys, keys, message):
+    from flexbed.cli import main
+    path = _scene(tmp_path, keys)
+    assert main(["modes", str(path), "-o", str(tmp_path / "m.h5")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "s.toml: bed: stiffener 'keel': " + message in err[0], err
+    assert not (tmp_path / "m.h5").exists()
