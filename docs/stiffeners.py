@@ -64,7 +64,8 @@ def solid_runs(t: float) -> dict:
         j, q = match(ref, solid_shapes(m, pts))
         rows[f"{level},{nz}"] = dict(level=level, nz=nz, dofs=int(m.dofs), cpu=cpu,
                                      f=m.frequency[j].tolist(), mac=q.tolist())
-    return dict(rows=rows, shapes=ref.tolist(), labels=[label(r, pts) for r in ref])
+    return dict(rows=rows, shapes=[[float(f"{x:.5g}") for x in r] for r in ref],
+                labels=[label(r, pts) for r in ref])
 
 
 def strip_solid() -> dict:
