@@ -119,8 +119,8 @@ def _axis(r: TableReader, axis: str, t, scale: float, damping: float,
         bad = np.flatnonzero(np.diff(f) <= 0.0)
         if bad.size:
             i = int(bad[0])
-            r.fail(where, f"frequency[{i + 1}] = {f[i + 1]!r} Hz is not above frequency[{i}] = "
-                          f"{f[i]!r} Hz: frequencies must increase")
+            r.fail(where, f"frequency[{i + 1}] = {float(f[i + 1])!r} Hz is not above "
+                          f"frequency[{i}] = {float(f[i])!r} Hz: frequencies must increase")
         _check_positive(r, where, "acceleration", a, units)
         return DesignSpectrum(f, a * scale, damping)
     r.keys(where, t, _TRIPARTITE, _TRIPARTITE)
@@ -147,7 +147,7 @@ def _check_positive(r: TableReader, where: str, key: str, a: np.ndarray, unit: s
     bad = np.flatnonzero(~(a > 0.0))
     if bad.size:
         i = int(bad[0])
-        r.fail(where, f"{key}[{i}] = {a[i]!r} {unit} must be > 0 (a spectrum level)")
+        r.fail(where, f"{key}[{i}] = {float(a[i])!r} {unit} must be > 0 (a spectrum level)")
 
 
 def check_damping(spectrum: SpectrumFile, damping) -> float:
