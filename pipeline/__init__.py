@@ -42,11 +42,13 @@ from __future__ import annotations
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
            "Modal", "Transmissibility", "Qualification", "InputError", "NumericalError",
+           "response_spectrum", "synthesise", "SpectrumResponse", "Motion",
            "__version__"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
         "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison", "Modal",
-        "Transmissibility", "Qualification"}
+        "Transmissibility", "Qualification", "response_spectrum", "synthesise",
+        "SpectrumResponse", "Motion"}
 
 
 def __getattr__(name: str):

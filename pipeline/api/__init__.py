@@ -52,10 +52,12 @@ from flexbed.api.frequency import Modal, Transmissibility, frf, modal
 from flexbed.api.qualification import Qualification, qualify
 from flexbed.api.results import Results, open_results, srs
 from flexbed.api.simulation import simulate
+from flexbed.api.spectrum import Motion, SpectrumResponse, response_spectrum, synthesise
 from flexbed.api.studies import sweep
 from flexbed.files.scene import load_scene
 from flexbed.files.variants import vary
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
-           "Modal", "Transmissibility", "Qualification"]
+           "Modal", "Transmissibility", "Qualification", "response_spectrum", "synthesise",
+           "SpectrumResponse", "Motion"]
