@@ -16,7 +16,7 @@ from pathlib import Path
 
 from flexbed.analyses import response_spectrum as arsa
 from flexbed.api.arguments import Arguments
-from flexbed.api.frequency import Modal, _mounted
+from flexbed.api.frequency import _mounted
 from flexbed.files.destination import check_destination, write_text
 from flexbed.files.modes import ModesData
 from flexbed.files.scene import SceneFile
