@@ -20,7 +20,8 @@ repeats. A target writes a part only, as
   against them at equal accuracy;
 - ``beds``: the reference bed, Kirchhoff and Mindlin, against a 3D solid,
   and the modes of large Mindlin beds (grid, imported quads and triangles);
-- ``verdict``: the CPU cost of the worked shock verdict (docs/shock-verdict.md).
+- ``verdict``: the CPU cost of the worked shock verdict (docs/shock-verdict.md);
+- ``response_spectrum``: response-spectrum analysis and synthesis (docs/response-spectrum.md).
 
 The report is also printed on stdout; progress goes to stderr.
 """
@@ -50,6 +51,7 @@ TARGETS = {
     "beds": (["beds"], None),
     "scaling": (["scaling"], None),
     "verdict": (["verdict"], None),
+    "response_spectrum": (["response_spectrum"], None),
 }
 
 
