@@ -82,7 +82,7 @@ def test_help_lists_every_command_and_each_commands_options(capsys):
                 "static": "--tol", "scene": "--output", "modal": "--equilibrium",
                 "frf": "--relative-to",
                 "srs": "--per-octave", "qualify": "--results",
-                "sweep": "--scheduler"}
+                "sweep": "--scheduler", "rsa": "--spectrum", "synthesise": "--band"}
     assert set(expected) == set(COMMANDS)
     for name, option in expected.items():
         with pytest.raises(SystemExit):
