@@ -44,12 +44,14 @@ __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "ope
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
            "Modal", "Transmissibility", "Qualification", "transmitted", "Transmitted",
            "random_vibration", "RandomVibration", "InputError", "NumericalError",
-           "optimize", "__version__"]
+           "optimize", "response_spectrum", "synthesise",
+           "SpectrumResponse", "Motion", "__version__"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
         "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison", "Modal",
         "Transmissibility", "Qualification", "transmitted", "Transmitted", "random_vibration",
-        "RandomVibration", "optimize"}
+        "RandomVibration", "optimize", "response_spectrum", "synthesise", "SpectrumResponse",
+        "Motion"}
 
 
 def __getattr__(name: str):

@@ -48,6 +48,8 @@ COMMANDS = {
     "transmitted": "force into the base: spectra, third-octaves, insertion loss",
     "srs": "shock response spectra of points from a results file",
     "qualify": "shock verdict against the scene's limits (exit 3: FAIL)",
+    "rsa": "response-spectrum analysis against a design spectrum file",
+    "synthesise": "a base acceleration matching a design spectrum -> curve data",
     "run": "the whole pipeline on one scene, into one folder",
     "bench": "benchmarks: speed against error, written as a report",
     "sweep": "a design study of many variants on Dask -> one table and plots",

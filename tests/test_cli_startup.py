@@ -83,7 +83,7 @@ def test_help_lists_every_command_and_each_commands_options(capsys):
                 "frf": "--relative-to", "random": "--psd",
                 "srs": "--per-octave", "qualify": "--results",
                 "sweep": "--scheduler", "transmitted": "--reference",
-                "optimize": "--scheduler"}
+                "optimize": "--scheduler", "rsa": "--spectrum", "synthesise": "--band"}
     assert set(expected) == set(COMMANDS)
     for name, option in expected.items():
         with pytest.raises(SystemExit):

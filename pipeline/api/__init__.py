@@ -55,6 +55,7 @@ from flexbed.api.random_vibration import RandomVibration, random_vibration
 from flexbed.api.results import Results, open_results, srs
 from flexbed.api.simulation import simulate
 from flexbed.api.optimization import optimize
+from flexbed.api.spectrum import Motion, SpectrumResponse, response_spectrum, synthesise
 from flexbed.api.studies import sweep
 from flexbed.api.transmission import Transmitted, transmitted
 from flexbed.files.scene import load_scene
@@ -63,4 +64,5 @@ from flexbed.files.variants import vary
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
            "Modal", "Transmissibility", "Qualification", "transmitted", "Transmitted",
-           "random_vibration", "RandomVibration", "optimize"]
+           "random_vibration", "RandomVibration", "optimize", "response_spectrum", "synthesise",
+           "SpectrumResponse", "Motion"]

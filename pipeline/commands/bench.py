@@ -22,6 +22,7 @@ repeats. A target writes a part only, as
   and the modes of large Mindlin beds (grid, imported quads and triangles);
 - ``verdict``: the CPU cost of the worked shock verdict (docs/shock-verdict.md);
 - ``random``: the CPU cost of a random response (docs/random-vibration.md).
+- ``response_spectrum``: response-spectrum analysis and synthesis (docs/response-spectrum.md).
 
 The report is also printed on stdout; progress goes to stderr.
 """
@@ -52,6 +53,7 @@ TARGETS = {
     "scaling": (["scaling"], None),
     "verdict": (["verdict"], None),
     "random": (["random"], None),
+    "response_spectrum": (["response_spectrum"], None),
 }
 
 
