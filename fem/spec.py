@@ -232,7 +232,8 @@ class PlateSpec:
             try:
                 d["stiffeners"] = tuple(
                     Stiffener(st["name"], tuple(st["start"]), tuple(st["end"]),
-                              Section(**st["section"]), st["offset"])
+                              Section(**st["section"]), st["offset"],
+                              st.get("model", "euler-bernoulli"))
                     for st in d["stiffeners"])
             except (GeometryError, KeyError, TypeError) as exc:
                 raise PlateSpecError("stiffeners", f"stiffeners: {exc}") from None
@@ -270,6 +271,10 @@ class PlateSpec:
             del d["masses"]
         if not d["stiffeners"]:
             del d["stiffeners"]
+        for st in d.get("stiffeners", ()):      # as before the keys existed
+            if st["model"] == "euler-bernoulli":
+                del st["model"]
+                del st["section"]["shear_area"]
         if d["mesh_tolerance"] is None:
             del d["mesh_tolerance"]
         if not d["mesh_points"]:

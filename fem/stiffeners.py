@@ -11,7 +11,22 @@ with the node (θx, θy, and the in-plane rotation ½(∂v/∂x − ∂u/∂y) o
 elements around it). Along the beam (axis s, in-plane normal n):
 
 * axial EA and torsion GJ, linear;
-* bending in the vertical plane EIy, cubic Hermite in w with slope −θ·n;
+* bending in the vertical plane EIy, by ``model``:
+
+  - ``"timoshenko"`` (the default): the section turns with the plate's
+    normal, φ = −θ·n (the plate's Mindlin rotation; the web a fibre of it
+    continued below the plate), w and φ linear, bending ½ EIy ∫ (φ')² ds
+    and the web's own transverse shear ½ G A_s ∫ (w' − φ)² ds, A_s the
+    section's ``shear_area`` (5/6 of the web's rectangle for flat, T and
+    I), tied at the element's mid-point as the MITC4 plate ties its own
+    (:func:`flexbed.fem.beam_elements.timoshenko`). The section's shear
+    is thus the plate's plus the web's, and the plate's shear strain
+    along the line is free;
+  - ``"euler-bernoulli"`` (the model before issue 26): cubic Hermite in w
+    with slope φ, which ties the plate's shear strain along the line to
+    zero: the reference stiffened bed's bending modes come out 0.1–2.6 %
+    stiff against a 3D solid, more on finer meshes (docs/stiffeners.md);
+
 * bending in the plane EIz, cubic Hermite in the mid-surface line's u·n
   with slope θz (the centroid's offset part, e (θ × z)·n, is linear along
   each element and bends nothing);
@@ -31,10 +46,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .beam_elements import hermite, timoshenko
 from .cells import edges
 from .geometry import GeometryError
 
 SECTIONS = ("flat", "T", "I", "general")
+#: the beam models of the vertical bending (:func:`stiffener_matrices`)
+MODELS = ("timoshenko", "euler-bernoulli")
+#: shear coefficient of a web's rectangle (its shear area κ h t)
+WEB_SHEAR = 5 / 6
 
 
 def _positive(entry: str, value) -> float:
@@ -46,27 +66,34 @@ def _positive(entry: str, value) -> float:
 
 @dataclass(frozen=True, slots=True)
 class Section:
-    """Section properties [m², m⁴] and the centroid's height above the
-    section's base c [m] (for flat/T/I; 0 for general)."""
+    """Section properties [m², m⁴], the centroid's height above the
+    section's base c [m] (for flat/T/I; 0 for general) and the shear area
+    of its vertical shear κ A_web [m²] (flat, T, I: 5/6 of the web's
+    rectangle; general: as given, 0 when not)."""
 
     area: float
     Iy: float
     Iz: float
     J: float
     centroid: float
+    shear_area: float = 0.0
 
 
 def section_of(kind: str, *, height=None, width=None, web=None, flange_width=None,
-               flange=None, area=None, Iy=None, Iz=None, J=None) -> Section:
+               flange=None, area=None, Iy=None, Iz=None, J=None, shear_area=None) -> Section:
     """Properties of a flat bar (height × width), a T (web height × web
     thickness, flange width × flange thickness at the free end), a doubly
     symmetric I (overall height, web, flange width, flange thickness) or a
     general section (A, Iy, Iz, J). Iy is about the horizontal axis through
     the centroid (vertical bending), Iz about the vertical axis; J by the
     thin-walled open-section formula Σ b t³ / 3 for flat, T and I."""
+    if shear_area is not None and kind != "general":
+        raise GeometryError("shear_area", f"shear_area = {shear_area!r} applies to section = "
+                                          f"'general' only (a {kind} section's is its web's)")
     if kind == "flat":
         h, b = _positive("height", height), _positive("width", width)
-        return Section(h * b, b * h ** 3 / 12, h * b ** 3 / 12, _thin(h, b), h / 2)
+        return Section(h * b, b * h ** 3 / 12, h * b ** 3 / 12, _thin(h, b), h / 2,
+                       WEB_SHEAR * h * b)
     if kind == "T":
         h, tw = _positive("height", height), _positive("web", web)
         bf, tf = _positive("flange_width", flange_width), _positive("flange", flange)
@@ -75,7 +102,7 @@ def section_of(kind: str, *, height=None, width=None, web=None, flange_width=Non
         Iy = (tw * h ** 3 / 12 + Aw * (h / 2 - c) ** 2
               + bf * tf ** 3 / 12 + Af * (h + tf / 2 - c) ** 2)
         Iz = h * tw ** 3 / 12 + tf * bf ** 3 / 12
-        return Section(Aw + Af, Iy, Iz, _thin(h, tw) + _thin(bf, tf), c)
+        return Section(Aw + Af, Iy, Iz, _thin(h, tw) + _thin(bf, tf), c, WEB_SHEAR * Aw)
     if kind == "I":
         h, tw = _positive("height", height), _positive("web", web)
         bf, tf = _positive("flange_width", flange_width), _positive("flange", flange)
@@ -85,10 +112,12 @@ def section_of(kind: str, *, height=None, width=None, web=None, flange_width=Non
         A = hw * tw + 2 * bf * tf
         Iy = tw * hw ** 3 / 12 + 2 * (bf * tf ** 3 / 12 + bf * tf * (h / 2 - tf / 2) ** 2)
         Iz = hw * tw ** 3 / 12 + 2 * tf * bf ** 3 / 12
-        return Section(A, Iy, Iz, _thin(hw, tw) + 2 * _thin(bf, tf), h / 2)
+        return Section(A, Iy, Iz, _thin(hw, tw) + 2 * _thin(bf, tf), h / 2,
+                       WEB_SHEAR * hw * tw)
     if kind == "general":
         return Section(_positive("area", area), _positive("Iy", Iy), _positive("Iz", Iz),
-                       _positive("J", J), 0.0)
+                       _positive("J", J), 0.0,
+                       0.0 if shear_area is None else _positive("shear_area", shear_area))
     raise GeometryError("section", f"section = {kind!r} must be one of "
                                    + ", ".join(f'"{s}"' for s in SECTIONS))
 
@@ -104,7 +133,9 @@ class Stiffener:
     """A stiffener on the line start → end (drawing frame) [m].
 
     ``offset`` is the centroid's height above the mid-surface [m]
-    (negative below the plate).
+    (negative below the plate); ``model`` the vertical bending's beam,
+    ``"timoshenko"`` (the section's ``shear_area``) or
+    ``"euler-bernoulli"`` (module docstring).
     """
 
     name: str
@@ -112,6 +143,7 @@ class Stiffener:
     end: tuple[float, float]
     section: Section
     offset: float
+    model: str = "timoshenko"
 
     def __post_init__(self) -> None:
         for key in ("start", "end"):
@@ -124,6 +156,14 @@ class Stiffener:
         if not math.isfinite(self.offset):
             raise GeometryError("offset", f"offset = {self.offset!r} must be finite [m]")
         object.__setattr__(self, "offset", float(self.offset))
+        if self.model not in MODELS:
+            raise GeometryError("model", f"model = {self.model!r} must be one of "
+                                         + ", ".join(f'"{m}"' for m in MODELS))
+        if self.model == "timoshenko" and not self.section.shear_area > 0:
+            raise GeometryError("shear_area", "model = 'timoshenko' needs the section's "
+                                              "shear_area > 0 [m²] (give shear_area for "
+                                              "section = 'general', or model = "
+                                              "'euler-bernoulli')")
 
     @property
     def length(self) -> float:
@@ -156,13 +196,6 @@ def line_mass_properties(st: Stiffener, density: float, centre: np.ndarray
     second = m * (np.outer(mid, mid) + np.outer(d, d) / 12.0)       # ∫ρA r rᵀ ds
     J = np.trace(second) * np.eye(3) - second + st.rotary(density) * st.length
     return m, m * mid, J
-
-
-def _hermite(EI: float, L: float) -> np.ndarray:
-    return EI / L ** 3 * np.array([[12, 6 * L, -12, 6 * L],
-                                   [6 * L, 4 * L * L, -6 * L, 2 * L * L],
-                                   [-12, -6 * L, 12, -6 * L],
-                                   [6 * L, 2 * L * L, -6 * L, 4 * L * L]])
 
 
 def _xy(p: np.ndarray) -> str:
@@ -268,6 +301,11 @@ def stiffener_matrices(st: Stiffener, nodes: np.ndarray, cells: np.ndarray, dril
     K, M, slices = [], [], []
     rot = st.rotary(density)
     g = 1 / math.sqrt(3)
+    if st.model == "timoshenko":
+        def vertical(EI, L):
+            return timoshenko(EI, G * sec.shear_area, L)
+    else:
+        vertical = hermite
     for k, (ia, ib) in enumerate(zip(order[:-1], order[1:])):
         Le = along[ib] - along[ia]
         cols = set(range(5 * ia, 5 * ia + 5)) | set(range(5 * ib, 5 * ib + 5))
@@ -302,8 +340,8 @@ def stiffener_matrices(st: Stiffener, nodes: np.ndarray, cells: np.ndarray, dril
         plane = np.array([n3 @ (Ta - e * tilt @ Ra), Ra[2], n3 @ (Tb - e * tilt @ Rb), Rb[2]])
         bar = np.array([[1.0, -1.0], [-1.0, 1.0]]) / Le
         Ke = (young * sec.area * us.T @ bar @ us + G * sec.J * ts.T @ bar @ ts
-              + vert.T @ _hermite(young * sec.Iy, Le) @ vert
-              + plane.T @ _hermite(young * sec.Iz, Le) @ plane)
+              + vert.T @ vertical(young * sec.Iy, Le) @ vert
+              + plane.T @ hermite(young * sec.Iz, Le) @ plane)
         K.append((dofs, Ke))
         Me = np.zeros((dofs.size, dofs.size))
         for xi in (-g, g):

@@ -30,7 +30,8 @@ The rooms, each importing only those above it (and :mod:`flexbed.fem`,
 
 Two imports go the other way, both on first call: a scene file with
 ``modes = "auto"`` asks :mod:`flexbed.stages.modes_auto` for its cut-off,
-and :func:`flexbed.sweep` runs :mod:`flexbed.study`.
+and :func:`flexbed.sweep` runs :mod:`flexbed.study` (:func:`flexbed.optimize`,
+:mod:`flexbed.optimization`).
 
 Beside them: :mod:`flexbed.errors`, :mod:`flexbed.console`,
 :mod:`flexbed.interrupts`, :mod:`flexbed.threads`, :mod:`flexbed.words`,
@@ -42,12 +43,15 @@ from __future__ import annotations
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
            "Modal", "Transmissibility", "Qualification", "transmitted", "Transmitted",
-           "InputError", "NumericalError",
-           "__version__"]
+           "random_vibration", "RandomVibration", "InputError", "NumericalError",
+           "optimize", "response_spectrum", "synthesise",
+           "SpectrumResponse", "Motion", "__version__"]
 
 _API = {"load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
         "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison", "Modal",
-        "Transmissibility", "Qualification", "transmitted", "Transmitted"}
+        "Transmissibility", "Qualification", "transmitted", "Transmitted", "random_vibration",
+        "RandomVibration", "optimize", "response_spectrum", "synthesise", "SpectrumResponse",
+        "Motion"}
 
 
 def __getattr__(name: str):

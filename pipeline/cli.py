@@ -41,6 +41,7 @@ COMMANDS = {
     "static": "static equilibrium (paper Table 2) -> equilibrium file",
     "modal": "mounted-system modes, energy table, effective masses",
     "frf": "transmissibility to points, mounts and the base",
+    "random": "random vibration from base acceleration PSDs: RMS, 3 sigma",
     "simulate": "time integration of the mount system -> results file",
     "compare": "rigid vs flexible vs damped flexible bed -> tables and plots",
     "post": "points of interest and mount forces from a results file",
@@ -48,9 +49,12 @@ COMMANDS = {
     "transmitted": "force into the base: spectra, third-octaves, insertion loss",
     "srs": "shock response spectra of points from a results file",
     "qualify": "shock verdict against the scene's limits (exit 3: FAIL)",
+    "rsa": "response-spectrum analysis against a design spectrum file",
+    "synthesise": "a base acceleration matching a design spectrum -> curve data",
     "run": "the whole pipeline on one scene, into one folder",
     "bench": "benchmarks: speed against error, written as a report",
     "sweep": "a design study of many variants on Dask -> one table and plots",
+    "optimize": "mount layout optimisation on Dask -> optimum scene and log",
 }
 
 

@@ -19,6 +19,7 @@ study's points), so each process keeps to one thread.
 from __future__ import annotations
 
 import os
+import sys
 from contextlib import contextmanager
 from typing import Iterator
 
@@ -51,7 +52,18 @@ def limited() -> Iterator[None]:
     """Limit every loaded BLAS and OpenMP pool to :func:`thread_count`
     threads inside the ``with`` block (or, as the decorator ``@limited()``,
     inside each call of the function)."""
-    from threadpoolctl import threadpool_limits
-
-    with threadpool_limits(limits=thread_count()):
+    with _controller().limit(limits=thread_count()):
         yield
+
+
+_FOUND: list = [-1, None]          # [len(sys.modules) when found, ThreadpoolController]
+
+
+def _controller():
+    """The loaded pools (a ``threadpoolctl.ThreadpoolController``), found
+    again when ``sys.modules`` has grown since."""
+    if _FOUND[0] != len(sys.modules):
+        from threadpoolctl import ThreadpoolController
+        _FOUND[1] = ThreadpoolController()
+        _FOUND[0] = len(sys.modules)
+    return _FOUND[1]

@@ -80,9 +80,11 @@ def test_help_lists_every_command_and_each_commands_options(capsys):
     expected = {"simulate": "--integrator", "compare": "--t-end", "run": "--integrator",
                 "post": "--modes-file", "bench": "--quick", "modes": "--fmax",
                 "static": "--tol", "scene": "--output", "modal": "--equilibrium",
-                "frf": "--relative-to",
+                "frf": "--relative-to", "random": "--psd",
                 "srs": "--per-octave", "qualify": "--results",
-                "sweep": "--scheduler", "transmitted": "--reference", "stress": "--xdmf"}
+                "sweep": "--scheduler", "transmitted": "--reference",
+                "optimize": "--scheduler", "rsa": "--spectrum", "synthesise": "--band",
+                "stress": "--xdmf"}
     assert set(expected) == set(COMMANDS)
     for name, option in expected.items():
         with pytest.raises(SystemExit):

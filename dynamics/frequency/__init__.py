@@ -8,6 +8,9 @@
 - :mod:`.frf`: transmissibility and mount forces per frequency, on a grid
   refined until every resonance is resolved;
 - :mod:`.load_inputs`: loads on bodies (forces, unbalances) as inputs.
+- :mod:`.random`: stationary random response: PSD interpolation, the
+  grid that resolves every half-power band, response PSDs, mean squares
+  with their error, Miles' equation.
 
 May import NumPy, SciPy and, from :mod:`flexbed.dynamics`, the compiled
 system, the rotations and the linear room's linearisation; never ``fem``

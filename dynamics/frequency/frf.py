@@ -33,7 +33,8 @@ from .modal import Modes
 from .mounted import MountedSystem
 
 __all__ = ["Outputs", "Input", "Sweep", "responses", "resonance_grid", "peak_search", "sweep",
-           "mount_outputs", "isolation"]
+           "mount_outputs", "isolation", "unit_crossings", "base_responses",
+           "dynamic_stiffness"]
 
 _CHUNK = 128                          # frequencies per batched solve
 #: above this many coordinates the sparse path (:func:`_responses_sparse`;
@@ -57,11 +58,15 @@ class Outputs:
     """Linear outputs: ``positions`` (p, 3 + n) Jacobians of point
     coordinates over [base translation, q] [m per m]; ``forces`` (f, n)
     and ``force_rates`` (f, n) of forces over relative q and q̇ [N per m,
-    N s per m]. Rows of each kind in the caller's order."""
+    N s per m] (any output linear in the relative motion: a mount's
+    deflection is ``D`` with zero rates). Rows of each kind in the caller's
+    order. ``order``: the points' time derivative returned, 0
+    displacement [m], 1 velocity [m/s], 2 acceleration [m/s²] (default)."""
 
     positions: np.ndarray
     forces: np.ndarray
     force_rates: np.ndarray
+    order: int = 2
 
 
 def mount_outputs(ms: MountedSystem) -> tuple[np.ndarray, np.ndarray]:
@@ -77,7 +82,8 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
     -------
     acceleration : (k, p) complex
         Point accelerations per unit input [1 or m/s² per N] (``−ω²``
-        times the positions).
+        times the positions); with ``out.order`` 1 or 0 the velocities
+        (``iω`` times) [s, m/s per N] or the displacements [s², m per N].
     force : (k, f) complex
         Forces per unit input [N per m/s², or N per N].
     """
@@ -94,8 +100,7 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
     Yb, Yq = out.positions[:, :3], out.positions[:, 3:]
     for s in range(0, omega.size, _CHUNK):
         w = omega[s:s + _CHUNK]
-        G = (ms.K[None] - (w * w)[:, None, None] * ms.M[None]
-             + (1j * w)[:, None, None] * ms.C[None])
+        G = dynamic_stiffness(ms, w)
         x = np.linalg.solve(G, np.broadcast_to(rhs + 0j, (w.size, n))[..., None])[..., 0]
         if inp.kind == "base":
             xb = -1.0 / (w * w)                                    # base displacement
@@ -105,9 +110,67 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
         else:
             u = q = x
             pos = q @ Yq.T
-        acc[s:s + w.size] = -(w * w)[:, None] * pos
+        acc[s:s + w.size] = _derivative(pos, w, out.order)
         frc[s:s + w.size] = u @ out.forces.T + (1j * w)[:, None] * (u @ out.force_rates.T)
     return acc, frc
+
+
+def dynamic_stiffness(ms: MountedSystem, w: np.ndarray) -> np.ndarray:
+    """``G(ω) = K − ω² M + iω C`` (k, n, n) complex at ω (k,) [rad/s]."""
+    return (ms.K[None] - (w * w)[:, None, None] * ms.M[None]
+            + (1j * w)[:, None, None] * ms.C[None])
+
+
+def base_responses(ms: MountedSystem, omega: np.ndarray, axes: list[int], out: Outputs
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`responses` to unit base accelerations along several ``axes``
+    (r,) at once: one factorisation of G per frequency for all of them.
+
+    Returns ``(points (k, r, p), forces (k, r, f))`` complex, as
+    :func:`responses` per axis (the same equations; a system above
+    :data:`DENSE_LIMIT` coordinates is solved by :func:`responses`, axis by
+    axis)."""
+    omega = np.asarray(omega, dtype=float).reshape(-1)
+    r = len(axes)
+    pts = np.empty((omega.size, r, out.positions.shape[0]), dtype=complex)
+    frc = np.empty((omega.size, r, out.forces.shape[0]), dtype=complex)
+    if ms.n > DENSE_LIMIT and ms.sparse is not None:
+        for j, d in enumerate(axes):
+            pts[:, j], frc[:, j] = responses(ms, omega, Input("base", d), out)
+        return pts, frc
+    iota = ms.iota[:, axes]                                          # (n, r)
+    rhs = -(ms.M @ iota) + 0j                                        # (n, r)
+    Yb, Yq = out.positions[:, :3], out.positions[:, 3:]
+    for s in range(0, omega.size, _CHUNK):
+        w = omega[s:s + _CHUNK]
+        u = np.linalg.solve(dynamic_stiffness(ms, w),
+                            np.broadcast_to(rhs, (w.size,) + rhs.shape))   # (k, n, r)
+        u = u.transpose(0, 2, 1).reshape(-1, ms.n)                   # (k r, n)
+        xb = np.repeat(-1.0 / (w * w), r)                            # base displacement
+        q = u + xb[:, None] * np.tile(iota.T, (w.size, 1))
+        pos = _real_product(q, Yq.T) + xb[:, None] * np.tile(Yb[:, axes].T, (w.size, 1))
+        pts[s:s + w.size] = _derivative(pos, np.repeat(w, r), out.order).reshape(
+            w.size, r, -1)
+        frc[s:s + w.size] = (_real_product(u, out.forces.T) + np.repeat(1j * w, r)[:, None]
+                             * _real_product(u, out.force_rates.T)).reshape(w.size, r, -1)
+    return pts, frc
+
+
+def _real_product(z: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """``z @ a`` for complex z (m, n) and real a (n, p), as two real products."""
+    out = np.empty((z.shape[0], a.shape[1]), dtype=complex)
+    out.real = z.real @ a
+    out.imag = z.imag @ a
+    return out
+
+
+def _derivative(pos: np.ndarray, w: np.ndarray, order: int) -> np.ndarray:
+    """``(iω)^order`` times the positions (k, p) at ω (k,) [rad/s]."""
+    if order == 2:
+        return -(w * w)[:, None] * pos
+    if order == 1:
+        return (1j * w)[:, None] * pos
+    return pos
 
 
 _PLANS: dict = {}
@@ -155,7 +218,7 @@ def _responses_sparse(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Out
     else:
         U = X
         pos = (Yq @ X.T).T
-    acc = -(w * w)[:, None] * pos
+    acc = _derivative(pos, w, out.order)
     frc = (Fs @ U.T).T + (1j * w)[:, None] * (Fr @ U.T).T
     return acc, frc
 
@@ -311,3 +374,40 @@ def isolation(transmissibility: np.ndarray) -> np.ndarray:
     """Isolation efficiency 1 − |T| [1] where |T| < 1, NaN elsewhere."""
     m = np.abs(transmissibility)
     return np.where(m < 1.0, 1.0 - m, np.nan)
+
+
+def unit_crossings(evaluate, frequency: np.ndarray, magnitude: np.ndarray,
+                   rtol: float = 1e-12) -> np.ndarray:
+    """The frequency above which each output's |H| stays below 1 (the
+    isolation crossing), located between grid points rather than read off
+    the grid.
+
+    Parameters
+    ----------
+    evaluate : callable
+        f (k,) [Hz] → |H| (k, outputs) of the same outputs.
+    frequency : (k,) array
+        The grid [Hz], increasing.
+    magnitude : (k, o) array
+        |H| on the grid.
+    rtol : float
+        Relative width [1] at which a crossing is located (Brent's method on
+        ``|H(f)| − 1`` between the last grid point with |H| ≥ 1 and the next).
+
+    Returns
+    -------
+    (o,) array
+        The crossing [Hz]; NaN where |H| ≥ 1 at the grid's top (no isolation
+        in the band) or |H| < 1 on the whole grid (no crossing in it).
+    """
+    from scipy.optimize import brentq
+
+    out = np.full(magnitude.shape[1], np.nan)
+    for j in range(magnitude.shape[1]):
+        above = np.flatnonzero(magnitude[:, j] >= 1.0)
+        if not above.size or above[-1] + 1 >= frequency.size:
+            continue
+        lo, hi = frequency[above[-1]], frequency[above[-1] + 1]
+        out[j] = brentq(lambda f, j=j: float(evaluate(np.array([f]))[0, j]) - 1.0, lo, hi,
+                        xtol=rtol * hi, rtol=4.0 * np.finfo(float).eps)
+    return out

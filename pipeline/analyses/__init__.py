@@ -8,6 +8,8 @@
 - :mod:`~flexbed.analyses.modal`: the mounted system's modes;
   :mod:`~flexbed.analyses.mode_shapes`: their shapes on meshes;
 - :mod:`~flexbed.analyses.frf`: transmissibility;
+- :mod:`~flexbed.analyses.random`: random vibration under base acceleration
+  PSDs (read by :mod:`~flexbed.files.psd`);
 - :mod:`~flexbed.analyses.shock`: shock response spectra;
 - :mod:`~flexbed.analyses.bed_stress`: the bed's stresses over a run;
 - :mod:`~flexbed.analyses.summary`: the tables of ``flexbed run``.

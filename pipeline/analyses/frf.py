@@ -22,7 +22,8 @@ from flexbed.dynamics.frequency import frf as dfrf
 from flexbed.errors import InputError
 
 __all__ = ["FRF", "frequency_response", "parse_input", "frf_csv", "default_band", "MAX_GRID",
-           "BAND_LIMITS"]
+           "BAND_LIMITS", "QUANTITIES",
+           "default_points"]
 
 #: the most frequencies of a base grid (``n``) or of a given list: each is a
 #: solve of the dynamic stiffness and a row of outputs, so 10^5 is minutes
@@ -48,7 +49,10 @@ class FRF:
     index, frequency [Hz], |H|); isolation_columns : (o,) bool — the
     absolute accelerations along the base's excitation axis, where the
     isolation efficiency 1 − |T| means something; solve_time : float
-    [s CPU] of the sweep; evaluations : int frequencies solved.
+    [s CPU] of the sweep; evaluations : int frequencies solved;
+    isolation_from : (o,) [Hz] the isolation crossing of each isolation
+    column (|T| < 1 above it, located between grid points to 1e-12
+    relative), NaN elsewhere or where there is none in the band.
     """
 
     frequency: np.ndarray
@@ -62,6 +66,7 @@ class FRF:
     isolation_columns: np.ndarray
     solve_time: float
     evaluations: int
+    isolation_from: np.ndarray | None = None
 
     @property
     def magnitude(self) -> np.ndarray:
@@ -102,10 +107,33 @@ def default_band(fn: np.ndarray) -> tuple[float, float]:
     return 0.25 * float(f.min()), 2.0 * float(f.max())
 
 
+#: point quantities of an FRF: name → (time derivative, column letter,
+#: unit per unit base acceleration, unit per unit force)
+QUANTITIES = {"acceleration": (2, "a", "1", "m/s^2/N"),
+              "velocity": (1, "v", "s", "m/s/N"),
+              "displacement": (0, "d", "s^2", "m/N")}
+
+
+def default_points(sf, mt: Mounted) -> list[tuple[Point, str | None]]:
+    """The scene's [[point]] tables (absolute, and relative where they say
+    so), else the centre of mass of every body 2…."""
+    points = []
+    for p in sf.points:
+        pt = Point(p.name, p.body, np.asarray(p.position, dtype=float))
+        points.append((pt, None))
+        if p.relative_to:
+            points.append((pt, p.relative_to))
+    if not points:
+        body_names = [b.name for b in mt.system.scene.bodies]
+        points = [(Point(f"{b} CM", b, np.zeros(3)), None) for b in body_names[1:]]
+    return points
+
+
 def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Point | None = None,
                        points: list[tuple[Point, str | None]] | None = None,
                        band: tuple[float, float] | None = None, n: int = 400,
-                       frequencies: np.ndarray | None = None) -> FRF:
+                       frequencies: np.ndarray | None = None, quantity: str = "acceleration",
+                       deflections: bool = False) -> FRF:
     """The FRF of a mounted scene.
 
     Parameters
@@ -124,29 +152,31 @@ def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Poin
         Log-spaced frequencies of the base grid (the resonances add theirs).
     frequencies : array [Hz], optional
         Use exactly these (no refinement).
+    quantity : str
+        The points' "acceleration" (default), "velocity" or "displacement"
+        (of a point relative to a body: the relative displacement); the
+        columns ``<point> a|v|d x|y|z``.
+    deflections : bool
+        Also every mount's deflection along its three axes [m per input],
+        columns ``<mount> d1..d3``, after the base force.
     """
     kind, axis = parse_input(input)
+    if quantity not in QUANTITIES:
+        raise InputError(f"quantity {quantity!r}: one of {', '.join(QUANTITIES)}")
+    order, letter, unit_base, unit_force = QUANTITIES[quantity]
     ms, md = mt.ms, mt.modes
     pj = PointJacobians(sf, mt.system, ms, mt.bed_modes)
-    body_names = [b.name for b in mt.system.scene.bodies]
     if points is None:
-        points = []
-        for p in sf.points:
-            pt = Point(p.name, p.body, np.asarray(p.position, dtype=float))
-            points.append((pt, None))
-            if p.relative_to:
-                points.append((pt, p.relative_to))
-        if not points:
-            points = [(Point(f"{b} CM", b, np.zeros(3)), None) for b in body_names[1:]]
+        points = default_points(sf, mt)
     rows, names, units, iso = [], [], [], []
-    acc_unit = "1" if kind == "base" else "m/s^2/N"
+    acc_unit = unit_base if kind == "base" else unit_force
     for pt, rel in points:
         J = pj.jacobian(pt, rel)
         label = pt.name if rel is None else f"{pt.name}@{rel}"
         rows.append(J)
-        names += [f"{label} a{c}" for c in _AXES]
+        names += [f"{label} {letter}{c}" for c in _AXES]
         units += [acc_unit] * 3
-        iso += [kind == "base" and rel is None and c == axis for c in range(3)]
+        iso += [kind == "base" and rel is None and c == axis and order == 2 for c in range(3)]
     forces, rates = dfrf.mount_outputs(ms)
     mount_names = [m.name for m in mt.system.scene.mounts]
     f_unit = "N/(m/s^2)" if kind == "base" else "1"
@@ -154,6 +184,12 @@ def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Poin
     names += [f"base F{c.upper()}" for c in _AXES]
     units += [f_unit] * (3 * len(mount_names) + 3)
     iso += [False] * (3 * len(mount_names) + 3)
+    if deflections:
+        forces = np.vstack([forces, ms.D])
+        rates = np.vstack([rates, np.zeros_like(ms.D)])
+        names += [f"{m} d{k + 1}" for m in mount_names for k in range(3)]
+        units += ["s^2" if kind == "base" else "m/N"] * (3 * len(mount_names))
+        iso += [False] * (3 * len(mount_names))
     positions = np.vstack(rows) if rows else np.zeros((0, 3 + ms.n))
     if kind == "base":
         inp = dfrf.Input("base", axis)
@@ -170,14 +206,23 @@ def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Poin
         raise InputError(f"band {f_lo!r}–{f_hi!r} Hz must satisfy 0 < f_min < f_max")
     check_request((f_lo, f_hi), n, frequencies)
     t0 = time.process_time()
-    sw = dfrf.sweep(ms, md, inp, dfrf.Outputs(positions, forces, rates), f_lo, f_hi, n,
+    sw = dfrf.sweep(ms, md, inp, dfrf.Outputs(positions, forces, rates, order), f_lo, f_hi, n,
                     frequencies=frequencies)
-    cpu = time.process_time() - t0
     H = np.hstack([sw.acceleration, sw.force])
+    iso = np.array(iso, dtype=bool)
+    crossing = np.full(len(names), np.nan)
+    if iso.any():
+        iso_pos = dfrf.Outputs(positions[np.flatnonzero(iso[:positions.shape[0]])],
+                               np.zeros((0, ms.n)), np.zeros((0, ms.n)))
+
+        def evaluate(f):
+            return np.abs(dfrf.responses(ms, 2.0 * np.pi * f, inp, iso_pos)[0])
+
+        crossing[iso] = dfrf.unit_crossings(evaluate, sw.frequency, np.abs(H[:, iso]))
+    cpu = time.process_time() - t0
     inband = (md.frequency >= sw.frequency[0]) & (md.frequency <= sw.frequency[-1])
     return FRF(sw.frequency, tuple(names), tuple(units), H, label, md.frequency[inband],
-               md.damping_ratio[inband], sw.peaks, np.array(iso, dtype=bool), cpu,
-               sw.evaluations)
+               md.damping_ratio[inband], sw.peaks, iso, cpu, sw.evaluations, crossing)
 
 
 def check_request(band: tuple[float, float], n: int, frequencies: np.ndarray | None) -> None:

@@ -33,6 +33,7 @@ from flexbed.fem.grid_shapes import OutsidePlateError
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.files.results import read_results
+from flexbed.files.scene import scene_data
 from flexbed.files.store import Contents
 
 
@@ -212,7 +213,7 @@ class Run:
                        if f"mounts/{key}" in c.datasets}
         text = str(c.datasets.get("scene/toml", ""))
         try:
-            scene = tomllib.loads(text)
+            scene = scene_data(text)
         except tomllib.TOMLDecodeError:
             raise InputError(f"{self.path}: dataset 'scene/toml' is not valid TOML") from None
         self.scene_points = tuple(self._scene_points(scene))
@@ -273,7 +274,7 @@ class Run:
         if add is None:
             raise InputError(f"{self.path}: dataset 'modal/accelerations' is missing")
         self.add = np.asarray(add, dtype=float)[:, :n]
-        toml = tomllib.loads(str(c.datasets.get("scene/toml", "")))
+        toml = scene_data(str(c.datasets.get("scene/toml", "")))
         self.bed_name = toml.get("bed", {}).get("body") or self.names[1]
         self.bed_centre = np.asarray(data.origin, dtype=float)
         self.translation, rotation, twist = run_shapes(data, basis)

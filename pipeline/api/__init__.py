@@ -34,6 +34,7 @@ The room holds one module per idea, each exported here and as ``flexbed.NAME``:
 - :mod:`~flexbed.api.qualification`: :func:`qualify` and
   :class:`Qualification`, the verdict against the scene's limits;
 - :mod:`~flexbed.api.studies`: :func:`sweep`;
+- :mod:`~flexbed.api.optimization`: :func:`optimize`;
 - :func:`load_scene` and :func:`vary` are :mod:`flexbed.files`' own.
 
 It may import every other room of flexbed (files, stages, analyses; the
@@ -50,8 +51,11 @@ from flexbed.api.comparison import Comparison, compare
 from flexbed.api.equilibrium import Statics, statics
 from flexbed.api.frequency import Modal, Transmissibility, frf, modal
 from flexbed.api.qualification import Qualification, qualify
+from flexbed.api.random_vibration import RandomVibration, random_vibration
 from flexbed.api.results import Results, open_results, srs
 from flexbed.api.simulation import simulate
+from flexbed.api.optimization import optimize
+from flexbed.api.spectrum import Motion, SpectrumResponse, response_spectrum, synthesise
 from flexbed.api.studies import sweep
 from flexbed.api.transmission import Transmitted, transmitted
 from flexbed.files.scene import load_scene
@@ -59,4 +63,6 @@ from flexbed.files.variants import vary
 
 __all__ = ["load_scene", "vary", "modes", "statics", "simulate", "compare", "open_results",
            "modal", "frf", "srs", "sweep", "qualify", "Statics", "Results", "Comparison",
-           "Modal", "Transmissibility", "Qualification", "transmitted", "Transmitted"]
+           "Modal", "Transmissibility", "Qualification", "transmitted", "Transmitted",
+           "random_vibration", "RandomVibration", "optimize", "response_spectrum", "synthesise",
+           "SpectrumResponse", "Motion"]

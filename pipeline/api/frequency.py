@@ -183,7 +183,8 @@ def frf(scene: SceneFile, *, input: str = "base z",
         force_at: tuple[str, Sequence[float]] | None = None,
         points: Sequence[tuple] | None = None, band: tuple[float, float] | None = None,
         n: int = 400, frequencies: Sequence[float] | None = None,
-        modes: ModesData | None = None, equilibrium=None) -> Transmissibility:
+        modes: ModesData | None = None, equilibrium=None, quantity: str = "acceleration",
+        deflections: bool = False) -> Transmissibility:
     """Transmissibility of the mounted system.
 
     Parameters
@@ -203,8 +204,17 @@ def frf(scene: SceneFile, *, input: str = "base z",
     modes, equilibrium : as in :func:`modal`; ``equilibrium`` may also be
         this scene's :class:`Modal` (its linearisation and modes reused:
         the same numbers as solving them again, without the cost).
+    quantity : str
+        The points' "acceleration" (default), "velocity" or "displacement"
+        (relative displacement for points given with ``relative_to``).
+    deflections : bool
+        Also the mounts' deflections (columns ``<mount> d1..d3``).
     """
     check = Arguments("frf")
+    if quantity not in afrf.QUANTITIES:
+        check.bad("quantity", quantity, "'acceleration', 'velocity' or 'displacement'")
+    if not isinstance(deflections, bool):
+        check.bad("deflections", deflections, "True or False")
     scene, modes = check.scene(scene), check.modes(modes)
     input = check.string("", "input", input)
     pts = check.points(points, "points")
@@ -233,4 +243,5 @@ def frf(scene: SceneFile, *, input: str = "base z",
             check.bad(key, body, f"a body of {scene.source.name} ({', '.join(names)})")
     mt = _mounted(scene, modes, equilibrium, check)
     return Transmissibility(scene, afrf.frequency_response(
-        scene, mt, input=input, force_at=at, points=pts, band=band, n=n, frequencies=freqs))
+        scene, mt, input=input, force_at=at, points=pts, band=band, n=n, frequencies=freqs,
+        quantity=quantity, deflections=deflections))

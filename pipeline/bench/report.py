@@ -36,6 +36,8 @@ from flexbed.bench.inputs import section_inputs
 from flexbed.bench.scaling import section_scaling
 from flexbed.bench.verdict import section_verdict
 from flexbed.bench.stress import section_stress
+from flexbed.bench.random import section_random
+from flexbed.bench.response_spectrum import section_response_spectrum
 from flexbed.bench.beds import section_beds
 from flexbed.bench.context import FULL, QUICK, BenchContext
 from flexbed.bench.dynamics import (LADDERS, QUICK_LADDERS, fastest_reaching, ladder_table,
@@ -317,6 +319,8 @@ SECTIONS: list[Section] = [
     Section("scaling", section_scaling),
     Section("verdict", section_verdict),
     Section("stress", section_stress),
+    Section("random", section_random),
+    Section("response_spectrum", section_response_spectrum),
 ]
 
 

@@ -21,7 +21,9 @@ repeats. A target writes a part only, as
 - ``beds``: the reference bed, Kirchhoff and Mindlin, against a 3D solid,
   and the modes of large Mindlin beds (grid, imported quads and triangles);
 - ``verdict``: the CPU cost of the worked shock verdict (docs/shock-verdict.md);
-- ``stress``: the bed's stress recovery against the transient (docs/bed-stresses.md).
+- ``stress``: the bed's stress recovery against the transient (docs/bed-stresses.md);
+- ``random``: the CPU cost of a random response (docs/random-vibration.md).
+- ``response_spectrum``: response-spectrum analysis and synthesis (docs/response-spectrum.md).
 
 The report is also printed on stdout; progress goes to stderr.
 """
@@ -52,6 +54,8 @@ TARGETS = {
     "scaling": (["scaling"], None),
     "verdict": (["verdict"], None),
     "stress": (["stress"], None),
+    "random": (["random"], None),
+    "response_spectrum": (["response_spectrum"], None),
 }
 
 

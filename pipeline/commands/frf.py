@@ -50,6 +50,12 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-n", type=int, default=400, metavar="N",
                         help="log-spaced frequencies of the base grid (default 400); each "
                              "resonance adds its own")
+    parser.add_argument("--quantity", default="acceleration",
+                        choices=("acceleration", "velocity", "displacement"),
+                        help="the points' quantity (default acceleration; displacement of a "
+                             "point --relative-to a body: the relative displacement)")
+    parser.add_argument("--deflections", action="store_true",
+                        help="also every mount's deflection along its three axes")
     parser.add_argument("--equilibrium", default=None, metavar="FILE",
                         help="equilibrium file from 'flexbed static' (default: solve it here)")
     parser.add_argument("--no-plots", action="store_true", help="write no PNG")
@@ -69,8 +75,8 @@ def _band(text):
 
 
 def run(args: argparse.Namespace) -> int:
-    from flexbed.analyses.frf import MAX_GRID, check_request, frequency_response, frf_csv, \
-        parse_input
+    from flexbed.analyses.frf import MAX_GRID, QUANTITIES, check_request, frequency_response, \
+        frf_csv, parse_input
     from flexbed.analyses.points import parse_point
     from flexbed.files.destination import write_text
     from flexbed.files.frequency import write_frf
@@ -107,20 +113,19 @@ def run(args: argparse.Namespace) -> int:
         out["forces"] = check_destination(Path(prefix + "-forces.png"))
     mt = load_mounted(args, sf)
     r = frequency_response(sf, mt, input=args.input, force_at=force_at, points=points,
-                           band=band, n=args.n)
+                           band=band, n=args.n, quantity=args.quantity,
+                           deflections=args.deflections)
     print(f"FRF of '{sf.scene.name}': {r.input}; {r.frequency.size} frequencies on "
           f"{r.frequency[0]:.4g}–{r.frequency[-1]:.4g} Hz, {count(r.resonances.size, 'mode')} "
           f"in the band, {count(r.peaks.shape[0], 'peak')}, each located to 0.1 % of its "
           f"mode's half-power bandwidth")
     iso_cols = np.flatnonzero(r.isolation_columns)
     for j in iso_cols:
-        below = r.magnitude[:, j] < 1.0
-        last = np.flatnonzero(~below)
-        f_iso = r.frequency[last[-1] + 1] if last.size and last[-1] + 1 < below.size else None
+        f_iso = r.isolation_from[j] if np.isfinite(r.isolation_from[j]) else None
         peak = int(np.argmax(r.magnitude[:, j]))
         print(f"  {r.names[j]}: peak |T| {r.magnitude[peak, j]:.4g} at "
               f"{r.frequency[peak]:.4f} Hz; " +
-              (f"isolation (|T| < 1) above {f_iso:.4g} Hz, "
+              (f"isolation (|T| < 1) above {f_iso:.6g} Hz, "
                f"{100 * (1 - r.magnitude[-1, j]):.2f} % at {r.frequency[-1]:.4g} Hz"
                if f_iso is not None else "no isolation in the band"))
     print(f"solve time: {r.solve_time:.4f} s CPU for {r.evaluations} frequencies "
@@ -130,8 +135,9 @@ def run(args: argparse.Namespace) -> int:
     if "bode" in out:
         from flexbed.plots.frequency import plot_bode
         # along the input's axis (the cross-axis responses are in the CSV and HDF5)
+        _, letter, u_base, u_force = QUANTITIES[args.quantity]
         acc = [j for j, (u, n) in enumerate(zip(r.units, r.names))
-               if u in ("1", "m/s^2/N") and n.endswith(f" a{'xyz'[axis]}")]
+               if u in (u_base, u_force) and n.endswith(f" {letter}{'xyz'[axis]}")]
         top = max((float(r.magnitude[:, j].max()) for j in acc), default=0.0)
         acc = [j for j in acc if r.magnitude[:, j].max() >= 1e-6 * top]    # not round-off
         unit = r.units[acc[0]] if acc else "1"

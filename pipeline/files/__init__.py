@@ -10,9 +10,11 @@
 - the stages' HDF5 files: modes (:mod:`~flexbed.files.modes`, with the
   modal invariants' contract), equilibrium and results
   (:mod:`~flexbed.files.results`), the frequency-domain analyses
-  (:mod:`~flexbed.files.frequency`), all through
+  (:mod:`~flexbed.files.frequency`, :mod:`~flexbed.files.random`), all through
   :mod:`~flexbed.files.store`, the only module that imports h5py;
 - the modes file's stresses (:mod:`~flexbed.files.modes_stress`);
+- base acceleration PSD specifications (:mod:`~flexbed.files.psd`: TOML
+  or CSV g²/Hz tables);
 - ParaView's XDMF (:mod:`~flexbed.files.xdmf`,
   :mod:`~flexbed.files.mode_shapes`, :mod:`~flexbed.files.stress_xdmf`);
 - :mod:`~flexbed.files.destination`: where flexbed may write, atomically.

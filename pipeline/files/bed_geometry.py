@@ -25,7 +25,7 @@ from flexbed.files.table_reader import LARGEST, SMALLEST, is_number, out_of_rang
 GEOMETRY_KEYS = ("outline", "cutout", "zone", "element_size", "mesh_file", "fixed_mass",
                  "stiffener")
 _STIFFENER_KEYS = ("name", "start", "end", "section", "side", "offset", "height", "width", "web",
-                   "flange_width", "flange", "area", "Iy", "Iz", "J")
+                   "flange_width", "flange", "area", "Iy", "Iz", "J", "model", "shear_area")
 _MASS_KEYS = ("name", "position", "mass", "inertia")
 _REGION_KEYS = ("shape", "centre", "size", "radius", "points")
 
@@ -120,7 +120,9 @@ def read_stiffeners(table: dict, where: str, geometry: BedGeometry | None = None
     Iy, Iz, J, offset); side = "below" (default) or "above" places flat, T
     and I sections on the plate's face (offset = ∓(t/2 + centroid height),
     t the local thickness: a zone's under the stiffener, the plate's
-    elsewhere); offset [m] is the centroid's height above the mid-surface."""
+    elsewhere); offset [m] is the centroid's height above the mid-surface;
+    model = "timoshenko" (the default, but for a general section without
+    shear_area [m²]) or "euler-bernoulli" (:mod:`flexbed.fem.stiffeners`)."""
     default = {f.name: f.default for f in fields(PlateSpec)}
     thickness = table.get("thickness", default["thickness"])
     zones = geometry.zones if geometry is not None else ()
@@ -143,7 +145,8 @@ def read_stiffeners(table: dict, where: str, geometry: BedGeometry | None = None
         try:
             sec = section_of(kind, **{k: t[k] for k in ("height", "width", "web",
                                                         "flange_width", "flange", "area", "Iy",
-                                                        "Iz", "J") if k in t})
+                                                        "Iz", "J", "shear_area") if k in t})
+            model = t.get("model", "timoshenko" if sec.shear_area > 0 else "euler-bernoulli")
             if kind == "general":
                 if "offset" not in t:
                     raise GeometryError("offset", "'offset' is required for section = "
@@ -154,7 +157,8 @@ def read_stiffeners(table: dict, where: str, geometry: BedGeometry | None = None
                     raise GeometryError("offset", f"offset = {t['offset']!r} applies to "
                                                   f"section = 'general' only (use side)")
                 offset = (thickness / 2 + sec.centroid) * (-1 if side == "below" else 1)
-            st = Stiffener(t["name"], tuple(t["start"]), tuple(t["end"]), sec, offset)
+            st = Stiffener(t["name"], tuple(t["start"]), tuple(t["end"]), sec, offset,
+                           model)
             if zones and kind != "general":
                 t_face = face_thickness(st.start, st.end, zones, thickness, size)
                 st = replace(st, offset=(t_face / 2 + sec.centroid) * (-1 if side == "below"

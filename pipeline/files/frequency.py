@@ -29,6 +29,10 @@
   ``response/phase_deg``;
 - ``resonances/frequency``, ``resonances/damping_ratio`` (m,): the modes
   in the band; ``peaks`` (P, 3): output index, frequency [Hz], |H|;
+  ``isolation/output`` (c,) the outputs (absolute accelerations along the
+  input's axis) whose |H| falls below 1 in the band and
+  ``isolation/frequency`` (c,) [Hz] where (|H| = 1, located between grid
+  points; |H| < 1 above);
 - root attributes ``input`` (what drives it), ``solve_time`` [s CPU],
   ``evaluations``; ``scene/toml``.
 """
@@ -123,6 +127,11 @@ def frf_contents(sf, r) -> tuple[dict, dict]:
                          "output index, peak frequency, peak |H|"),
         "scene/toml": Dataset(sf.text, "", "the scene file this came from"),
     }
+    if r.isolation_from is not None:
+        found = np.flatnonzero(np.isfinite(r.isolation_from))
+        ds["isolation/output"] = Dataset(found, "1", "the outputs with an isolation crossing")
+        ds["isolation/frequency"] = Dataset(r.isolation_from[found], "Hz",
+                                            "their isolation crossing, |H| = 1 (|H| < 1 above)")
     attrs = {"": {"input": r.input, "solve_time": float(r.solve_time),
                   "evaluations": int(r.evaluations), "scene_digest": sf.digest}}
     return ds, attrs

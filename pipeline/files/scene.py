@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import pickle
 import tomllib
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -41,7 +42,7 @@ from flexbed.files.limits import (BODY_LIMIT_KEYS, JUDGED_ONLY_KEYS, MOUNT_LIMIT
 from flexbed.files.sanity import warn_far_points
 
 __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse_scene",
-           "read_solver", "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
+           "scene_data", "read_solver", "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
 
 
 _TOP = ("scene", "body", "base", "bed", "mount", "solver", "point", "clearance", "load",
@@ -153,18 +154,47 @@ def read_solver(table: dict, label: str, where: str = "solver") -> SolverSection
     return _Reader(label, Path.cwd()).solver(table, where)
 
 
-def parse_scene(text: str, source: Path) -> SceneFile:
+def parse_scene(text: str, source: Path, *, data: dict | None = None) -> SceneFile:
     """Check a scene given as TOML text; ``source`` is the file it stands for
-    (named in messages; curve files are read relative to its folder)."""
+    (named in messages; curve files are read relative to its folder).
+    ``data``, optional: ``text`` parsed already (``tomllib.loads(text)``,
+    e.g. the data a variant's text was written from), not parsed again."""
     source = Path(source)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{source.name}: not valid TOML: {exc}") from None
-    except RecursionError:
-        raise InputError(f"{source.name}: not readable TOML: arrays or tables nested too "
-                         f"deeply") from None
+    if data is None:
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(f"{source.name}: not valid TOML: {exc}") from None
+        except RecursionError:
+            raise InputError(f"{source.name}: not readable TOML: arrays or tables nested too "
+                             f"deeply") from None
+    _keep(text, data)
     return _Reader(source.name, source.parent).read(data, source, text)
+
+
+#: the last few scene texts checked or used → their data, pickled (the most
+#: recently used last)
+_PARSED: dict = {}
+
+
+def _keep(text: str, data: dict) -> bytes:
+    _PARSED.pop(text, None)
+    raw = _PARSED[text] = pickle.dumps(data, protocol=pickle.HIGHEST_PROTOCOL)
+    while len(_PARSED) > 4:
+        del _PARSED[next(iter(_PARSED))]
+    return raw
+
+
+def scene_data(text: str) -> dict:
+    """``tomllib.loads(text)`` of a scene's TOML (a fresh copy each call;
+    ``tomllib.TOMLDecodeError`` as it raises): the parse of the last few
+    texts checked or used is kept, so that a run's stages do not parse the
+    same scene again (~5 ms each)."""
+    raw = _PARSED.pop(text, None)
+    if raw is None:
+        return pickle.loads(_keep(text, tomllib.loads(text)))
+    _PARSED[text] = raw
+    return pickle.loads(raw)
 
 
 class _Reader(ShapeReader):

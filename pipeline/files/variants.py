@@ -12,13 +12,11 @@ text, digests and every rule are those of the file it would be.
 
 from __future__ import annotations
 
-import copy
 import re
-import tomllib
 from typing import Any, Mapping
 
 from flexbed.errors import InputError
-from flexbed.files.scene import SceneFile, parse_scene
+from flexbed.files.scene import SceneFile, parse_scene, scene_data
 from flexbed.files.toml_text import dumps
 
 __all__ = ["vary", "split_path"]
@@ -114,11 +112,11 @@ def vary(scene: SceneFile, changes: Mapping[str, Any], *, name: str | None = Non
         A path that names nothing, or a value the scene file refuses; the
         message names the path and the entry.
     """
-    data = copy.deepcopy(tomllib.loads(scene.text))
+    data = scene_data(scene.text)
     for path, value in changes.items():
         _set(data, path, _plain(value))
     if name is not None:
         _set(data, "scene.name", str(name))
     elif "name" not in data.get("scene", {}):
         data.setdefault("scene", {})["name"] = scene.scene.name
-    return parse_scene(dumps(data), scene.source)
+    return parse_scene(dumps(data), scene.source, data=data)

@@ -45,6 +45,7 @@ from flexbed.errors import InputError
 from flexbed.files.table_reader import short_repr
 from flexbed.files.scene import SceneFile
 from flexbed.study.frequency_metrics import FREQUENCY_KINDS
+from flexbed.study.layout_metrics import LAYOUT_KINDS
 from flexbed.study.metric_keys import OneColumn, PerMount, _options, resolve_point
 from flexbed.study.spec import MetricTable
 
@@ -286,6 +287,7 @@ KINDS = {"peak_displacement": PeakMotion, "peak_acceleration": PeakMotion,
          "compare": CompareFigure}
 
 KINDS.update(FREQUENCY_KINDS)       # natural_frequency, effective_mass_fraction, …
+KINDS.update(LAYOUT_KINDS)          # decoupling, highest_frequency, rigid_frequencies
 
 
 def build_metric(table: MetricTable, scene: SceneFile, study_name: str):

@@ -1,0 +1,83 @@
+"""FRF outputs besides acceleration (velocity, displacement, relative
+displacement, mount deflection) and the isolation crossing, against the
+closed forms of a one-stage isolator (issue 25, part 5).
+
+The body on four mounts of :mod:`test_modal` moves vertically alone under a
+vertical base acceleration: with ``G = k − mω² + iωc`` (k, c the four
+mounts' sums), the body's acceleration is ``T = (k + iωc)/G`` per unit
+base acceleration, its displacement ``−T/ω²``, its velocity ``T/(iω)``,
+its displacement relative to the base (and each mount's deflection along
+its third axis, the mount's body j moving against body i)
+``(T − 1)(−1/ω²) = −m/G``; |T| = 1 at ω = √2 ωₙ whatever the damping.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from test_modal import KZ, M1, _one_stage, _scene
+
+
+@pytest.fixture(scope="module")
+def isolator(tmp_path_factory):
+    return _scene(tmp_path_factory.mktemp("iso"), _one_stage(2e-3))
+
+
+def _exact(f, beta=2e-3):
+    om = 2 * math.pi * np.asarray(f)
+    kz, cz = 4 * KZ, 4 * beta * KZ
+    G = kz - M1 * om**2 + 1j * om * cz
+    return om, (kz + 1j * om * cz) / G, G
+
+
+def test_velocity_displacement_relative_and_deflection(isolator):
+    import flexbed
+    fn = math.sqrt(4 * KZ / M1) / (2 * math.pi)
+    f = fn * np.array([0.1, 0.7, 0.999, 1.0, 1.3, 4.0])
+    om, T, G = _exact(f)
+    pts = [("c", "mass", [0, 0, 0])]
+    v = flexbed.frf(isolator, points=pts, frequencies=f, quantity="velocity")
+    np.testing.assert_allclose(v.H[:, v.column("c vz")], T / (1j * om), rtol=1e-10)
+    assert v.units[v.column("c vz")] == "s"
+    d = flexbed.frf(isolator, points=pts, frequencies=f, quantity="displacement",
+                    deflections=True)
+    np.testing.assert_allclose(d.H[:, d.column("c dz")], -T / om**2, rtol=1e-10)
+    # each mount's third-axis deflection: l = body point − base point grows as the
+    # body rises against the base, by (T − 1)(−1/ω²) = −m/G per unit base acceleration
+    for k in range(1, 5):
+        np.testing.assert_allclose(d.H[:, d.column(f"M{k} d3")], -M1 / G, rtol=1e-9)
+        assert np.all(np.abs(d.H[:, d.column(f"M{k} d1")]) < 1e-9 * np.abs(M1 / G))
+    r = flexbed.frf(isolator, points=[("c", "mass", [0, 0, 0], "base")], frequencies=f,
+                    quantity="displacement")
+    np.testing.assert_allclose(r.H[:, r.column("c@base dz")], -M1 / G, rtol=1e-9)
+
+
+def test_isolation_crossing_is_located_between_grid_points(isolator):
+    import flexbed
+    fn = math.sqrt(4 * KZ / M1) / (2 * math.pi)
+    t = flexbed.frf(isolator, points=[("c", "mass", [0, 0, 0])], band=(1.0, 40.0), n=60)
+    j = t.column("c az")
+    cross = t.result.isolation_from[j]
+    assert cross == pytest.approx(math.sqrt(2) * fn, rel=1e-11)
+    assert not np.any(np.isclose(t.frequency, cross, rtol=1e-6))     # not a grid point
+    assert np.isnan(t.result.isolation_from[t.column("c ax")])
+
+
+def test_bad_quantity_is_one_line():
+    import flexbed
+    from flexbed.errors import InputError
+    with pytest.raises(InputError, match="quantity = 'jerk'"):
+        flexbed.frf(flexbed.load_scene(), quantity="jerk")
+
+
+def test_the_frf_file_stores_the_crossing(isolator, tmp_path):
+    import h5py
+
+    import flexbed
+    t = flexbed.frf(isolator, points=[("c", "mass", [0, 0, 0])], band=(1.0, 40.0), n=60)
+    path, _ = t.save(tmp_path / "iso")
+    with h5py.File(path) as f:
+        assert list(f["isolation/output"][()]) == [t.column("c az")]
+        assert f["isolation/frequency"][0] == t.result.isolation_from[t.column("c az")]
+        assert f["isolation/frequency"].attrs["units"] == "Hz"
