@@ -116,9 +116,14 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
 
 
 def dynamic_stiffness(ms: MountedSystem, w: np.ndarray) -> np.ndarray:
-    """``G(ω) = K − ω² M + iω C`` (k, n, n) complex at ω (k,) [rad/s]."""
-    return (ms.K[None] - (w * w)[:, None, None] * ms.M[None]
-            + (1j * w)[:, None, None] * ms.C[None])
+    """``G(ω) = K − ω² M + iω C`` (k, n, n) complex at ω (k,) [rad/s], plus
+    the elastomer mounts' complex stiffness less their static one
+    (:mod:`flexbed.dynamics.frequency.elastomer`) when ``ms`` has any."""
+    G = (ms.K[None] - (w * w)[:, None, None] * ms.M[None]
+         + (1j * w)[:, None, None] * ms.C[None])
+    if ms.elastomer is not None:
+        G += ms.elastomer.added(w)
+    return G
 
 
 def base_responses(ms: MountedSystem, omega: np.ndarray, axes: list[int], out: Outputs

@@ -87,6 +87,10 @@ class MountedSystem:
     sparse : (M, K, C) of scipy.sparse CSR matrices, or None
         The same matrices, sparse (block-sparse by the mount graph), for
         the analyses of large systems.
+    elastomer : ComplexStiffness or None
+        Elastomer mount directions, whose complex stiffness the frequency
+        analyses add to ``K`` (:mod:`flexbed.dynamics.frequency.elastomer`);
+        ``K`` itself holds their static stiffness.
     """
 
     labels: tuple
@@ -109,6 +113,7 @@ class MountedSystem:
     coords: Coordinates
     evaluations: int
     sparse: tuple | None = None
+    elastomer: object | None = None
 
     @property
     def n(self) -> int:

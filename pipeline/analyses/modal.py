@@ -16,6 +16,7 @@ import numpy as np
 
 from flexbed.dynamics.frequency.modal import Modes, solve_modes
 from flexbed.dynamics.frequency.mounted import MountedSystem, mounted_system
+from flexbed.analyses.elastomer import with_elastomers
 from flexbed.dynamics.system import System
 from flexbed.errors import NumericalError
 from flexbed.files.modes import ModesData
@@ -66,7 +67,7 @@ def mounted(sf: SceneFile, system: System, *, y_eq: np.ndarray | None = None,
     system.rhs(0.0, y_eq)                        # load the compiled code outside the timing
     system.rhs_batch(np.zeros(1), np.asarray(y_eq, dtype=float)[None, :], capture=("w_f",))
     t0 = time.process_time()
-    ms = mounted_system(system, y_eq)
+    ms = with_elastomers(mounted_system(system, y_eq), sf.elastomers)
     md = solve_modes(ms)
     cpu = time.process_time() - t0
     bad = np.flatnonzero(~np.isfinite(md.undamped_frequency))

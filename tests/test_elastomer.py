@@ -1,0 +1,117 @@
+"""Elastomer mounts (issue 25, part 4): the complex stiffness k(f)(1 + iη(f))
+against the one-stage isolator's closed forms, and bad input.
+
+The body of :mod:`test_modal` on four mounts moves vertically alone under a
+vertical base acceleration; with the mounts' vertical complex stiffness
+κ = 4 k(f)(1 + iη(f)) its absolute acceleration has ``T = κ/(κ − mω²)``, so
+with a constant η, ``|T| = √((1 + η²)/((1 − r²)² + η²))``, r = f/fₙ
+[Harris & Piersol, *Shock and Vibration Handbook*, 5th ed., §2.3 on
+hysteretic damping].
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from test_modal import KX, KY, KZ, M1, _one_stage, _scene
+
+ETA = 0.15
+
+
+def _with_elastomer(extra: str) -> str:
+    """The one-stage isolator (no viscous damping) with ``extra`` keys on every mount."""
+    return _one_stage(0.0).replace('law = "linear"\n', f'law = "linear"\n{extra}\n')
+
+
+def _vertical(scene, f):
+    import flexbed
+    t = flexbed.frf(scene, input="base z", points=[("c", "mass", [0, 0, 0])], frequencies=f)
+    return t.H[:, t.column("c az")], t
+
+
+def test_constant_loss_factor_against_the_closed_form(tmp_path):
+    scene = _scene(tmp_path, _with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
+    fn = math.sqrt(4 * KZ / M1) / (2 * math.pi)
+    f = fn * np.array([0.1, 0.5, 0.9, 0.999, 1.0, 1.001, 1.1, 2.0, 10.0])
+    H, t = _vertical(scene, f)
+    r = f / fn
+    exact = np.sqrt((1 + ETA**2) / ((1 - r**2) ** 2 + ETA**2))
+    np.testing.assert_allclose(np.abs(H), exact, rtol=1e-10)
+    kap = 4 * KZ * (1 + 1j * ETA)
+    om = 2 * math.pi * f
+    np.testing.assert_allclose(H, kap / (kap - M1 * om**2), rtol=1e-10)
+    # horizontal input stays apart from the vertical: no cross-talk
+    assert np.all(np.abs(t.H[:, t.column("c ax")]) < 1e-9 * np.abs(H))
+
+
+def test_a_frequency_table_at_its_frequencies(tmp_path):
+    f_tab = [2.0, 5.0, 10.0, 20.0, 50.0]
+    kz = [KZ * s for s in (1.0, 1.1, 1.25, 1.4, 1.6)]
+    eta = [0.05, 0.08, 0.12, 0.15, 0.2]
+    rows_k = ", ".join(f"[{KX}, {KY}, {k}]" for k in kz)
+    rows_e = ", ".join(f"[0.1, 0.1, {e}]" for e in eta)
+    scene = _scene(tmp_path, _with_elastomer(
+        f"elastomer = {{frequency = {f_tab}, stiffness = [{rows_k}], "
+        f"loss_factor = [{rows_e}]}}"))
+    f = np.array(f_tab)
+    H, _ = _vertical(scene, f)
+    kap = 4 * np.array(kz) * (1 + 1j * np.array(eta))
+    om = 2 * math.pi * f
+    np.testing.assert_allclose(H, kap / (kap - M1 * om**2), rtol=1e-10)
+    # between the table's frequencies: log-log in the stiffness, held outside
+    g = np.array([1.0, math.sqrt(10.0 * 20.0), 80.0])
+    H, _ = _vertical(scene, g)
+    k_mid = 4 * math.sqrt(kz[2] * kz[3])
+    kap = np.array([4 * kz[0] * (1 + 1j * eta[0]), k_mid * (1 + 1j * 0.5 * (eta[2] + eta[3])),
+                    4 * kz[-1] * (1 + 1j * eta[-1])])
+    om = 2 * math.pi * g
+    np.testing.assert_allclose(H, kap / (kap - M1 * om**2), rtol=1e-10)
+
+
+def test_the_static_stiffness_is_the_laws(tmp_path):
+    """The equilibrium with an elastomer is the plain linear mount's."""
+    import flexbed
+    plain = _scene(tmp_path, _one_stage(0.0), "plain.toml")
+    rubber = _scene(tmp_path, _with_elastomer(
+        "elastomer = {frequency = [1.0, 100.0], stiffness = [[1e5, 1e5, 1e5], [2e5, 2e5, 2e5]]}"),
+        "rubber.toml")
+    np.testing.assert_array_equal(flexbed.statics(plain).position, flexbed.statics(rubber).position)
+
+
+BAD = [
+    ("loss_factor = [0.1, -0.2, 0.1]", "loss_factor[1] = -0.2 must be >= 0"),
+    ("elastomer = {frequency = [1.0, 1.0], stiffness = [[1, 1, 1], [1, 1, 1]]}",
+     "must increase strictly"),
+    ("elastomer = {frequency = [1.0, 2.0], stiffness = [[1, 1, 1], [1, 0, 1]]}",
+     "stiffness[1][1] = 0.0 must be > 0"),
+    ("elastomer = {frequency = [1.0, 2.0], stiffness = [[1, 1, 1]]}",
+     "stiffness must be 2 rows"),
+    ("elastomer = {frequency = [1.0, 2.0], stiffness = [[1, 1, 1], [1, 1, 1]], "
+     "loss_factor = [[0, 0, 0], [0, -1, 0]]}", "loss_factor[1][1] = -1.0 must be >= 0"),
+    ("loss_factor = [0.1, 0.1, 0.1]\nelastomer = {frequency = [1.0], stiffness = [[1, 1, 1]]}",
+     "not both"),
+]
+
+
+@pytest.mark.parametrize("extra, message", BAD)
+def test_bad_elastomer_is_one_line_exit_2(tmp_path, capsys, extra, message):
+    from flexbed.cli import main
+    path = tmp_path / "bad.toml"
+    path.write_text(_with_elastomer(extra))
+    assert main(["static", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and message in err and "mount 'M1'" in err, err
+
+
+def test_loss_factor_on_a_nonlinear_law_is_refused(tmp_path, capsys):
+    from flexbed.cli import main
+    text = _one_stage(0.0).replace('law = "linear"\n', 'law = "polynomial"\n', 1)
+    text = text.replace(f"k = [{KX}, {KY}, {KZ}]\nc = [0.0, 0.0, 0.0]\n",
+                        f"stiffness = [[0, {KX}], [0, {KY}], [0, {KZ}]]\n"
+                        f"loss_factor = [0.1, 0.1, 0.1]\n", 1)
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    assert main(["static", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "applies to law = 'linear' only" in err, err
