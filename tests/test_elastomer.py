@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pytest
 
+from scene_text import base_and_body
 from test_modal import KX, KY, KZ, M1, _one_stage, _scene
 
 ETA = 0.15
@@ -43,6 +44,12 @@ def test_constant_loss_factor_against_the_closed_form(tmp_path):
     np.testing.assert_allclose(H, kap / (kap - M1 * om**2), rtol=1e-10)
     # horizontal input stays apart from the vertical: no cross-talk
     assert np.all(np.abs(t.H[:, t.column("c ax")]) < 1e-9 * np.abs(H))
+    # the force into the base is the body's inertia force, −m a, and the sum of the
+    # mounts' complex forces κ/4 (relative deflection), with u = −m/(κ − mω²)
+    np.testing.assert_allclose(t.H[:, t.column("base FZ")], -M1 * H, rtol=1e-10)
+    u = -M1 / (kap - M1 * om**2)
+    for k in range(1, 5):
+        np.testing.assert_allclose(t.H[:, t.column(f"M{k} f3")], kap / 4 * u, rtol=1e-10)
 
 
 def test_a_frequency_table_at_its_frequencies(tmp_path):
@@ -115,3 +122,58 @@ def test_loss_factor_on_a_nonlinear_law_is_refused(tmp_path, capsys):
     assert main(["static", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "applies to law = 'linear' only" in err, err
+
+
+def _inclined(extra: str) -> str:
+    """Zero gravity (no preload), the body turned, four mounts from the body
+    (body i) to the base along inclined axes, ``extra`` keys on each."""
+    text = base_and_body("inclined", gravity=0.0, body_extra="orientation_deg = [10, 20, 30]")
+    return text + "".join(f"""
+[[mount]]
+name = "M{n}"
+body_i = "mass"
+body_j = "base"
+point_i = [{x}, {y}, -0.3]
+point_j = [{x}, {y}, 0.2]
+axes_deg = [5, -15, 25]
+law = "linear"
+{extra}
+""" for n, (x, y) in enumerate([(-0.2, -0.3), (0.25, -0.3), (0.2, 0.3), (-0.2, 0.35)], 1))
+
+
+def test_a_table_of_one_stiffness_is_that_linear_mount(tmp_path):
+    """An elastomer whose table holds k' with η = 0 is exactly the linear mount
+    of stiffness k' (no preload, so no geometric stiffness): the D_vᵀ D blocks
+    and the base force's axes, on inclined mounts of a turned body."""
+    import flexbed
+    k, k2 = (2e4, 3e4, 5e4), (3e4, 2.5e4, 8e4)
+    plain = _scene(tmp_path, _inclined(f"k = {list(k2)}"), "plain.toml")
+    rows = ", ".join([str(list(k2))] * 2)
+    rubber = _scene(tmp_path, _inclined(
+        f"k = {list(k)}\nelastomer = {{frequency = [1.0, 9.0], stiffness = [{rows}]}}"),
+        "rubber.toml")
+    f = np.array([0.5, 3.0, 5.0, 7.5, 12.0, 30.0])
+    for inp in ("base x", "base z"):
+        a = flexbed.frf(plain, input=inp, points=[("c", "mass", [0.1, 0, 0])], frequencies=f)
+        b = flexbed.frf(rubber, input=inp, points=[("c", "mass", [0.1, 0, 0])], frequencies=f)
+        assert a.names == b.names
+        scale = np.abs(a.H).max(axis=0)
+        assert np.max(np.abs(a.H - b.H) / scale) < 1e-8
+
+
+def test_random_with_an_elastomer_against_the_closed_form(tmp_path):
+    """The random response's vertical RMS with a constant loss factor: W ∫ |T|² df
+    with |T|² = (1 + η²)/((1 − r²)² + η²), by adaptive quadrature."""
+    import flexbed
+    from scipy.integrate import quad
+    scene = _scene(tmp_path, _with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
+    w_g, f1, f2 = 0.01, 2.0, 200.0
+    r = flexbed.random_vibration(scene, psd={"z": [[f1, w_g], [f2, w_g]]},
+                                 points=[("c", "mass", [0, 0, 0])])
+    fn = math.sqrt(4 * KZ / M1) / (2 * math.pi)
+    T2 = quad(lambda f: (1 + ETA**2) / ((1 - (f / fn) ** 2) ** 2 + ETA**2), f1, f2,
+              points=[fn], limit=500, epsabs=0.0, epsrel=1e-13)[0]
+    a = r.column("c az")
+    exact = math.sqrt(w_g * 9.80665**2 * T2)
+    assert abs(r.rms[a] - exact) <= max(r.rms_error[a], 1e-7 * exact)
+    assert r.rms[r.column("base FZ")] == pytest.approx(M1 * r.rms[a], rel=1e-9)

@@ -72,13 +72,19 @@ class ComplexStiffness:
 
     rows : (r,) int — mount-axis rows (3 mount + direction, scene order);
     D, Dv : (r, n) — their deflection and rate Jacobians;
-    tables : tuple of (mount row index, ElastomerTable) per elastomer mount.
+    tables : tuple of (mount index, ElastomerTable) per elastomer mount;
+    base_axes : (3, r) — each row's axis in the inertial frame at the
+    equilibrium, signed as its force acts on the base (0 for a mount that
+    does not touch the base);
+    n_mounts : int — mounts in the scene.
     """
 
     rows: np.ndarray
     D: np.ndarray
     Dv: np.ndarray
     tables: tuple
+    base_axes: np.ndarray
+    n_mounts: int
 
     def delta(self, w: np.ndarray) -> np.ndarray:
         """``Δk_r(ω) = k_r(f)(1 + iη_r(f)) − k_r`` (k, r) complex [N/m] at ω (k,) [rad/s]."""
@@ -93,16 +99,31 @@ class ComplexStiffness:
 
     def force_rows(self, w: np.ndarray, u: np.ndarray) -> np.ndarray:
         """The elastomer's extra force ``Δk_r D_r u`` (k, r) along its rows for
-        relative motions u (k, n) complex."""
+        relative motions u (k, n) complex at ω (k,) [rad/s]."""
         return self.delta(w) * (u @ self.D.T)
 
+    def force_map(self) -> np.ndarray:
+        """(3 n_mounts + 3, r): how the mount-axis forces, then the total
+        force on the base (the rows of
+        :func:`flexbed.dynamics.frequency.frf.mount_outputs`), take the
+        extra forces of :meth:`force_rows`."""
+        out = np.zeros((3 * self.n_mounts + 3, self.rows.size))
+        out[self.rows, np.arange(self.rows.size)] = 1.0
+        out[3 * self.n_mounts:] = self.base_axes
+        return out
 
-def complex_stiffness(tables: dict, D: np.ndarray, Dv: np.ndarray) -> ComplexStiffness | None:
+
+def complex_stiffness(tables: dict, D: np.ndarray, Dv: np.ndarray, axes: np.ndarray,
+                      base_sign: np.ndarray) -> ComplexStiffness | None:
     """Compile ``tables`` {mount index: ElastomerTable} against a mounted
-    system's D and Dv (3 n_mounts, n); None when there are none."""
+    system's D and Dv (3 n_mounts, n), the mounts' axes in the inertial
+    frame at the equilibrium ``axes`` (n_mounts, 3, 3) (rows u1, u2, u3)
+    and ``base_sign`` (n_mounts,): +1 when the base is body i, −1 when it
+    is body j, else 0. None when there are no tables."""
     if not tables:
         return None
     order = sorted(tables)
     rows = np.array([3 * m + d for m in order for d in range(3)], dtype=int)
+    base = np.array([base_sign[m] * axes[m, d] for m in order for d in range(3)]).T
     return ComplexStiffness(rows, D[rows].copy(), Dv[rows].copy(),
-                            tuple((m, tables[m]) for m in order))
+                            tuple((m, tables[m]) for m in order), base, axes.shape[0])

@@ -67,7 +67,7 @@ def mounted(sf: SceneFile, system: System, *, y_eq: np.ndarray | None = None,
     system.rhs(0.0, y_eq)                        # load the compiled code outside the timing
     system.rhs_batch(np.zeros(1), np.asarray(y_eq, dtype=float)[None, :], capture=("w_f",))
     t0 = time.process_time()
-    ms = with_elastomers(mounted_system(system, y_eq), sf.elastomers)
+    ms = with_elastomers(mounted_system(system, y_eq), system, sf.elastomers)
     md = solve_modes(ms)
     cpu = time.process_time() - t0
     bad = np.flatnonzero(~np.isfinite(md.undamped_frequency))
