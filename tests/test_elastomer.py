@@ -177,3 +177,51 @@ def test_random_with_an_elastomer_against_the_closed_form(tmp_path):
     exact = math.sqrt(w_g * 9.80665**2 * T2)
     assert abs(r.rms[a] - exact) <= max(r.rms_error[a], 1e-7 * exact)
     assert r.rms[r.column("base FZ")] == pytest.approx(M1 * r.rms[a], rel=1e-9)
+
+
+def test_maxwell_fit_recovers_a_maxwell_table():
+    """A table made from a Maxwell series on the fit's own relaxation times is
+    fitted back to round-off; the error stated is the error over the band."""
+    import math
+    from flexbed.dynamics.frequency.elastomer import ElastomerTable
+    from flexbed.dynamics.frequency.maxwell import FIT_POINTS, MaxwellFit, fit_maxwell
+    f = np.logspace(0, 2, FIT_POINTS)          # 1-100 Hz on the fit's own grid: exact rows
+    tau = 1.0 / (2 * math.pi * np.logspace(-0.5, 2.5, 7))     # the fit's τ for this band
+    k_inf = np.array([1e5, 2e5, 3e5])
+    k = np.zeros((3, 7))
+    k[:, 2], k[:, 4] = [3e4, 1e4, 5e4], [2e4, 6e4, 1e4]
+    K = MaxwellFit((1.0, 100.0), tau, k_inf, k, np.zeros(3)).complex(f)
+    table = ElastomerTable(k_inf, f, K.real, K.imag / K.real)
+    fit = fit_maxwell(table)
+    np.testing.assert_allclose(fit.tau, tau, rtol=1e-14)
+    assert np.all(fit.error < 1e-9)
+    np.testing.assert_allclose(fit.k_inf, k_inf, rtol=1e-8)
+    np.testing.assert_allclose(fit.k, k, rtol=0, atol=1e-8 * k.max())
+    # a table off the model: the error stated is the error over the band
+    coarse = ElastomerTable(k_inf, f[::25], K.real[::25], (K.imag / K.real)[::25])
+    fit = fit_maxwell(coarse)
+    g = np.logspace(0, math.log10(f[::25][-1]), FIT_POINTS)
+    err = np.max(np.abs(fit.complex(g) - coarse.complex(g)) / np.abs(coarse.complex(g)), axis=0)
+    np.testing.assert_allclose(fit.error, err, rtol=1e-12)
+    assert np.all(err > 1e-6)
+
+
+def test_a_constant_loss_factor_fit_is_reported_when_read(tmp_path):
+    from flexbed.errors import FlexbedWarning
+    with pytest.warns(FlexbedWarning, match=r"mount 'M1': elastomer: a generalised Maxwell "
+                                            r"series of \d+ terms matches .* over 1-1000 Hz"):
+        _scene(tmp_path, _with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
+
+
+def test_time_runs_refuse_elastomer_mounts(tmp_path, capsys):
+    import flexbed
+    from flexbed.cli import main
+    path = tmp_path / "rubber.toml"
+    path.write_text(_with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
+    for argv in (["simulate", str(path)], ["run", str(path), "-o", str(tmp_path / "out")]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert "mount 'M1' is an elastomer mount" in err[-1] and "flexbed frf" in err[-1], err
+        assert not (tmp_path / "out").exists()
+    with pytest.raises(flexbed.InputError, match="time runs do not take"):
+        flexbed.simulate(flexbed.load_scene(path))

@@ -15,16 +15,25 @@ preloads use it); ``c`` stays a viscous damper beside the elastomer. The
 stiffness is interpolated log-log in frequency, the loss factor linearly in
 log f (it may be 0), both held constant outside the table
 (:class:`flexbed.dynamics.frequency.elastomer.ComplexStiffness`).
+
+Time runs refuse elastomer mounts (:func:`refuse_time_run`); the
+generalised Maxwell model a time run would need is fitted when the scene
+is read and its error over the band said in one line
+(:func:`report_fit`, :mod:`flexbed.dynamics.frequency.maxwell`).
 """
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from flexbed.dynamics.frequency.elastomer import ElastomerTable
+from flexbed.dynamics.frequency.maxwell import fit_maxwell
 from flexbed.dynamics.laws import LinearLaw
+from flexbed.errors import FlexbedWarning, InputError
 
-__all__ = ["ELASTOMER_KEYS", "read_elastomer"]
+__all__ = ["ELASTOMER_KEYS", "read_elastomer", "report_fit", "refuse_time_run"]
 
 #: the mount keys this module reads
 ELASTOMER_KEYS = ("loss_factor", "elastomer")
@@ -75,3 +84,27 @@ def _rows(reader, where: str, key: str, value, n: int, *, positive: bool) -> np.
     return np.array([reader.numbers(where, f"{key}[{r}]", row, 3, positive=positive,
                                     non_negative=not positive)
                      for r, row in enumerate(value)])
+
+
+def report_fit(label: str, name: str, table: ElastomerTable) -> None:
+    """One line (a :class:`FlexbedWarning`) with the error of the generalised
+    Maxwell fit of mount ``name``'s elastomer over its band, and that time
+    runs do not take it."""
+    fit = fit_maxwell(table)
+    errs = ", ".join(f"{100 * e:.2g}" for e in fit.error)
+    warnings.warn(FlexbedWarning(
+        f"{label}: mount {name!r}: elastomer: a generalised Maxwell series of "
+        f"{fit.tau.size} terms matches k(f)(1 + i eta(f)) within {errs} % (directions 1-3) "
+        f"over {fit.band[0]:g}-{fit.band[1]:g} Hz; frf, random and modal use the table "
+        f"exactly, time runs refuse the mount"), stacklevel=3)
+
+
+def refuse_time_run(sf) -> None:
+    """InputError naming the first elastomer mount of the SceneFile ``sf``:
+    time runs do not take them (the frequency analyses do)."""
+    if sf.elastomers:
+        name = sf.scene.mounts[sf.elastomers[0][0]].name
+        raise InputError(f"{sf.source.name}: mount {name!r} is an elastomer mount (loss_factor "
+                         f"or elastomer table): time runs do not take its complex stiffness; "
+                         f"use 'flexbed frf', 'flexbed random' or 'flexbed modal', or remove "
+                         f"the elastomer keys for a time run")
