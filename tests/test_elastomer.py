@@ -225,3 +225,36 @@ def test_time_runs_refuse_elastomer_mounts(tmp_path, capsys):
         assert not (tmp_path / "out").exists()
     with pytest.raises(flexbed.InputError, match="time runs do not take"):
         flexbed.simulate(flexbed.load_scene(path))
+
+
+def test_modal_takes_each_mode_at_its_own_frequency(tmp_path):
+    """The vertical mode of the isolator on a table: fₙ = √(4 k(fₙ)/m)/2π (the
+    fixed point, by bisection on the table's log-log interpolation) and
+    ζ = η(fₙ)/2; with a constant η, fₙ of the static k and ζ = η/2."""
+    import flexbed
+    from scipy.optimize import brentq
+    scene = _scene(tmp_path, _with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"), "c.toml")
+    m = flexbed.modal(scene)
+    fn = math.sqrt(4 * KZ / M1) / (2 * math.pi)
+    j = int(np.argmin(np.abs(m.frequency - fn)))
+    assert m.frequency[j] == pytest.approx(fn, rel=1e-10)
+    assert m.damping_ratio[j] == pytest.approx(ETA / 2, rel=1e-10)
+    f_tab, s_tab, e_tab = [2.0, 5.0, 10.0, 20.0, 50.0], [1.0, 1.1, 1.25, 1.4, 1.6], \
+        [0.05, 0.08, 0.12, 0.15, 0.2]
+    rows_k = ", ".join(f"[{KX * s}, {KY * s}, {KZ * s}]" for s in s_tab)
+    rows_e = ", ".join(f"[{e}, {e}, {e}]" for e in e_tab)
+    scene = _scene(tmp_path, _with_elastomer(
+        f"elastomer = {{frequency = {f_tab}, stiffness = [{rows_k}], "
+        f"loss_factor = [{rows_e}]}}"), "t.toml")
+    m = flexbed.modal(scene)
+    lf, lt = np.log, np.log(f_tab)
+
+    def k_of(f):
+        return KZ * math.exp(np.interp(lf(f), lt, np.log(s_tab)))
+
+    f_exact = brentq(lambda f: f - math.sqrt(4 * k_of(f) / M1) / (2 * math.pi), 1.0, 100.0,
+                     xtol=1e-14, rtol=1e-15)
+    j = int(np.argmin(np.abs(m.frequency - f_exact)))
+    assert m.frequency[j] == pytest.approx(f_exact, rel=1e-10)
+    assert m.damping_ratio[j] == pytest.approx(np.interp(lf(f_exact), lt, e_tab) / 2, rel=1e-10)
+    assert m.energy[j].max() == pytest.approx(1.0, abs=1e-10)

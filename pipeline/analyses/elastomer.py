@@ -8,11 +8,14 @@ from dataclasses import replace
 import numpy as np
 
 from flexbed.dynamics.frequency.elastomer import complex_stiffness
+from flexbed.dynamics.frequency.elastomer_modes import elastomer_modes
+from flexbed.dynamics.frequency.modal import Modes
 from flexbed.dynamics.frequency.mounted import MountedSystem
 from flexbed.dynamics.rotation import A as rotation_matrix
 from flexbed.dynamics.system import System
+from flexbed.errors import NumericalError
 
-__all__ = ["with_elastomers", "force_map"]
+__all__ = ["with_elastomers", "force_map", "modes_of"]
 
 
 def with_elastomers(ms: MountedSystem, system: System, elastomers: tuple) -> MountedSystem:
@@ -42,3 +45,14 @@ def force_map(ms: MountedSystem, rows: int, first: int) -> np.ndarray | None:
     out = np.zeros((rows, fm.shape[1]))
     out[first:first + fm.shape[0]] = fm
     return out
+
+
+def modes_of(ms: MountedSystem, label: str) -> Modes:
+    """The modes of ``ms``, each with its elastomers at its own frequency
+    (:func:`~flexbed.dynamics.frequency.elastomer_modes.elastomer_modes`);
+    NumericalError naming ``label`` (the scene file) when a mode's
+    frequency does not settle."""
+    try:
+        return elastomer_modes(ms)
+    except RuntimeError as exc:
+        raise NumericalError(f"{label}: {exc}") from None
