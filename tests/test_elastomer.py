@@ -208,9 +208,11 @@ def test_maxwell_fit_recovers_a_maxwell_table():
 
 def test_a_constant_loss_factor_fit_is_reported_when_read(tmp_path):
     from flexbed.errors import FlexbedWarning
-    with pytest.warns(FlexbedWarning, match=r"mount 'M1': elastomer: a generalised Maxwell "
-                                            r"series of \d+ terms matches .* over 1-1000 Hz"):
+    with pytest.warns(FlexbedWarning, match=r"mounts 'M1', 'M2', 'M3', 'M4': elastomer: a "
+                                            r"generalised Maxwell series of \d+ terms matches "
+                                            r".* over 1-1000 Hz") as got:
         _scene(tmp_path, _with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
+    assert len([w for w in got if "Maxwell" in str(w.message)]) == 1
 
 
 def test_time_runs_refuse_elastomer_mounts(tmp_path, capsys):

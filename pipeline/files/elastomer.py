@@ -19,7 +19,7 @@ log f (it may be 0), both held constant outside the table
 Time runs refuse elastomer mounts (:func:`refuse_time_run`); the
 generalised Maxwell model a time run would need is fitted when the scene
 is read and its error over the band said in one line
-(:func:`report_fit`, :mod:`flexbed.dynamics.frequency.maxwell`).
+(:func:`report_fits`, :mod:`flexbed.dynamics.frequency.maxwell`).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from flexbed.dynamics.frequency.maxwell import fit_maxwell
 from flexbed.dynamics.laws import LinearLaw
 from flexbed.errors import FlexbedWarning, InputError
 
-__all__ = ["ELASTOMER_KEYS", "read_elastomer", "report_fit", "refuse_time_run"]
+__all__ = ["ELASTOMER_KEYS", "read_elastomer", "report_fits", "refuse_time_run"]
 
 #: the mount keys this module reads
 ELASTOMER_KEYS = ("loss_factor", "elastomer")
@@ -86,17 +86,26 @@ def _rows(reader, where: str, key: str, value, n: int, *, positive: bool) -> np.
                      for r, row in enumerate(value)])
 
 
-def report_fit(label: str, name: str, table: ElastomerTable) -> None:
-    """One line (a :class:`FlexbedWarning`) with the error of the generalised
-    Maxwell fit of mount ``name``'s elastomer over its band, and that time
-    runs do not take it."""
-    fit = fit_maxwell(table)
-    errs = ", ".join(f"{100 * e:.2g}" for e in fit.error)
-    warnings.warn(FlexbedWarning(
-        f"{label}: mount {name!r}: elastomer: a generalised Maxwell series of "
-        f"{fit.tau.size} terms matches k(f)(1 + i eta(f)) within {errs} % (directions 1-3) "
-        f"over {fit.band[0]:g}-{fit.band[1]:g} Hz; frf, random and modal use the table "
-        f"exactly, time runs refuse the mount"), stacklevel=3)
+def report_fits(label: str, elastomers: list) -> None:
+    """One line (a :class:`FlexbedWarning`) per distinct elastomer of
+    ``elastomers`` ((mount name, ElastomerTable) pairs) with the error of
+    its generalised Maxwell fit over its band, and that time runs do not
+    take it; mounts with the same table share the line."""
+    groups: dict = {}
+    for name, table in elastomers:
+        key = (table.frequency.tobytes(), table.stiffness.tobytes(),
+               table.loss_factor.tobytes())
+        groups.setdefault(key, (table, []))[1].append(name)
+    for table, names in groups.values():
+        fit = fit_maxwell(table)
+        errs = ", ".join(f"{100 * e:.2g}" for e in fit.error)
+        who = (f"mount {names[0]!r}" if len(names) == 1
+               else f"mounts {', '.join(map(repr, names))}")
+        warnings.warn(FlexbedWarning(
+            f"{label}: {who}: elastomer: a generalised Maxwell series of {fit.tau.size} terms "
+            f"matches k(f)(1 + i eta(f)) within {errs} % (directions 1-3) over "
+            f"{fit.band[0]:g}-{fit.band[1]:g} Hz; frf, random and modal use the table "
+            f"exactly, time runs refuse the mount"), stacklevel=3)
 
 
 def refuse_time_run(sf) -> None:

@@ -36,7 +36,7 @@ from flexbed.files.drives import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
 from flexbed.files.destination import check_source
 from flexbed.files.loads import read_loads
-from flexbed.files.elastomer import ELASTOMER_KEYS, read_elastomer, report_fit
+from flexbed.files.elastomer import ELASTOMER_KEYS, read_elastomer, report_fits
 from flexbed.files.limits import (BODY_LIMIT_KEYS, JUDGED_ONLY_KEYS, MOUNT_LIMIT_KEYS, Limits,
                                   read_limits)
 from flexbed.files.sanity import warn_far_points
@@ -191,6 +191,7 @@ class _Reader(ShapeReader):
         self.elastomers = []
         mounts = [self.mount(i, m, names)
                   for i, m in enumerate(self.tables("mount", data.get("mount", [])))]
+        report_fits(self.label, [(mounts[i].name, e) for i, e in self.elastomers])
         if bed.body is not None and bed.body not in names:
             self.fail("bed", f"body = {bed.body!r} is not a body (bodies: {', '.join(names)})")
         solver = self.solver(data.get("solver", {}))
@@ -336,7 +337,6 @@ class _Reader(ShapeReader):
         elastomer = read_elastomer(self, where, t, laws)
         if elastomer is not None:
             self.elastomers.append((i, elastomer))
-            report_fit(self.label, name, elastomer)
         try:
             return Mount(name, t["body_i"], t["body_j"], np.array(pi), np.array(pj), U, laws)
         except SceneError as exc:
