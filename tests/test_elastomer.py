@@ -84,6 +84,7 @@ def test_the_static_stiffness_is_the_laws(tmp_path):
         "elastomer = {frequency = [1.0, 100.0], stiffness = [[1e5, 1e5, 1e5], [2e5, 2e5, 2e5]]}"),
         "rubber.toml")
     np.testing.assert_array_equal(flexbed.statics(plain).position, flexbed.statics(rubber).position)
+    assert plain.statics_digest == rubber.statics_digest      # one equilibrium file serves both
 
 
 BAD = [

@@ -218,7 +218,7 @@ class _Reader(ShapeReader):
         digest = _digest(data, self.csv)
         at_rest = [{k: v for k, v in b.items() if k not in _VELOCITY_KEYS + BODY_LIMIT_KEYS}
                    for b in bodies_raw]
-        mounts_raw = [{k: v for k, v in m.items() if k not in JUDGED_ONLY_KEYS}
+        mounts_raw = [{k: v for k, v in m.items() if k not in JUDGED_ONLY_KEYS + ELASTOMER_KEYS}
                       for m in data.get("mount", [])]
         statics = {"gravity": gravity, "body": at_rest, "mount": mounts_raw,
                    "bed": data.get("bed", {}), "static_tol": solver.static_tol}
