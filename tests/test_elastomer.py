@@ -221,7 +221,8 @@ def test_time_runs_refuse_elastomer_mounts(tmp_path, capsys):
     from flexbed.cli import main
     path = tmp_path / "rubber.toml"
     path.write_text(_with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
-    for argv in (["simulate", str(path)], ["run", str(path), "-o", str(tmp_path / "out")]):
+    for argv in (["simulate", str(path)], ["run", str(path), "-o", str(tmp_path / "out")],
+                 ["compare", str(path)], ["qualify", str(path)]):
         assert main(argv) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert "mount 'M1' is an elastomer mount" in err[-1] and "flexbed frf" in err[-1], err

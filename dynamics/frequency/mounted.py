@@ -34,6 +34,7 @@ from ..block_linearisation import linearised
 from ..linear.model import Coordinates, difference_steps, linearise
 from ..rotation import A as rotation_matrix
 from ..system import System
+from .elastomer import ComplexStiffness
 
 __all__ = ["MountedSystem", "mounted_system", "DOF_NAMES"]
 
@@ -113,7 +114,7 @@ class MountedSystem:
     coords: Coordinates
     evaluations: int
     sparse: tuple | None = None
-    elastomer: object | None = None
+    elastomer: ComplexStiffness | None = None
 
     @property
     def n(self) -> int:
