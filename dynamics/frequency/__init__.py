@@ -11,6 +11,10 @@
 - :mod:`.random`: stationary random response: PSD interpolation, the
   grid that resolves every half-power band, response PSDs, mean squares
   with their error, Miles' equation.
+- :mod:`.elastomer`: elastomer mounts' complex stiffness k(f)(1 + iη(f))
+  added to the dynamic stiffness and the force outputs;
+  :mod:`.elastomer_modes`: modes with each elastomer at the mode's own
+  frequency; :mod:`.maxwell`: the generalised Maxwell fit a time run needs.
 
 May import NumPy, SciPy and, from :mod:`flexbed.dynamics`, the compiled
 system, the rotations and the linear room's linearisation; never ``fem``

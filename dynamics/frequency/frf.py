@@ -61,12 +61,16 @@ class Outputs:
     N s per m] (any output linear in the relative motion: a mount's
     deflection is ``D`` with zero rates). Rows of each kind in the caller's
     order. ``order``: the points' time derivative returned, 0
-    displacement [m], 1 velocity [m/s], 2 acceleration [m/s²] (default)."""
+    displacement [m], 1 velocity [m/s], 2 acceleration [m/s²] (default).
+    ``elastomer`` (f, r): how each force row takes the elastomer rows'
+    extra forces (:meth:`~flexbed.dynamics.frequency.elastomer.ComplexStiffness.force_rows`),
+    or None (no elastomer mounts, or outputs that ignore them)."""
 
     positions: np.ndarray
     forces: np.ndarray
     force_rates: np.ndarray
     order: int = 2
+    elastomer: np.ndarray | None = None
 
 
 def mount_outputs(ms: MountedSystem) -> tuple[np.ndarray, np.ndarray]:
@@ -112,13 +116,20 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
             pos = q @ Yq.T
         acc[s:s + w.size] = _derivative(pos, w, out.order)
         frc[s:s + w.size] = u @ out.forces.T + (1j * w)[:, None] * (u @ out.force_rates.T)
+        if out.elastomer is not None:
+            frc[s:s + w.size] += ms.elastomer.force_rows(w, u) @ out.elastomer.T
     return acc, frc
 
 
 def dynamic_stiffness(ms: MountedSystem, w: np.ndarray) -> np.ndarray:
-    """``G(ω) = K − ω² M + iω C`` (k, n, n) complex at ω (k,) [rad/s]."""
-    return (ms.K[None] - (w * w)[:, None, None] * ms.M[None]
-            + (1j * w)[:, None, None] * ms.C[None])
+    """``G(ω) = K − ω² M + iω C`` (k, n, n) complex at ω (k,) [rad/s], plus
+    the elastomer mounts' complex stiffness less their static one
+    (:mod:`flexbed.dynamics.frequency.elastomer`) when ``ms`` has any."""
+    G = (ms.K[None] - (w * w)[:, None, None] * ms.M[None]
+         + (1j * w)[:, None, None] * ms.C[None])
+    if ms.elastomer is not None:
+        G += ms.elastomer.added(w)
+    return G
 
 
 def base_responses(ms: MountedSystem, omega: np.ndarray, axes: list[int], out: Outputs
@@ -151,8 +162,11 @@ def base_responses(ms: MountedSystem, omega: np.ndarray, axes: list[int], out: O
         pos = _real_product(q, Yq.T) + xb[:, None] * np.tile(Yb[:, axes].T, (w.size, 1))
         pts[s:s + w.size] = _derivative(pos, np.repeat(w, r), out.order).reshape(
             w.size, r, -1)
-        frc[s:s + w.size] = (_real_product(u, out.forces.T) + np.repeat(1j * w, r)[:, None]
-                             * _real_product(u, out.force_rates.T)).reshape(w.size, r, -1)
+        f = _real_product(u, out.forces.T) + np.repeat(1j * w, r)[:, None] * _real_product(
+            u, out.force_rates.T)
+        if out.elastomer is not None:
+            f += ms.elastomer.force_rows(np.repeat(w, r), u) @ out.elastomer.T
+        frc[s:s + w.size] = f.reshape(w.size, r, -1)
     return pts, frc
 
 

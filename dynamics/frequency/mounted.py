@@ -34,6 +34,7 @@ from ..block_linearisation import linearised
 from ..linear.model import Coordinates, difference_steps, linearise
 from ..rotation import A as rotation_matrix
 from ..system import System
+from .elastomer import ComplexStiffness
 
 __all__ = ["MountedSystem", "mounted_system", "DOF_NAMES"]
 
@@ -87,6 +88,10 @@ class MountedSystem:
     sparse : (M, K, C) of scipy.sparse CSR matrices, or None
         The same matrices, sparse (block-sparse by the mount graph), for
         the analyses of large systems.
+    elastomer : ComplexStiffness or None
+        Elastomer mount directions, whose complex stiffness the frequency
+        analyses add to ``K`` (:mod:`flexbed.dynamics.frequency.elastomer`);
+        ``K`` itself holds their static stiffness.
     """
 
     labels: tuple
@@ -109,6 +114,7 @@ class MountedSystem:
     coords: Coordinates
     evaluations: int
     sparse: tuple | None = None
+    elastomer: ComplexStiffness | None = None
 
     @property
     def n(self) -> int:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from flexbed.analyses.linear_points import PointJacobians
+from flexbed.analyses.elastomer import force_map
 from flexbed.analyses.modal import Mounted
 from flexbed.analyses.points import Point
 from flexbed.dynamics.frequency import frf as dfrf
@@ -206,7 +207,8 @@ def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Poin
         raise InputError(f"band {f_lo!r}–{f_hi!r} Hz must satisfy 0 < f_min < f_max")
     check_request((f_lo, f_hi), n, frequencies)
     t0 = time.process_time()
-    sw = dfrf.sweep(ms, md, inp, dfrf.Outputs(positions, forces, rates, order), f_lo, f_hi, n,
+    sw = dfrf.sweep(ms, md, inp, dfrf.Outputs(positions, forces, rates, order,
+                                               force_map(ms, forces.shape[0], 0)), f_lo, f_hi, n,
                     frequencies=frequencies)
     H = np.hstack([sw.acceleration, sw.force])
     iso = np.array(iso, dtype=bool)

@@ -14,8 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.dynamics.frequency.modal import Modes, solve_modes
+from flexbed.dynamics.frequency.modal import Modes
 from flexbed.dynamics.frequency.mounted import MountedSystem, mounted_system
+from flexbed.analyses.elastomer import modes_of, with_elastomers
 from flexbed.dynamics.system import System
 from flexbed.errors import NumericalError
 from flexbed.files.modes import ModesData
@@ -66,8 +67,8 @@ def mounted(sf: SceneFile, system: System, *, y_eq: np.ndarray | None = None,
     system.rhs(0.0, y_eq)                        # load the compiled code outside the timing
     system.rhs_batch(np.zeros(1), np.asarray(y_eq, dtype=float)[None, :], capture=("w_f",))
     t0 = time.process_time()
-    ms = mounted_system(system, y_eq)
-    md = solve_modes(ms)
+    ms = with_elastomers(mounted_system(system, y_eq), system, sf.elastomers)
+    md = modes_of(ms, sf.source.name)
     cpu = time.process_time() - t0
     bad = np.flatnonzero(~np.isfinite(md.undamped_frequency))
     if bad.size:

@@ -19,6 +19,7 @@ import numpy as np
 
 from flexbed.analyses.frf import MAX_GRID, default_points
 from flexbed.analyses.linear_points import PointJacobians
+from flexbed.analyses.elastomer import force_map
 from flexbed.analyses.modal import Mounted
 from flexbed.analyses.points import Point
 from flexbed.files.psd import G0, BasePSD
@@ -101,7 +102,8 @@ def random_outputs(sf, mt: Mounted, points) -> tuple[dfrf.Outputs, list, list]:
     forces = np.vstack([ms.D, ms.Fq, ms.Bq])
     rates = np.vstack([np.zeros_like(ms.D), ms.Fv, ms.Bv])
     positions = np.vstack(rows) if rows else np.zeros((0, 3 + ms.n))
-    return dfrf.Outputs(positions, forces, rates, order=0), names, units
+    return (dfrf.Outputs(positions, forces, rates, order=0,
+                         elastomer=force_map(ms, forces.shape[0], ms.D.shape[0])), names, units)
 
 
 def transfer(ms, omega: np.ndarray, axes: list[int], out: dfrf.Outputs) -> np.ndarray:

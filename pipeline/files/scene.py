@@ -37,6 +37,7 @@ from flexbed.files.drives import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
 from flexbed.files.destination import check_source
 from flexbed.files.loads import read_loads
+from flexbed.files.elastomer import ELASTOMER_KEYS, read_elastomer, report_fits
 from flexbed.files.limits import (BODY_LIMIT_KEYS, JUDGED_ONLY_KEYS, MOUNT_LIMIT_KEYS, Limits,
                                   read_limits)
 from flexbed.files.sanity import warn_far_points
@@ -55,7 +56,7 @@ _BASE_KEYS = ("motion", "support", "drive", "force")
 _MOUNT_KEYS = ("name", "body_i", "body_j", "point_i", "point_j", "axes_deg", "axes", "law",
                "k", "c", "stiffness", "damping", "spring_curve", "damper_curve")
 _LAW_ENTRY_KEYS = _MOUNT_KEYS[9:]
-_MOUNT_KEYS += MOUNT_LIMIT_KEYS
+_MOUNT_KEYS += MOUNT_LIMIT_KEYS + ELASTOMER_KEYS
 _LAW_KEYS = {"linear": ("k", "c"), "polynomial": ("stiffness", "damping"),
              "curve": ("spring_curve", "damper_curve")}
 _SOLVER_KEYS = ("t_end", "integrator", "dt", "rtol", "atol", "output_dt", "start", "static_tol",
@@ -111,7 +112,8 @@ class SceneFile:
     referenced CSV files); statics_digest : str (the same over only what the
     static equilibrium depends on: gravity, bodies, mounts, bed and
     static_tol); limits : Limits (stroke, load, fragility and clearance
-    limits: :mod:`flexbed.files.limits`).
+    limits: :mod:`flexbed.files.limits`); elastomers : tuple of (mount
+    index, ElastomerTable) (:mod:`flexbed.files.elastomer`).
     """
 
     scene: Scene
@@ -123,6 +125,7 @@ class SceneFile:
     digest: str
     statics_digest: str
     limits: Limits = Limits()
+    elastomers: tuple = ()
 
     @property
     def output_name(self) -> str:
@@ -215,8 +218,10 @@ class _Reader(ShapeReader):
         bodies = [self.body(i, b, bed if i == at else None) for i, b in enumerate(bodies_raw)]
         names = [b.name for b in bodies]
         base = self.base(data.get("base", {}))
+        self.elastomers = []
         mounts = [self.mount(i, m, names)
                   for i, m in enumerate(self.tables("mount", data.get("mount", [])))]
+        report_fits(self.label, [(mounts[i].name, e) for i, e in self.elastomers])
         if bed.body is not None and bed.body not in names:
             self.fail("bed", f"body = {bed.body!r} is not a body (bodies: {', '.join(names)})")
         solver = self.solver(data.get("solver", {}))
@@ -243,7 +248,7 @@ class _Reader(ShapeReader):
         digest = _digest(data, self.csv)
         at_rest = [{k: v for k, v in b.items() if k not in _VELOCITY_KEYS + BODY_LIMIT_KEYS}
                    for b in bodies_raw]
-        mounts_raw = [{k: v for k, v in m.items() if k not in JUDGED_ONLY_KEYS}
+        mounts_raw = [{k: v for k, v in m.items() if k not in JUDGED_ONLY_KEYS + ELASTOMER_KEYS}
                       for m in data.get("mount", [])]
         statics = {"gravity": gravity, "body": at_rest, "mount": mounts_raw,
                    "bed": data.get("bed", {}), "static_tol": solver.static_tol}
@@ -252,7 +257,8 @@ class _Reader(ShapeReader):
                 statics[key] = data[key]
         return SceneFile(scene=scene, bed=bed, solver=solver, points=tuple(points),
                          source=path, text=text, digest=digest,
-                         statics_digest=_digest(statics, {}), limits=limits)
+                         statics_digest=_digest(statics, {}), limits=limits,
+                         elastomers=tuple(self.elastomers))
 
     def resolve_auto_modes(self, scene: Scene, bed: BedSection, solver) -> BedSection:
         """``[bed] modes = "auto"`` → fmax = f_cut (see :mod:`flexbed.stages.modes_auto`)."""
@@ -358,6 +364,9 @@ class _Reader(ShapeReader):
                 self.fail(where, f"key '{key}' does not apply to law = {law!r} "
                                  f"(it takes {', '.join(_LAW_KEYS[law])})")
         laws = self.laws(where, law, t)
+        elastomer = read_elastomer(self, where, t, laws)
+        if elastomer is not None:
+            self.elastomers.append((i, elastomer))
         try:
             return Mount(name, t["body_i"], t["body_j"], np.array(pi), np.array(pj), U, laws)
         except SceneError as exc:

@@ -14,6 +14,7 @@ from flexbed.dynamics.stability import instability
 from flexbed.dynamics.statics import Equilibrium, solve_statics
 from flexbed.dynamics.system import System
 from flexbed.errors import InputError, NumericalError
+from flexbed.files.elastomer import refuse_time_run
 from flexbed.files.scene import SceneFile
 from flexbed.stages.motion import Motion, solve_motion
 from flexbed.stages.plausibility import check_equilibrium
@@ -123,6 +124,7 @@ def simulate_system(sf: SceneFile, system: System, settings: Settings, *, start:
     -------
     Simulation
     """
+    refuse_time_run(sf)
     check_results_size(system, settings)
     _check_steps(sf, system, settings)     # the linear path's pieces are as fine
     if model == "linear" and system.laws.stopped.size:
