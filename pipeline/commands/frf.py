@@ -167,7 +167,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _print_load(sf, mt, r, load, args) -> None:
-    """The force into the base per unit load, each axis's peak; at the
+    """The force into the base per unit load, each axis's largest; at the
     load's running frequency (an unbalance, a harmonic), solved there, the
     force it puts into the base: amplitude [N] and level of its RMS
     [dB re 1 N]."""
@@ -177,7 +177,7 @@ def _print_load(sf, mt, r, load, args) -> None:
     for c, j in zip("XYZ", fb):
         k = int(np.argmax(r.magnitude[:, j]))
         if r.magnitude[k, j] >= 1e-6 * top:                          # not round-off
-            print(f"  base F{c} per unit load: peak {r.magnitude[k, j]:.4g} [{r.units[j]}] "
+            print(f"  base F{c} per unit load: largest {r.magnitude[k, j]:.4g} [{r.units[j]}] "
                   f"at {r.frequency[k]:.4f} Hz")
     if load.running is None:
         return
