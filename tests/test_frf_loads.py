@@ -178,3 +178,16 @@ def test_the_api_refuses_an_unknown_load_in_one_line(scene):
     assert "\n" not in str(exc.value)
     with pytest.raises(InputError, match="force_at"):
         flexbed.frf(scene, input="load push", force_at=("mass", [0, 0, 0]))
+
+
+def test_a_load_and_the_same_force_input_agree(scene):
+    """The load's generalized force from the right-hand side and a force
+    input's from the point's Jacobian are the same column (measured: 2e-9
+    of each output's largest, the load's column being a difference of two
+    right-hand sides at the loaded equilibrium)."""
+    import flexbed
+    a = flexbed.frf(scene, input="load push", frequencies=FREQ)
+    b = flexbed.frf(scene, input="force z", force_at=("mass", [P, Q, 0.0]), frequencies=FREQ)
+    assert a.names == b.names
+    top = np.abs(b.H).max(axis=0)
+    assert np.all(np.abs(a.H - b.H) <= 1e-8 * top)
