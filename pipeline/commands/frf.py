@@ -183,10 +183,10 @@ def _print_load(sf, mt, r, load, args) -> None:
         return
     at = frequency_response(sf, mt, input=args.input, points=[],
                             frequencies=np.array([load.running]))
-    F = load.amplitude * np.abs(at.H[0, [at.names.index(f"base F{c}") for c in "XYZ"]])
+    F = abs(load.amplitude) * np.abs(at.H[0, [at.names.index(f"base F{c}") for c in "XYZ"]])
     level = 20.0 * np.log10(np.maximum(F / np.sqrt(2.0), 1e-300))       # of the RMS
     shown = F >= 1e-9 * F.max()                                          # not round-off
-    print(f"  at its running frequency {load.running:.6g} Hz, {load.amplitude:.4g} "
+    print(f"  at its running frequency {load.running:.6g} Hz, {abs(load.amplitude):.4g} "
           f"{load.per}: base force amplitude " +
           ", ".join(f"F{c} {v:.4g} N ({db:.1f} dB re 1 N RMS)"
                     for c, v, db, s in zip("XYZ", F, level, shown) if s))
