@@ -46,7 +46,8 @@ DENSE_LIMIT = 30
 class Input:
     """What drives the system: ``kind`` "base" (unit base acceleration
     [m/s²] along ``axis``) or "force" (unit force [N] with generalized
-    force ``load`` (n,), base at rest)."""
+    force ``load`` (n,), real, or complex for forces in quadrature such as
+    a rotating unbalance's, base at rest)."""
 
     kind: str
     axis: int
@@ -100,7 +101,7 @@ def responses(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Outputs):
     if inp.kind == "base":
         rhs = -(ms.M @ ms.iota[:, inp.axis])
     else:
-        rhs = np.asarray(inp.load, dtype=float)
+        rhs = np.asarray(inp.load)                  # real, or complex (an unbalance)
     Yb, Yq = out.positions[:, :3], out.positions[:, 3:]
     for s in range(0, omega.size, _CHUNK):
         w = omega[s:s + _CHUNK]
@@ -211,7 +212,7 @@ def _responses_sparse(ms: MountedSystem, omega: np.ndarray, inp: Input, out: Out
     Ms, Ks, Cs = ms.sparse
     n = ms.n
     iota = ms.iota[:, inp.axis]
-    rhs = -(Ms @ iota) if inp.kind == "base" else np.asarray(inp.load, dtype=float)
+    rhs = -(Ms @ iota) if inp.kind == "base" else np.asarray(inp.load)
     rhs = rhs.astype(complex)
     plan = _plan(ms)
     if plan is not None:

@@ -1,8 +1,10 @@
 """Transmissibility of a scene's mounted system: inputs, outputs and the
 sweep (:mod:`flexbed.dynamics.frequency.frf`), named and tabulated.
 
-Inputs: a unit base acceleration along X, Y or Z (``"base x"`` …), or a
-unit force along X, Y or Z at a point of a body (``Point`` + axis).
+Inputs: a unit base acceleration along X, Y or Z (``"base x"`` …), a
+unit force along X, Y or Z at a point of a body (``Point`` + axis), or a
+scene's load or unbalance per unit (``"load NAME"``:
+:mod:`flexbed.analyses.frf_loads`).
 Outputs, in this order: each point's acceleration along X, Y, Z
 (inertial, or in a body's frame relative to it), the forces along every
 mount's three axes, the total force of the mounts on the base (X, Y, Z).
@@ -15,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from flexbed.analyses import frf_loads
 from flexbed.analyses.linear_points import PointJacobians
 from flexbed.analyses.elastomer import force_map
 from flexbed.analyses.modal import Mounted
@@ -93,10 +96,14 @@ class FRF:
 
 
 def parse_input(text: str) -> tuple[str, int]:
-    """``"base x"``/``"base-x"`` … or ``"force x"`` → (kind, axis)."""
+    """``"base x"``/``"base-x"`` … or ``"force x"`` → (kind, axis);
+    ``"load NAME"`` → ("load", -1) (the load's axes are the scene's)."""
+    if frf_loads.load_name(text) is not None:
+        return "load", -1
     words = text.replace("-", " ").replace(":", " ").split()
     if len(words) != 2 or words[0] not in ("base", "force") or words[1].lower() not in _AXES:
-        raise InputError(f"input {text!r}: expected 'base x|y|z' or 'force x|y|z'")
+        raise InputError(f"input {text!r}: expected 'base x|y|z', 'force x|y|z' or "
+                         f"'load NAME'")
     return words[0], _AXES.index(words[1].lower())
 
 
@@ -143,7 +150,9 @@ def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Poin
     mt : Mounted
     input : str
         "base x|y|z" (unit base acceleration [m/s²]) or "force x|y|z"
-        (unit force [N] at ``force_at``).
+        (unit force [N] at ``force_at``) or "load NAME" (a [[load]] per
+        unit [N or N m], an [[unbalance]] per newton of its rotating force:
+        :mod:`flexbed.analyses.frf_loads`).
     points : list of (Point, relative_to or None), optional
         Default: the scene's [[point]] tables (absolute, and relative where
         they say so), else the centre of mass of every body 2….
@@ -162,6 +171,10 @@ def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Poin
         columns ``<mount> d1..d3``, after the base force.
     """
     kind, axis = parse_input(input)
+    load = None
+    if kind == "load":
+        load = frf_loads.scene_load(sf, frf_loads.load_name(input), f"input {input!r}")
+        kind, axis = "force", load.directions[0]
     if quantity not in QUANTITIES:
         raise InputError(f"quantity {quantity!r}: one of {', '.join(QUANTITIES)}")
     order, letter, unit_base, unit_force = QUANTITIES[quantity]
@@ -192,9 +205,14 @@ def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Poin
         units += ["s^2" if kind == "base" else "m/N"] * (3 * len(mount_names))
         iso += [False] * (3 * len(mount_names))
     positions = np.vstack(rows) if rows else np.zeros((0, 3 + ms.n))
+    if load is not None:
+        units = [frf_loads.per_unit_load(u, load.per) for u in units]
     if kind == "base":
         inp = dfrf.Input("base", axis)
         label = f"unit base acceleration along {_AXES[axis].upper()} [m/s^2]"
+    elif load is not None:
+        inp = frf_loads.load_frf_input(ms, mt.system, load)
+        label = load.label
     else:
         if force_at is None:
             raise InputError(f"input {input!r} needs the point the force acts at")

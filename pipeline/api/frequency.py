@@ -20,6 +20,7 @@ from typing import Sequence
 import numpy as np
 
 from flexbed.analyses import frf as afrf
+from flexbed.analyses import frf_loads
 from flexbed.analyses.frf import MAX_GRID
 from flexbed.analyses import modal as amodal
 from flexbed.analyses.points import Point
@@ -192,7 +193,10 @@ def frf(scene: SceneFile, *, input: str = "base z",
     scene : SceneFile
     input : str
         "base x|y|z": unit base acceleration [m/s²]; "force x|y|z": unit
-        force [N] at ``force_at`` = (body, position [m] in its frame).
+        force [N] at ``force_at`` = (body, position [m] in its frame);
+        "load NAME": the scene's [[load]] NAME per unit [N or N m], or its
+        [[unbalance]] NAME per newton of its rotating force m·e·Ω²
+        (:mod:`flexbed.analyses.frf_loads`).
     points : sequence of (name, body, position) or (name, body, position,
         relative_to), optional
         Default: the scene's [[point]] tables, else every body's centre of mass.
@@ -217,6 +221,12 @@ def frf(scene: SceneFile, *, input: str = "base z",
         check.bad("deflections", deflections, "True or False")
     scene, modes = check.scene(scene), check.modes(modes)
     input = check.string("", "input", input)
+    load = frf_loads.load_name(input)
+    if load is not None:                    # a scene's load: refused here if it has none
+        if force_at is not None:
+            check.bad("force_at", force_at, "None with input = 'load NAME' (a load acts where "
+                                            "the scene puts it)")
+        frf_loads.scene_load(scene, load, f"flexbed.frf: input = {input!r}")
     pts = check.points(points, "points")
     at = None
     if force_at is not None:

@@ -2,6 +2,8 @@
 static equilibrium: magnitude and phase from a base acceleration (or a
 force on a body) to points of interest, to every mount's forces and to the
 total force on the base, on a grid that resolves every resonance.
+``--input 'load NAME'`` takes a scene's ``[[load]]`` (per N or N m) or
+``[[unbalance]]`` (per newton of its rotating force) as the input.
 
 Writes ``PREFIX.h5`` (``flexbed.frf``), ``PREFIX.csv``,
 ``PREFIX-bode.png`` (the points' accelerations along the input's axis) and
@@ -36,7 +38,9 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                         help="prefix of the files written (default: <scene stem>-frf)")
     parser.add_argument("--input", default="base z", metavar="WHAT",
                         help="'base x|y|z': unit base acceleration (default 'base z'); "
-                             "'force x|y|z' with --force-at: unit force")
+                             "'force x|y|z' with --force-at: unit force; 'load NAME': the "
+                             "scene's [[load]] NAME per N (N m), or its [[unbalance]] NAME "
+                             "per newton of rotating force")
     parser.add_argument("--force-at", default=None, metavar="BODY:x,y,z",
                         help="where the force of --input force acts (body frame) [m]")
     parser.add_argument("--point", action="append", default=[], metavar="NAME=BODY:x,y,z",
@@ -75,6 +79,7 @@ def _band(text):
 
 
 def run(args: argparse.Namespace) -> int:
+    from flexbed.analyses import frf_loads
     from flexbed.analyses.frf import MAX_GRID, QUANTITIES, check_request, frequency_response, \
         frf_csv, parse_input
     from flexbed.analyses.points import parse_point
@@ -88,7 +93,14 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"-n {args.n}: from 2 to {MAX_GRID:,} frequencies")
     if band is not None:
         check_request(band, args.n, None)
-    force_at = None
+    force_at = load = None
+    if kind == "load":
+        load = frf_loads.scene_load(sf, frf_loads.load_name(args.input),
+                                    f"--input {args.input!r}")
+        if args.force_at is not None:
+            raise InputError(f"--force-at {args.force_at!r}: applies to --input force only "
+                             f"(a load acts where the scene puts it)")
+        axis = load.directions[0]
     if kind == "force":
         if args.force_at is None:
             raise InputError("--input force needs --force-at BODY:x,y,z")
@@ -128,6 +140,8 @@ def run(args: argparse.Namespace) -> int:
               (f"isolation (|T| < 1) above {f_iso:.6g} Hz, "
                f"{100 * (1 - r.magnitude[-1, j]):.2f} % at {r.frequency[-1]:.4g} Hz"
                if f_iso is not None else "no isolation in the band"))
+    if load is not None:
+        _print_load(sf, mt, r, load, args)
     print(f"solve time: {r.solve_time:.4f} s CPU for {r.evaluations} frequencies "
           f"(linearisation and modes: {mt.solve_time:.4f} s)")
     write_frf(out["h5"], sf, r)
@@ -150,3 +164,29 @@ def run(args: argparse.Namespace) -> int:
                   r.resonances)
     print("wrote " + ", ".join(str(p) for p in out.values()))
     return 0
+
+
+def _print_load(sf, mt, r, load, args) -> None:
+    """The force into the base per unit load, each axis's largest; at the
+    load's running frequency (an unbalance, a harmonic), solved there, the
+    force it puts into the base: amplitude [N] and level of its RMS
+    [dB re 1 N]."""
+    from flexbed.analyses.frf import frequency_response
+    fb = [r.names.index(f"base F{c}") for c in "XYZ"]
+    top = float(r.magnitude[:, fb].max())
+    for c, j in zip("XYZ", fb):
+        k = int(np.argmax(r.magnitude[:, j]))
+        if r.magnitude[k, j] >= 1e-6 * top:                          # not round-off
+            print(f"  base F{c} per unit load: largest {r.magnitude[k, j]:.4g} [{r.units[j]}] "
+                  f"at {r.frequency[k]:.4f} Hz")
+    if load.running is None:
+        return
+    at = frequency_response(sf, mt, input=args.input, points=[],
+                            frequencies=np.array([load.running]))
+    F = abs(load.amplitude) * np.abs(at.H[0, [at.names.index(f"base F{c}") for c in "XYZ"]])
+    level = 20.0 * np.log10(np.maximum(F / np.sqrt(2.0), 1e-300))       # of the RMS
+    shown = F >= 1e-9 * F.max()                                          # not round-off
+    print(f"  at its running frequency {load.running:.6g} Hz, {abs(load.amplitude):.4g} "
+          f"{load.per}: base force amplitude " +
+          ", ".join(f"F{c} {v:.4g} N ({db:.1f} dB re 1 N RMS)"
+                    for c, v, db, s in zip("XYZ", F, level, shown) if s))
