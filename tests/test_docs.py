@@ -11,7 +11,8 @@ comment naming a file (``# stiffness.toml``) is that file: it is written into
 the scratch folder first, as the reader would save it. The project's
 ``pipeline`` folder is linked into the scratch folder, so a page may name a
 scene shipped with flexbed by its path in the repository
-(``pipeline/scenes/skid.toml``). Every ```python block runs. The quick start
+(``pipeline/scenes/skid.toml``). Every ```python block runs, in a folder
+holding the page's named files too. The quick start
 is exactly two commands, and ``.ci/run`` runs the second.
 """
 
@@ -121,7 +122,10 @@ def test_every_command_line_runs(page, tmp_path):
 @pytest.mark.slow
 @pytest.mark.parametrize("page", WITH_PYTHON, ids=_id)
 def test_every_python_block_runs(page, tmp_path):
-    for code in blocks(page.read_text(), "python"):
+    text = page.read_text()
+    for name, body in named_files(text).items():     # the page's files, as for its commands
+        (tmp_path / name).write_text(body)
+    for code in blocks(text, "python"):
         cp = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
                             text=True, timeout=600, env=_env())
         assert cp.returncode == 0, f"{_id(page)}: python block failed:\n{code}\n{cp.stderr[-2000:]}"
