@@ -9,9 +9,10 @@ PATH, and must exit with 0, or with N where the line ends in a comment
 ``# exit N`` (e.g. a verdict of FAIL). A ```toml block whose first line is a
 comment naming a file (``# stiffness.toml``) is that file: it is written into
 the scratch folder first, as the reader would save it. The project's
-``pipeline`` folder is linked into the scratch folder, so a page may name a
-scene shipped with flexbed by its path in the repository
-(``pipeline/scenes/skid.toml``). Every ```python block runs, in a folder
+``pipeline`` and ``docs`` folders are linked into the scratch folder, so a
+page may name a scene or an input shipped with flexbed by its path in the
+repository (``pipeline/scenes/skid.toml``, ``docs/response-spectrum-deck.toml``);
+a page writes its outputs into the scratch folder, never under ``docs/``. Every ```python block runs, in a folder
 holding the page's named files too. The quick start
 is exactly two commands, and ``.ci/run`` runs the second.
 """
@@ -110,7 +111,8 @@ def test_every_command_line_runs(page, tmp_path):
     text = page.read_text()
     for name, body in named_files(text).items():
         (tmp_path / name).write_text(body)
-    (tmp_path / "pipeline").symlink_to(ROOT / "pipeline")
+    for shipped in ("pipeline", "docs"):
+        (tmp_path / shipped).symlink_to(ROOT / shipped)
     env = _env()
     for cmd, expected in commands(text):
         cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=tmp_path, env=env,
@@ -125,6 +127,8 @@ def test_every_python_block_runs(page, tmp_path):
     text = page.read_text()
     for name, body in named_files(text).items():     # the page's files, as for its commands
         (tmp_path / name).write_text(body)
+    for shipped in ("pipeline", "docs"):
+        (tmp_path / shipped).symlink_to(ROOT / shipped)
     for code in blocks(text, "python"):
         cp = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
                             text=True, timeout=600, env=_env())

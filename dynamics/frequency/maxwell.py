@@ -20,7 +20,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import nnls
 
 from .elastomer import ElastomerTable
 
@@ -58,6 +57,8 @@ class MaxwellFit:
 def fit_maxwell(table: ElastomerTable) -> MaxwellFit:
     """Fit :class:`MaxwellFit` to ``table`` over its frequency band (a one-row
     table: over :data:`CONSTANT_BAND`)."""
+    from scipy.optimize import nnls       # only for a scene with elastomer mounts: keeps
+                                          # scipy.optimize out of every other scene's start
     f_lo, f_hi = ((float(table.frequency[0]), float(table.frequency[-1]))
                   if table.frequency.size > 1 else CONSTANT_BAND)
     lo, hi = math.log10(f_lo) - 0.5, math.log10(f_hi) + 0.5

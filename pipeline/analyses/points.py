@@ -33,7 +33,7 @@ from flexbed.fem.grid_shapes import OutsidePlateError
 from flexbed.errors import InputError
 from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.files.results import read_results
-from flexbed.files.scene import scene_data
+from flexbed.files.scene_text import scene_data
 from flexbed.files.store import Contents
 
 

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import pickle
 import tomllib
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -37,6 +36,8 @@ from flexbed.files.drives import ALL_SHAPE_KEYS, ShapeReader
 from flexbed.errors import InputError
 from flexbed.files.destination import check_source
 from flexbed.files.loads import read_loads
+from flexbed.files.scene_text import keep as _keep
+from flexbed.files.scene_text import scene_data
 from flexbed.files.elastomer import ELASTOMER_KEYS, read_elastomer, report_fits
 from flexbed.files.limits import (BODY_LIMIT_KEYS, JUDGED_ONLY_KEYS, MOUNT_LIMIT_KEYS, Limits,
                                   read_limits)
@@ -173,31 +174,6 @@ def parse_scene(text: str, source: Path, *, data: dict | None = None) -> SceneFi
                              f"deeply") from None
     _keep(text, data)
     return _Reader(source.name, source.parent).read(data, source, text)
-
-
-#: the last few scene texts checked or used → their data, pickled (the most
-#: recently used last)
-_PARSED: dict = {}
-
-
-def _keep(text: str, data: dict) -> bytes:
-    _PARSED.pop(text, None)
-    raw = _PARSED[text] = pickle.dumps(data, protocol=pickle.HIGHEST_PROTOCOL)
-    while len(_PARSED) > 4:
-        del _PARSED[next(iter(_PARSED))]
-    return raw
-
-
-def scene_data(text: str) -> dict:
-    """``tomllib.loads(text)`` of a scene's TOML (a fresh copy each call;
-    ``tomllib.TOMLDecodeError`` as it raises): the parse of the last few
-    texts checked or used is kept, so that a run's stages do not parse the
-    same scene again (~5 ms each)."""
-    raw = _PARSED.pop(text, None)
-    if raw is None:
-        return pickle.loads(_keep(text, tomllib.loads(text)))
-    _PARSED[text] = raw
-    return pickle.loads(raw)
 
 
 class _Reader(ShapeReader):

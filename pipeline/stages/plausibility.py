@@ -42,7 +42,7 @@ from flexbed.dynamics.statics import Equilibrium
 from flexbed.dynamics.system import System
 from flexbed.errors import InputError, NumericalError
 from flexbed.files.sanity import body_sizes as scene_sizes
-from flexbed.files.scene import scene_data
+from flexbed.files.scene_text import scene_data
 
 __all__ = ["MountStatics", "mount_statics", "mount_table", "mount_csv", "body_sizes",
            "implausibility", "check_equilibrium", "DEFLECTION_LIMIT", "ROTATION_LIMIT_DEG"]
