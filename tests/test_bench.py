@@ -28,12 +28,20 @@ PNG = b"\x89PNG\r\n\x1a\n"
 FOREIGN = {"bench-retired-section.png": PNG + b"an earlier report's", "notes.txt": b"mine"}
 
 
+#: the quick report, built once per process: pytest-xdist may tear a module
+#: fixture down between two batches of this file's tests on one worker (each
+#: of the two workers may still build its own)
+_BUILT: dict = {}
+
+
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
-    out = tmp_path_factory.mktemp("bench")
-    for name, data in FOREIGN.items():
-        (out / name).write_bytes(data)
-    return write_report(out, quick=True, t_end=T_END)
+    if "report" not in _BUILT:
+        out = tmp_path_factory.mktemp("bench")
+        for name, data in FOREIGN.items():
+            (out / name).write_bytes(data)
+        _BUILT["report"] = write_report(out, quick=True, t_end=T_END)
+    return _BUILT["report"]
 
 
 @pytest.mark.slow
