@@ -12,8 +12,9 @@ the scratch folder first, as the reader would save it. The project's
 ``pipeline`` and ``docs`` folders are linked into the scratch folder, so a
 page may name a scene or an input shipped with flexbed by its path in the
 repository (``pipeline/scenes/skid.toml``, ``docs/response-spectrum-deck.toml``);
-a page writes its outputs into the scratch folder, never under ``docs/``. Every ```python block runs, in a folder
-holding the page's named files too. The quick start
+a page writes its outputs into the scratch folder, never under ``docs/``.
+Every ```python block runs, in a folder holding the page's named files too.
+The quick start
 is exactly two commands, and ``.ci/run`` runs the second.
 """
 
