@@ -28,24 +28,15 @@ PNG = b"\x89PNG\r\n\x1a\n"
 FOREIGN = {"bench-retired-section.png": PNG + b"an earlier report's", "notes.txt": b"mine"}
 
 
-#: the quick report, built once per process: pytest-xdist may tear a module
-#: fixture down between two batches of this file's tests on one worker (each
-#: of the two workers may still build its own)
-_BUILT: dict = {}
+def _build_report(tmp_path):
+    out = tmp_path / "bench"
+    out.mkdir()
+    for name, data in FOREIGN.items():
+        (out / name).write_bytes(data)
+    return write_report(out, quick=True, t_end=T_END)
 
 
-@pytest.fixture(scope="module")
-def report(tmp_path_factory):
-    if "report" not in _BUILT:
-        out = tmp_path_factory.mktemp("bench")
-        for name, data in FOREIGN.items():
-            (out / name).write_bytes(data)
-        _BUILT["report"] = write_report(out, quick=True, t_end=T_END)
-    return _BUILT["report"]
-
-
-@pytest.mark.slow
-def test_files_the_report_did_not_write_are_left_alone(report):
+def _files_the_report_did_not_write_are_left_alone(report):
     out = report.path.parent
     for name, data in FOREIGN.items():
         assert (out / name).read_bytes() == data
@@ -54,8 +45,7 @@ def test_files_the_report_did_not_write_are_left_alone(report):
                                            [out / name for name in FOREIGN])
 
 
-@pytest.mark.slow
-def test_report_and_every_figure_are_written(report):
+def _report_and_every_figure_are_written(report):
     text = report.path.read_text()
     assert report.path.name == "benchmarks.md"
     for title in ("## One right-hand side", "## Integrators", "## Against the aims",
@@ -70,8 +60,7 @@ def test_report_and_every_figure_are_written(report):
     assert "not comparable" in text
 
 
-@pytest.mark.slow
-def test_every_integrator_ran_on_every_quick_case(report):
+def _every_integrator_ran_on_every_quick_case(report):
     rows = report.ctx.results["integrators"]
     assert set(rows) == {"rigid", "flexible"}
     for case_rows in rows.values():
@@ -81,23 +70,20 @@ def test_every_integrator_ran_on_every_quick_case(report):
             assert m.ok and 0 < m.position_error < 1e-4 and 0 < m.force_error < 10.0
 
 
-@pytest.mark.slow
-def test_reference_is_far_more_accurate_than_the_ladders(report):
+def _reference_is_far_more_accurate_than_the_ladders(report):
     for key, ref in report.ctx.results["references"].items():
         ok = [m for m in report.ctx.results["integrators"][key] if m.ok]
         assert 0 < ref.position_error < 0.05 * min(m.position_error for m in ok), key
         assert 0 < ref.force_error < 0.05 * min(m.force_error for m in ok), key
 
 
-@pytest.mark.slow
-def test_rk4_converges_at_fourth_order(report):
+def _rk4_converges_at_fourth_order(report):
     for key in ("rigid", "flexible"):
         orders = observed_orders(report.ctx.results["integrators"][key])
         assert orders and all(3.6 < p < 4.4 for p in orders), (key, orders)
 
 
-@pytest.mark.slow
-def test_truncation_error_falls_as_modes_are_kept(report):
+def _truncation_error_falls_as_modes_are_kept(report):
     runs = report.ctx.results["modes_count"]["runs"]
     for attr in ("position_error", "motion_error", "force_error"):
         e = [getattr(r, attr) for r in runs]
@@ -105,23 +91,20 @@ def test_truncation_error_falls_as_modes_are_kept(report):
         assert e[-1] < 0.5 * e[0], (attr, e)
 
 
-@pytest.mark.slow
-def test_mesh_error_falls_with_refinement(report):
+def _mesh_error_falls_with_refinement(report):
     rows = report.ctx.results["mesh"]
     errs = [r.error for r in rows]
     assert errs[-1] == 0.0 and all(b < a for a, b in zip(errs, errs[1:]))
 
 
-@pytest.mark.slow
-def test_first_order_invariants_differ_slightly_from_full(report):
+def _first_order_invariants_differ_slightly_from_full(report):
     full, first = report.ctx.results["invariants"]["flexible"]
     assert full.position_error < 1e-7                     # the integrator's own error
     d = float(np.max(np.abs(first.samples.r - full.samples.r)))
     assert 0 < d < 1e-6
 
 
-@pytest.mark.slow
-def test_aims_name_the_fastest_setting_reaching_each_error(report):
+def _aims_name_the_fastest_setting_reaching_each_error(report):
     verdicts = report.ctx.results["aims"]
     assert set(verdicts) == {(k, e) for k in ("rigid", "flexible") for e in (1e-6, 1e-9)}
     rows = report.ctx.results["integrators"]["rigid"]
@@ -130,8 +113,7 @@ def test_aims_name_the_fastest_setting_reaching_each_error(report):
     assert best.wall_time == min(m.wall_time for m in rows if m.ok and m.position_error <= 1e-6)
 
 
-@pytest.mark.slow
-def test_settings_over_budget_are_skipped_with_the_prediction(report):
+def _settings_over_budget_are_skipped_with_the_prediction(report):
     ctx = report.ctx
     rows = run_ladders(ctx.case("rigid"), ctx.reference("rigid"),
                        {"rk4": (1e-5, 5e-6), "dop853": (1e-6, 1e-7)}, output_dt=ctx.output_dt,
@@ -211,8 +193,7 @@ def test_bench_positionals_target_then_scene(capsys):
     assert len(err) == 1 and "target 'nonsense' is not one of all, modes" in err[0]
 
 
-@pytest.mark.slow
-def test_frequency_section_times_modal_and_frf_on_both_beds(report):
+def _frequency_section_times_modal_and_frf_on_both_beds(report):
     res = report.ctx.results["frequency"]
     assert "## The mounted system in the frequency domain" in report.path.read_text()
     rigid, flexible = res["rigid bed"], res["flexible bed, 6 modes"]
@@ -222,8 +203,7 @@ def test_frequency_section_times_modal_and_frf_on_both_beds(report):
     assert flexible["adaptive_frequencies"] > 400
 
 
-@pytest.mark.slow
-def test_beds_section_puts_both_theories_against_the_3d_solid(report):
+def _beds_section_puts_both_theories_against_the_3d_solid(report):
     from flexbed.bench.beds import SOLID, SOLID_IN_PLANE
     res = report.ctx.results["beds"]
     assert "## Beds as built" in report.path.read_text()
@@ -248,3 +228,32 @@ def test_beds_section_puts_both_theories_against_the_3d_solid(report):
     # the same triangles split in three quads each (the route before)
     assert split.elements == 3 * 2 * 10 * 20
     assert np.allclose(split.bed.modes.frequency[:6], grid.bed.modes.frequency[:6], rtol=0.003)
+
+
+CHECKS = (_files_the_report_did_not_write_are_left_alone,
+          _report_and_every_figure_are_written,
+          _every_integrator_ran_on_every_quick_case,
+          _reference_is_far_more_accurate_than_the_ladders,
+          _rk4_converges_at_fourth_order,
+          _truncation_error_falls_as_modes_are_kept,
+          _mesh_error_falls_with_refinement,
+          _first_order_invariants_differ_slightly_from_full,
+          _aims_name_the_fastest_setting_reaching_each_error,
+          _settings_over_budget_are_skipped_with_the_prediction,
+          _frequency_section_times_modal_and_frf_on_both_beds,
+          _beds_section_puts_both_theories_against_the_3d_solid)
+
+
+@pytest.mark.slow
+def test_the_quick_report(tmp_path):
+    """One quick report (about a minute of CPU), built once and checked by
+    every function of CHECKS: one test rather than a module fixture, which
+    each pytest-xdist worker would build again."""
+    report = _build_report(tmp_path)
+    failed = []
+    for check in CHECKS:            # every check runs; the failures are reported together
+        try:
+            check(report)
+        except AssertionError as exc:
+            failed.append(f"{check.__name__[1:]}: {exc}")
+    assert not failed, "\n".join(failed)
