@@ -19,13 +19,12 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
 from flexbed.files.destination import check_destination, write_text
 from flexbed.files.store import Dataset, write_file
-from flexbed.files.xdmf import data_item, xdmf_topology
+from flexbed.files.xdmf import temporal_xdmf, xdmf_topology
 
 __all__ = ["write_stress_series", "STRESS_SCHEMA"]
 
@@ -81,31 +80,6 @@ def write_stress_series(path: str | os.PathLike, nodes: np.ndarray, cells: np.nd
         attrs[g] = {"time": float(times[i])}
     write_file(h5, schema=STRESS_SCHEMA, version=VERSION, datasets=ds, attrs=attrs)
 
-    name = h5.name
-    mesh = ("xpointer(//Grid[@Name=&quot;mesh&quot;]/*[self::Topology or "
-            "self::Geometry])")
-    lines = ['<?xml version="1.0" encoding="utf-8"?>',
-             '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">',
-             "  <Domain>",
-             '    <Grid Name="mesh" GridType="Uniform">',
-             f'      <Topology TopologyType="{topology}" NumberOfElements="{ne}">',
-             f"        {data_item(name, 'mesh/cells', cells.shape, 'Int')}",
-             "      </Topology>",
-             '      <Geometry GeometryType="XYZ">',
-             f"        {data_item(name, 'mesh/nodes', nodes.shape, 'Float')}",
-             "      </Geometry>",
-             "    </Grid>",
-             f'    <Grid Name={quoteattr(path.stem)} GridType="Collection" '
-             'CollectionType="Temporal">']
-    for i, t in enumerate(times):
-        g = f"frames/{i:0{width}d}"
-        lines += ['      <Grid GridType="Uniform">',
-                  f'        <xi:include xpointer="{mesh}"/>',
-                  f'        <Time Value="{float(t)!r}"/>']
-        for fname, _ in _FIELDS:
-            lines += [f'        <Attribute Name="{fname}" AttributeType="Scalar" Center="Cell">',
-                      f"          {data_item(name, f'{g}/{fname}', (ne,), 'Float')}",
-                      "        </Attribute>"]
-        lines += ["      </Grid>"]
-    lines += ["    </Grid>", "  </Domain>", "</Xdmf>"]
-    return write_text(path, "\n".join(lines) + "\n")
+    text = temporal_xdmf(h5.name, path.stem, topology, ne, cells.shape, nodes.shape, times,
+                         width, [(fname, "Scalar", "Cell", (ne,)) for fname, _ in _FIELDS])
+    return write_text(path, text)

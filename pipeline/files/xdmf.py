@@ -34,7 +34,7 @@ import numpy as np
 from flexbed.files.destination import check_destination, write_text
 from flexbed.files.store import Dataset, write_file
 
-__all__ = ["write_bed_motion", "BED_MOTION_SCHEMA"]
+__all__ = ["write_bed_motion", "temporal_xdmf", "BED_MOTION_SCHEMA"]
 
 BED_MOTION_SCHEMA = "flexbed.bed_motion"
 #: 1.1: triangles ("Triangle" or "Mixed" topology, group attribute
@@ -67,6 +67,49 @@ def data_item(h5name: str, dataset: str, shape: tuple, kind: str) -> str:
     dims = " ".join(str(int(d)) for d in shape)
     return (f'<DataItem DataType="{kind}" Dimensions="{dims}" Format="HDF" Precision="8">'
             f"{escape(h5name)}:/{dataset}</DataItem>")
+
+
+def temporal_xdmf(h5name: str, stem: str, topology: str, n_cells: int, cells_shape: tuple,
+                  nodes_shape: tuple, times: np.ndarray, width: int,
+                  attributes: list[tuple[str, str, str, tuple]]) -> str:
+    """The XDMF text of a time series in an HDF5 file: the mesh once
+    (``mesh/cells``, ``mesh/nodes``), then one grid per frame
+    ``frames/NNNN`` holding ``attributes``.
+
+    Parameters
+    ----------
+    attributes : list of (name, type, centre, shape)
+        Each frame's datasets: ``type`` "Scalar" or "Vector", ``centre``
+        "Node" or "Cell", ``shape`` the dataset's.
+    """
+    mesh = ("xpointer(//Grid[@Name=&quot;mesh&quot;]/*[self::Topology or "
+            "self::Geometry])")
+    lines = ['<?xml version="1.0" encoding="utf-8"?>',
+             '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">',
+             "  <Domain>",
+             '    <Grid Name="mesh" GridType="Uniform">',
+             f'      <Topology TopologyType="{topology}" NumberOfElements="{n_cells}">',
+             f"        {data_item(h5name, 'mesh/cells', cells_shape, 'Int')}",
+             "      </Topology>",
+             '      <Geometry GeometryType="XYZ">',
+             f"        {data_item(h5name, 'mesh/nodes', nodes_shape, 'Float')}",
+             "      </Geometry>",
+             "    </Grid>",
+             f'    <Grid Name={quoteattr(stem)} GridType="Collection" '
+             'CollectionType="Temporal">']
+    for i, t in enumerate(times):
+        g = f"frames/{i:0{width}d}"
+        lines += ['      <Grid GridType="Uniform">',
+                  f'        <xi:include xpointer="{mesh}"/>',
+                  f'        <Time Value="{float(t)!r}"/>']
+        for name, kind, centre, shape in attributes:
+            lines += [f'        <Attribute Name="{name}" AttributeType="{kind}" '
+                      f'Center="{centre}">',
+                      f"          {data_item(h5name, f'{g}/{name}', shape, 'Float')}",
+                      "        </Attribute>"]
+        lines += ["      </Grid>"]
+    lines += ["    </Grid>", "  </Domain>", "</Xdmf>"]
+    return "\n".join(lines) + "\n"
 
 
 def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarray,
@@ -122,33 +165,7 @@ def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarr
         attrs[g] = {"time": float(times[i])}
     write_file(h5, schema=BED_MOTION_SCHEMA, version=VERSION, datasets=ds, attrs=attrs)
 
-    name = h5.name
-    mesh = ("xpointer(//Grid[@Name=&quot;mesh&quot;]/*[self::Topology or "
-            "self::Geometry])")
-    lines = ['<?xml version="1.0" encoding="utf-8"?>',
-             '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">',
-             "  <Domain>",
-             '    <Grid Name="mesh" GridType="Uniform">',
-             f'      <Topology TopologyType="{topology}" NumberOfElements="{n_cells}">',
-             f"        {data_item(name, 'mesh/cells', cells.shape, 'Int')}",
-             "      </Topology>",
-             '      <Geometry GeometryType="XYZ">',
-             f"        {data_item(name, 'mesh/nodes', nodes.shape, 'Float')}",
-             "      </Geometry>",
-             "    </Grid>",
-             f'    <Grid Name={quoteattr(path.stem)} GridType="Collection" '
-             'CollectionType="Temporal">']
-    for i, t in enumerate(times):
-        g = f"frames/{i:0{width}d}"
-        lines += ['      <Grid GridType="Uniform">',
-                  f'        <xi:include xpointer="{mesh}"/>',
-                  f'        <Time Value="{float(t)!r}"/>',
-                  '        <Attribute Name="displacement" AttributeType="Vector" Center="Node">',
-                  f"          {data_item(name, f'{g}/displacement', (n, 3), 'Float')}",
-                  "        </Attribute>",
-                  '        <Attribute Name="deflection" AttributeType="Scalar" Center="Node">',
-                  f"          {data_item(name, f'{g}/deflection', (n,), 'Float')}",
-                  "        </Attribute>",
-                  "      </Grid>"]
-    lines += ["    </Grid>", "  </Domain>", "</Xdmf>"]
-    return write_text(path, "\n".join(lines) + "\n")
+    text = temporal_xdmf(h5.name, path.stem, topology, n_cells, cells.shape, nodes.shape,
+                         times, width, [("displacement", "Vector", "Node", (n, 3)),
+                                        ("deflection", "Scalar", "Node", (n,))])
+    return write_text(path, text)
