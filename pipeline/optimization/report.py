@@ -159,7 +159,8 @@ def plot_convergence(opt: Optimum, path: Path) -> Path:
                 label="best feasible so far")
     ax.set_ylabel("|objective − optimum's| [1]")
     ax.set_title(f"{opt.problem.spec.name}: {opt.problem.spec.method}, "
-                 f"{opt.evaluations} evaluations, optimum {opt.objective:.6g}", fontsize=10)
+                 f"{len(hist)} evaluations ({opt.evaluations} new in this run), "
+                 f"optimum {opt.objective:.6g}", fontsize=10)
     ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
     ax.grid(True, which="both", alpha=0.3)
     if constrained:
