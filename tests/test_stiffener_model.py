@@ -68,12 +68,18 @@ def test_model_and_shear_area_inputs():
     assert general.shear_area == 0.0
     with pytest.raises(GeometryError, match="model = 'timoshenko' needs the section's "
                                             "shear_area > 0"):
-        Stiffener("g", (0, -1), (0, 1), general, -0.2)
+        Stiffener("g", (0, -1), (0, 1), general, -0.2, "timoshenko")
     assert Stiffener("g", (0, -1), (0, 1), general, -0.2, "euler-bernoulli").model == \
         "euler-bernoulli"
-    with pytest.raises(GeometryError, match="model = 'beam' must be one of \"timoshenko\", "
-                                            "\"euler-bernoulli\""):
+    with pytest.raises(GeometryError, match="model = 'beam' must be one of \"hinged\", "
+                                            "\"timoshenko\", \"euler-bernoulli\""):
         Stiffener("g", (0, -1), (0, 1), flat, -0.1, "beam")
+    with pytest.raises(GeometryError, match="model = 'hinged' needs the section's depth"):
+        Stiffener("g", (0, -1), (0, 1), replace(general, shear_area=1e-3), -0.2, "hinged")
+    assert Stiffener("f", (0, -1), (0, 1), flat, -0.1).model == "hinged"
+    assert Stiffener("g", (0, -1), (0, 1), replace(general, shear_area=1e-3), -0.2).model == \
+        "timoshenko"
+    assert Stiffener("g", (0, -1), (0, 1), general, -0.2).model == "euler-bernoulli"
     with pytest.raises(GeometryError, match="shear_area = 0.001 applies to section = 'general' "
                                             "only"):
         section_of("flat", height=0.1, width=0.02, shear_area=1e-3)
@@ -164,7 +170,7 @@ def _scene(tmp_path, keys: str, name: str = "s.toml"):
 
 
 def test_scene_keys_model_and_shear_area(tmp_path):
-    """model defaults to "timoshenko" (a general section: only with its
+    """model defaults to "hinged" (a general section: "timoshenko" with its
     shear_area, else "euler-bernoulli"); the spec's dictionary (what a modes
     file stores) keeps the model, and an Euler-Bernoulli stiffener's is the
     one it had before the key (so is its digest)."""
@@ -177,7 +183,7 @@ def test_scene_keys_model_and_shear_area(tmp_path):
             for keys in (flat, flat + 'model = "euler-bernoulli"\n', general,
                          general + "shear_area = 1.5e-3\n")}
     models = [p.stiffeners[0].model for p in read.values()]
-    assert models == ["timoshenko", "euler-bernoulli", "euler-bernoulli", "timoshenko"]
+    assert models == ["hinged", "euler-bernoulli", "euler-bernoulli", "timoshenko"]
     for plate in read.values():
         again = PlateSpec.from_dict(plate.as_dict())
         assert again.digest() == plate.digest()
@@ -188,7 +194,9 @@ def test_scene_keys_model_and_shear_area(tmp_path):
 
 @pytest.mark.parametrize("keys, message", [
     ('section = "flat"\nheight = 0.1\nwidth = 0.02\nmodel = "beam"\n',
-     "model = 'beam' must be one of \"timoshenko\", \"euler-bernoulli\""),
+     "model = 'beam' must be one of \"hinged\", \"timoshenko\", \"euler-bernoulli\""),
+    ('section = "general"\narea = 2e-3\nIy = 1.6e-6\nIz = 6.7e-8\nJ = 2.4e-7\noffset = -0.1\n'
+     'shear_area = 1.5e-3\nmodel = "hinged"\n', "model = 'hinged' needs the section's depth"),
     ('section = "flat"\nheight = 0.1\nwidth = 0.02\nshear_area = 1e-3\n',
      "shear_area = 0.001 applies to section = 'general' only"),
     ('section = "general"\narea = 2e-3\nIy = 1.6e-6\nIz = 6.7e-8\nJ = 2.4e-7\noffset = -0.1\n'
@@ -202,3 +210,39 @@ def test_bad_model_keys_exit_2(tmp_path, capsys, keys, message):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "s.toml: bed: stiffener 'keel': " + message in err[0], err
     assert not (tmp_path / "m.h5").exists()
+
+
+def test_hinged_stiffener_dofs():
+    """model = "hinged" adds one DOF per node on the stiffener's line (its
+    section rotation ψ), after the shell's 5 N: rigid motions (ψ = the
+    plate's rotation φ) strain nothing and carry the same mass as with the
+    section on the plate's normal ("timoshenko"); the banded ordering puts
+    each ψ after its node's five DOFs, so the band grows by the few ψ within
+    it (at the end of the DOFs it would span them all)."""
+    from flexbed.fem.banded import BandedCholesky
+    from flexbed.fem.shell import assemble_shell
+    from flexbed.fem.spec import PlateSpec
+    sec = section_of("flat", height=0.1, width=0.02)
+    bar = Stiffener("bar", (0.0, -1.5), (0.0, 1.5), sec, -(0.01 + sec.centroid))
+    models = {name: assemble_shell(PlateSpec(length_x=0.2, length_y=3.0, thickness=0.02,
+                                             theory="mindlin", nx=2, ny=24,
+                                             stiffeners=(replace(bar, model=name),)))
+              for name in ("hinged", "timoshenko")}
+    h, t = models["hinged"], models["timoshenko"]
+    N = h.nodes.shape[0]
+    assert h.K.shape == (5 * N + 25, 5 * N + 25) and t.K.shape == (5 * N, 5 * N)
+    line = h.nodes[h.extra_nodes] + h.origin            # drawing frame
+    np.testing.assert_allclose(line, np.column_stack([np.zeros(25), np.linspace(-1.5, 1.5, 25)]),
+                               rtol=0, atol=1e-12)
+    R, Rt = h.rigid_vectors(), t.rigid_vectors()
+    assert np.abs(h.K @ R).max() <= 1e-9 * abs(h.K).max()
+    np.testing.assert_allclose(R.T @ (h.M @ R), Rt.T @ (t.M @ Rt), rtol=1e-12, atol=1e-12)
+    assert np.allclose(R[5 * N:, 3], 1.0) and np.allclose(R[5 * N:, [0, 1, 2, 4, 5]], 0.0)
+    order = h.band_order()
+    assert np.array_equal(np.sort(order), np.arange(h.K.shape[0]))
+    where = np.empty_like(order)
+    where[order] = np.arange(order.size)
+    assert np.array_equal(where[5 * N:], where[5 * h.extra_nodes + 4] + 1)
+    bands = {k: BandedCholesky(m.K + 1e3 * m.M, order=m.band_order()).bandwidth
+             for k, m in models.items()}
+    assert bands["hinged"] <= bands["timoshenko"] + 4, bands     # the ψ of a band's rows
