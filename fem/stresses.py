@@ -21,9 +21,10 @@ stress at the top face σb = (t/2) Q κ; the bottom face's bending stress is
 
 Stiffeners' stresses (:func:`stiffener_stress_operators`) are recovered
 from the shell DOFs the stiffener is joined to, with its own kinematics
-(centroid at the offset, moving as U = (u + e θy, v − e θx, w)); it is a
-small function of its own so that a different stiffener model changes one
-place.
+(centroid at the offset, moving as U = (u + e θy, v − e θx, w); a hinged
+stiffener's section with its own rotation ψ, DOFs after the nodes'); it is
+a small function of its own so that a different stiffener model changes
+one place.
 """
 
 from __future__ import annotations
@@ -56,9 +57,9 @@ class StiffenerStress:
     axial : sparse (k, ndof)
         Axial stress at the section's centroid E ε_c [Pa per unit DOF].
     gradient : sparse (k, ndof)
-        Bending stress per metre above the centroid, −E w'' [Pa/m per
-        unit DOF]: the stress at a fibre d above the centroid is
-        axial + d · gradient.
+        Bending stress per metre above the centroid, −E w'' (a hinged
+        stiffener's: −E ψ', its own curvature) [Pa/m per unit DOF]: the
+        stress at a fibre d above the centroid is axial + d · gradient.
     fibres : ndarray (2,)
         The extreme fibres' heights above the centroid [m] (upper, lower).
     """
