@@ -1,0 +1,314 @@
+"""The exact tangent stiffness and damping at rest, block-sparse by the mount graph.
+
+At a state where nothing moves (every body's ṙ, ω̄, ȧ and the base's
+velocity nil: a static equilibrium) the derivatives of the generalized
+forces are written out analytically, so that the mounted system's K and C
+carry round-off only, where central differences of the right-hand side
+(:mod:`flexbed.dynamics.jacobian`) carry the step's truncation and the
+preloads' cancellation (1.4e-10 of K on the reference scene, which a mode
+with ζ ≈ 1e-5 amplifies 1/(2ζ)-fold at its resonance).
+
+Positions, deflections and forces come from one evaluation of the one
+right-hand side (its work arrays: ``w_A``, ``w_P``, ``w_ub``, ``w_dx``,
+``w_f``, ``w_F``); only their derivatives are written here. With a body's
+unknowns δr (inertial), δθ (body frame, ``p ← p ⊗ p(δθ)``) and δa, the
+end e of a mount on body b moves by ``δP_e = E_e δq_b`` with
+``E_e = [I, −A_b ū_e~, A_b Φ_e]`` (and its velocity by ``E_e δv_b``). For
+mount m (ends i, j; axes U in body i; λ = A_iᵀ (P_j − P_i); Δx = U λ − d0;
+f = f(Δx, Δẋ); F̄ = Uᵀ f; F = A_i F̄ on P_i, −F on P_j):
+
+    δλ  = A_iᵀ (E_j δq_j − E_i δq_i) + λ~ δθ_i
+    δΔx = U δλ,   δf = f'(Δx) δΔx,   δF = A_i (Uᵀ δf − F̄~ δθ_i)
+
+(f' the law's slope: k, the polynomial's or the spline's derivative, plus a
+bump stop's contact stiffness when in contact). On the end's body (sign s =
++1 at i, −1 at j; ḡ = A_bᵀ F, body frame) the generalized force is
+``s [F; ū × ḡ; Φ_eᵀ ḡ]``, so
+
+    δḡ = A_bᵀ δF + ḡ~ δθ_b
+    δQ = s [δF;  ū~ δḡ − ḡ~ Φ_e δa_b;  Φ_eᵀ δḡ]
+
+— the first two terms of the moment row and ḡ~ δθ_b are the geometric
+stiffness of the preloaded mount, whose axes turn with body i. The rates
+alike, at rest: ``δΔẋ = U A_iᵀ (E_j δv_j − E_i δv_i)``, ``δf = c'(Δẋ) δΔẋ``,
+``δF = A_i Uᵀ δf`` (the velocity-quadratic terms have no first derivative
+at rest). A flexible body's own terms (body frame, ḡ_b = A_bᵀ g, S = I2 + I3 a):
+the moment of its weight ``S × ḡ_b`` and its modal weight ``I3ᵀ ḡ_b``
+turn with it, its elastic and structural forces are ``−K a − C ȧ``:
+
+    δQ_ω = S~ ḡ_b~ δθ − ḡ_b~ I3 δa,   δQ_a = I3ᵀ ḡ_b~ δθ − K δa − C δȧ.
+
+A rigid body's weight acts at its centre of mass (no moment) and is fixed
+in the inertial frame: no term. The rows are those of
+:func:`flexbed.dynamics.block_linearisation.linearised` (``M v̇``: inertial
+force, body-frame moment, modal forces); terms proportional to the
+accelerations at the state (nil at an equilibrium, to the statics'
+tolerance) are left out.
+
+Not covered (:func:`uncovered` says why; the callers then take central
+differences): a state with motion, loads on bodies, a flexible body's frame
+without its modal coordinates, a law kind other than linear, polynomial or
+curve data.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .jacobian import mount_graph
+from .system import System
+
+__all__ = ["Tangent", "tangent", "uncovered", "law_slopes"]
+
+_KINDS = (0, 1, 2)              # linear, polynomial, curve data
+_FIELDS = ("w_A", "w_P", "w_Pd", "w_ub", "w_dx", "w_dxd", "w_f", "w_F")
+
+
+@dataclass(frozen=True)
+class Tangent:
+    """The exact derivatives of the generalized forces at rest.
+
+    Kq, Kv : (n, n) sparse CSR — ∂(M v̇)/∂q [N/m, N/rad, …] and ∂(M v̇)/∂v
+    [N s/m, …] in the unknowns of :func:`flexbed.dynamics.jacobian.mount_graph`;
+    outputs_q, outputs_v : dict name → (3M, n) sparse CSR, the derivatives
+    of the mount fields ``w_dx`` [m], ``w_dxd`` [m/s], ``w_f`` [N], ``w_F`` [N];
+    evaluations : int — right-hand sides it took (1).
+    """
+
+    Kq: sp.csr_matrix
+    Kv: sp.csr_matrix
+    outputs_q: dict
+    outputs_v: dict
+    evaluations: int
+
+
+def uncovered(system: System, y: np.ndarray, modal: bool = True) -> str:
+    """Why :func:`tangent` does not apply at the state y (ny,), or "" when it does
+    (the base's velocity is checked by :func:`tangent` itself)."""
+    lay = system.layout
+    if system.scene.loads:
+        return "loads on bodies"
+    if system.flex_compiled and not modal:
+        return "a flexible body's frame without its modal coordinates"
+    if not set(np.unique(system.data.law_kind).tolist()) <= set(_KINDS):
+        return "a mount law of another kind"
+    v = np.concatenate([y[lay.v_rigid], y[lay.v_modal]])
+    if np.any(v != 0.0):
+        return "the bodies move"
+    return ""
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    """v~ (..., 3, 3) with v~ x = v × x, for v (..., 3)."""
+    S = np.zeros(v.shape[:-1] + (3, 3))
+    S[..., 0, 1], S[..., 0, 2] = -v[..., 2], v[..., 1]
+    S[..., 1, 0], S[..., 1, 2] = v[..., 2], -v[..., 0]
+    S[..., 2, 0], S[..., 2, 1] = -v[..., 1], v[..., 0]
+    return S
+
+
+def _poly_slope(c: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """d/dx Σ c_j x^j for rows c (k, d+1) at x (k,)."""
+    acc = np.zeros_like(x)
+    for j in range(c.shape[1] - 1, 0, -1):
+        acc = acc * x + j * c[:, j]
+    return acc
+
+
+def _curve_slope(b: np.ndarray, o: np.ndarray, c: np.ndarray, x: float) -> float:
+    """Slope of a piecewise polynomial (breaks b, origins o, ascending
+    coefficients c; the piece the kernel's ``piecewise_value`` takes at x:
+    right-continuous) at x."""
+    lo = int(np.searchsorted(b, x, side="right"))
+    u = x - o[lo]
+    acc = 0.0
+    for j in range(c.shape[1] - 1, 0, -1):
+        acc = acc * u + j * c[lo, j]
+    return acc
+
+
+def law_slopes(system: System, dx: np.ndarray, dxd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """∂f/∂Δx [N/m] and ∂f/∂Δẋ [N s/m] (3M,) of every mount direction at
+    the deflections dx and rates dxd (3M,), bump stops in contact included
+    (decided as the kernel decides: by Δx, or held by an integrator)."""
+    d = system.data
+    kind, row = np.asarray(d.law_kind), np.asarray(d.law_row)
+    kx, kv = np.zeros(kind.size), np.zeros(kind.size)
+    lin = kind == 0
+    kx[lin] = d.lin_kc[row[lin], 0]
+    kv[lin] = d.lin_kc[row[lin], 1]
+    poly = kind == 1
+    if poly.any():
+        kx[poly] = _poly_slope(np.asarray(d.poly_k)[row[poly]], dx[poly])
+        kv[poly] = _poly_slope(np.asarray(d.poly_c)[row[poly]], dxd[poly])
+    for il in np.flatnonzero(kind == 2):
+        r = row[il]
+        kx[il] = _curve_slope(d.crv_b[r, 0], d.crv_o[r, 0], d.crv_c[r, 0], dx[il])
+        kv[il] = _curve_slope(d.crv_b[r, 1], d.crv_o[r, 1], d.crv_c[r, 1], dxd[il])
+    gap = np.asarray(d.stop_gap)
+    if gap.shape[0]:
+        if d.w_hold[0] > 0.0:
+            s = np.asarray(d.w_contact)
+        else:
+            s = np.where(dx < -gap[:, 0], -1.0, np.where(dx > gap[:, 1], 1.0, 0.0))
+        on = s != 0.0
+        kx[on] += d.stop_kc[on, 0]
+        kv[on] += d.stop_kc[on, 1]
+    return kx, kv
+
+
+def _end_maps(system: System, graph, A: np.ndarray, ub: np.ndarray):
+    """Per mount end (2M): E (3, W), the map from its body's unknowns (or
+    rates) to the end's inertial displacement (velocity); Θ and Φ (3, W),
+    the maps to the body's δθ and to the end's δū = Φ_e δa."""
+    M, W = system.M, graph.width
+    body = np.concatenate([system.body_i, system.body_j])
+    slot = np.concatenate([graph.end_slot[:, 0], graph.end_slot[:, 1]])
+    on = (slot >= 0)[:, None, None]
+    Ab = A[body]
+    eye = np.eye(3)
+    E = np.zeros((2 * M, 3, W))
+    Th = np.zeros((2 * M, 3, W))
+    Ph = np.zeros((2 * M, 3, W))
+    E[:, :, :3] = eye * on
+    E[:, :, 3:6] = -(Ab @ _skew(ub)) * on
+    Th[:, :, 3:6] = eye * on
+    if graph.modal:
+        end_flex = np.asarray(system.data.end_flex)
+        for k, fc in enumerate(system.flex_compiled):
+            ends = np.flatnonzero(end_flex == k)
+            phi = np.asarray(system.data.end_phi)[ends, :, :fc.eom.n]
+            Ph[ends, :, 6:6 + fc.eom.n] = phi
+            E[ends, :, 6:6 + fc.eom.n] = Ab[ends] @ phi
+    return E, Th, Ph, Ab
+
+
+def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = math.inf,
+            modal: bool = True, capture: tuple = ()) -> Tangent | None:
+    """The exact :class:`Tangent` at the state y (ny,) at rest, or None where
+    it does not apply (:func:`uncovered`, or the base moving at t).
+
+    Parameters
+    ----------
+    system : System
+    y : (ny,) array
+        A state at rest (a static equilibrium).
+    t, seg_end : float
+        Time [s] and segment end of the one evaluation (as for ``System.rhs``).
+    modal : bool
+        The flexible bodies' modal coordinates are unknowns.
+    capture : tuple of str
+        Mount fields to differentiate too (``w_dx``, ``w_dxd``, ``w_f``, ``w_F``).
+    """
+    if uncovered(system, y, modal):
+        return None
+    _, cap = system.rhs_batch(np.array([float(t)]), np.asarray(y, dtype=float)[None, :],
+                              capture=_FIELDS, seg_end=seg_end)
+    cap = {k: v[0] for k, v in cap.items()}
+    if np.any(cap["w_Pd"] != 0.0) or not all(np.all(np.isfinite(v)) for v in cap.values()):
+        return None
+    g = mount_graph(system, modal)
+    M, W, n = system.M, g.width, g.n
+    table = np.full((len(g.blocks) + 1, W), -1, dtype=np.intp)     # last row: the base
+    for s, blk in enumerate(g.blocks):
+        table[s, :blk.size] = blk
+    A, P, ub = cap["w_A"], cap["w_P"], cap["w_ub"]
+    E, Th, Ph, Ab = _end_maps(system, g, A, ub)
+    U = np.asarray(system.U)
+    Ai = Ab[:M]
+    AiT = np.swapaxes(Ai, 1, 2)
+    lam = np.einsum("mji,mj->mi", Ai, P[M:] - P[:M])                    # A_iᵀ l
+    f = cap["w_f"]
+    Fbar = np.einsum("mkj,mk->mj", U, f)                                # Uᵀ f
+    kx, kv = law_slopes(system, cap["w_dx"].ravel(), cap["w_dxd"].ravel())
+    kx, kv = kx.reshape(M, 3), kv.reshape(M, 3)
+    zero = np.zeros((M, 3, W))
+    dl = np.concatenate([-E[:M], E[M:]], axis=2)                        # (M, 3, 2W)
+    Thi = np.concatenate([Th[:M], zero], axis=2)
+    # positions
+    dDx = U @ (AiT @ dl + _skew(lam) @ Thi)
+    df = kx[:, :, None] * dDx
+    dF = Ai @ (np.swapaxes(U, 1, 2) @ df - _skew(Fbar) @ Thi)
+    # rates (at rest)
+    dDv = U @ (AiT @ dl)
+    dfv = kv[:, :, None] * dDv
+    dFv = Ai @ (np.swapaxes(U, 1, 2) @ dfv)
+    # the ends' generalized forces
+    sg = np.concatenate([np.ones(M), -np.ones(M)])[:, None, None]
+    own = np.zeros((2 * M, 3, 2 * W))
+    own_phi = np.zeros((2 * M, 3, 2 * W))
+    own[:M, :, :W], own[M:, :, W:] = Th[:M], Th[M:]
+    own_phi[:M, :, :W], own_phi[M:, :, W:] = Ph[:M], Ph[M:]
+    gbar = np.einsum("eji,ej->ei", Ab, np.concatenate([cap["w_F"], cap["w_F"]]))
+    AbT = np.swapaxes(Ab, 1, 2)
+    ubx = _skew(ub)
+    PhT = np.swapaxes(Ph[:, :, 6:], 1, 2)                               # (2M, W−6, 3)
+
+    def end_rows(dFm, geometric):
+        dFe = np.concatenate([dFm, dFm])                                 # (2M, 3, 2W)
+        dg = AbT @ dFe
+        if geometric:
+            dg = dg + _skew(gbar) @ own
+        Q = np.empty((2 * M, W, 2 * W))
+        Q[:, :3] = dFe
+        Q[:, 3:6] = ubx @ dg
+        if geometric:
+            Q[:, 3:6] -= _skew(gbar) @ own_phi
+        Q[:, 6:] = PhT @ dg
+        return sg * Q
+
+    slot = np.concatenate([g.end_slot[:, 0], g.end_slot[:, 1]])
+    rows = table[slot]                                                   # (2M, W)
+    cols_m = np.concatenate([table[g.end_slot[:, 0]], table[g.end_slot[:, 1]]], axis=1)
+    cols = np.concatenate([cols_m, cols_m])                              # (2M, 2W)
+    ok = (rows[:, :, None] >= 0) & (cols[:, None, :] >= 0)
+    R = np.broadcast_to(rows[:, :, None], ok.shape)[ok]
+    C = np.broadcast_to(cols[:, None, :], ok.shape)[ok]
+    own_q, own_v = _own_terms(system, g, A, y) if modal else ([], [])
+    Kq = _assemble([R] + [o[0] for o in own_q], [C] + [o[1] for o in own_q],
+                   [end_rows(dF, True)[ok]] + [o[2] for o in own_q], n)
+    Kv = _assemble([R] + [o[0] for o in own_v], [C] + [o[1] for o in own_v],
+                   [end_rows(dFv, False)[ok]] + [o[2] for o in own_v], n)
+    fields_q = {"w_dx": dDx, "w_dxd": np.zeros_like(dDx), "w_f": df, "w_F": dF}
+    fields_v = {"w_dx": np.zeros_like(dDv), "w_dxd": dDv, "w_f": dfv, "w_F": dFv}
+    okm = np.broadcast_to((cols_m >= 0)[:, None, :], dDx.shape)
+    orow = np.broadcast_to((3 * np.arange(M)[:, None] + np.arange(3))[:, :, None], dDx.shape)[okm]
+    ocol = np.broadcast_to(cols_m[:, None, :], dDx.shape)[okm]
+    outputs_q = {k: _assemble([orow], [ocol], [fields_q[k][okm]], (3 * M, n)) for k in capture}
+    outputs_v = {k: _assemble([orow], [ocol], [fields_v[k][okm]], (3 * M, n)) for k in capture}
+    return Tangent(Kq, Kv, outputs_q, outputs_v, 1)
+
+
+def _own_terms(system: System, g, A: np.ndarray, y: np.ndarray):
+    """A flexible body's weight turning with it, its modal stiffness and
+    damping: lists of (rows, cols, values) for Kq and Kv."""
+    q, v = [], []
+    for fc in system.flex_compiled:
+        e = fc.eom
+        nm = e.n
+        blk = g.blocks[fc.slot]
+        gb = A[fc.body].T @ np.asarray(system.g)
+        I3 = np.asarray(e.I3)[:, :nm]
+        S = np.asarray(e.I2) + I3 @ y[fc.qa]
+        D = np.zeros((6 + nm, 6 + nm))
+        D[3:6, 3:6] = _skew(S) @ _skew(gb)
+        D[3:6, 6:] = -_skew(gb) @ I3
+        D[6:, 3:6] = I3.T @ _skew(gb)
+        D[6:, 6:] = -np.asarray(e.K)[:nm, :nm]
+        Dv = np.zeros_like(D)
+        Dv[6:, 6:] = -np.asarray(e.C)[:nm, :nm]
+        r, c = np.repeat(blk, blk.size), np.tile(blk, blk.size)
+        q.append((r, c, D.ravel()))
+        v.append((r, c, Dv.ravel()))
+    return q, v
+
+
+def _assemble(rows, cols, vals, shape) -> sp.csr_matrix:
+    if isinstance(shape, int):
+        shape = (shape, shape)
+    return sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=shape).tocsr()
