@@ -54,6 +54,7 @@ curve data.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -72,9 +73,9 @@ _FIELDS = ("w_A", "w_P", "w_Pd", "w_ub", "w_dx", "w_dxd", "w_f", "w_F")
 class Tangent:
     """The exact derivatives of the generalized forces at rest.
 
-    Kq, Kv : (n, n) sparse CSR — ∂(M v̇)/∂q [N/m, N/rad, …] and ∂(M v̇)/∂v
+    Kq, Kv : (n, n) sparse CSR (or arrays) — ∂(M v̇)/∂q [N/m, N/rad, …] and ∂(M v̇)/∂v
     [N s/m, …] in the unknowns of :func:`flexbed.dynamics.jacobian.mount_graph`;
-    outputs_q, outputs_v : dict name → (3M, n) sparse CSR, the derivatives
+    outputs_q, outputs_v : dict name → (3M, n) sparse CSR (or arrays), the derivatives
     of the mount fields ``w_dx`` [m], ``w_dxd`` [m/s], ``w_f`` [N], ``w_F`` [N];
     evaluations : int — right-hand sides it took (1).
     """
@@ -188,7 +189,7 @@ def _end_maps(system: System, graph, A: np.ndarray, ub: np.ndarray):
 
 
 def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = math.inf,
-            modal: bool = True, capture: tuple = ()) -> Tangent | None:
+            modal: bool = True, capture: tuple = (), dense: bool = False) -> Tangent | None:
     """The exact :class:`Tangent` at the state y (ny,) at rest, or None where
     it does not apply (:func:`uncovered`, or the base moving at t).
 
@@ -203,6 +204,8 @@ def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = m
         The flexible bodies' modal coordinates are unknowns.
     capture : tuple of str
         Mount fields to differentiate too (``w_dx``, ``w_dxd``, ``w_f``, ``w_F``).
+    dense : bool
+        The matrices as arrays rather than CSR (cheaper for small systems).
     """
     if uncovered(system, y, modal):
         return None
@@ -212,38 +215,35 @@ def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = m
     if np.any(cap["w_Pd"] != 0.0) or not all(np.all(np.isfinite(v)) for v in cap.values()):
         return None
     g = mount_graph(system, modal)
-    M, W, n = system.M, g.width, g.n
-    table = np.full((len(g.blocks) + 1, W), -1, dtype=np.intp)     # last row: the base
-    for s, blk in enumerate(g.blocks):
-        table[s, :blk.size] = blk
+    pat = _pattern(system, modal)
+    M, W = system.M, g.width
     A, P, ub = cap["w_A"], cap["w_P"], cap["w_ub"]
     E, Th, Ph, Ab = _end_maps(system, g, A, ub)
     U = np.asarray(system.U)
+    Ut = np.swapaxes(U, 1, 2)
     Ai = Ab[:M]
     AiT = np.swapaxes(Ai, 1, 2)
     lam = np.einsum("mji,mj->mi", Ai, P[M:] - P[:M])                    # A_iᵀ l
-    f = cap["w_f"]
-    Fbar = np.einsum("mkj,mk->mj", U, f)                                # Uᵀ f
+    Fbar = np.einsum("mkj,mk->mj", U, cap["w_f"])                       # Uᵀ f
     kx, kv = law_slopes(system, cap["w_dx"].ravel(), cap["w_dxd"].ravel())
-    kx, kv = kx.reshape(M, 3), kv.reshape(M, 3)
-    zero = np.zeros((M, 3, W))
+    kx, kv = kx.reshape(M, 3, 1), kv.reshape(M, 3, 1)
     dl = np.concatenate([-E[:M], E[M:]], axis=2)                        # (M, 3, 2W)
-    Thi = np.concatenate([Th[:M], zero], axis=2)
+    Thi = np.concatenate([Th[:M], np.zeros((M, 3, W))], axis=2)
     # positions
     dDx = U @ (AiT @ dl + _skew(lam) @ Thi)
-    df = kx[:, :, None] * dDx
-    dF = Ai @ (np.swapaxes(U, 1, 2) @ df - _skew(Fbar) @ Thi)
+    df = kx * dDx
+    dF = Ai @ (Ut @ df - _skew(Fbar) @ Thi)
     # rates (at rest)
     dDv = U @ (AiT @ dl)
-    dfv = kv[:, :, None] * dDv
-    dFv = Ai @ (np.swapaxes(U, 1, 2) @ dfv)
+    dfv = kv * dDv
+    dFv = Ai @ (Ut @ dfv)
     # the ends' generalized forces
     sg = np.concatenate([np.ones(M), -np.ones(M)])[:, None, None]
     own = np.zeros((2 * M, 3, 2 * W))
     own_phi = np.zeros((2 * M, 3, 2 * W))
     own[:M, :, :W], own[M:, :, W:] = Th[:M], Th[M:]
     own_phi[:M, :, :W], own_phi[M:, :, W:] = Ph[:M], Ph[M:]
-    gbar = np.einsum("eji,ej->ei", Ab, np.concatenate([cap["w_F"], cap["w_F"]]))
+    gx = _skew(np.einsum("eji,ej->ei", Ab, np.concatenate([cap["w_F"], cap["w_F"]])))
     AbT = np.swapaxes(Ab, 1, 2)
     ubx = _skew(ub)
     PhT = np.swapaxes(Ph[:, :, 6:], 1, 2)                               # (2M, W−6, 3)
@@ -252,45 +252,104 @@ def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = m
         dFe = np.concatenate([dFm, dFm])                                 # (2M, 3, 2W)
         dg = AbT @ dFe
         if geometric:
-            dg = dg + _skew(gbar) @ own
+            dg += gx @ own
         Q = np.empty((2 * M, W, 2 * W))
         Q[:, :3] = dFe
         Q[:, 3:6] = ubx @ dg
         if geometric:
-            Q[:, 3:6] -= _skew(gbar) @ own_phi
+            Q[:, 3:6] -= gx @ own_phi
         Q[:, 6:] = PhT @ dg
-        return sg * Q
+        return (sg * Q)[pat.ends]
 
-    slot = np.concatenate([g.end_slot[:, 0], g.end_slot[:, 1]])
-    rows = table[slot]                                                   # (2M, W)
-    cols_m = np.concatenate([table[g.end_slot[:, 0]], table[g.end_slot[:, 1]]], axis=1)
-    cols = np.concatenate([cols_m, cols_m])                              # (2M, 2W)
-    ok = (rows[:, :, None] >= 0) & (cols[:, None, :] >= 0)
-    R = np.broadcast_to(rows[:, :, None], ok.shape)[ok]
-    C = np.broadcast_to(cols[:, None, :], ok.shape)[ok]
-    own_q, own_v = _own_terms(system, g, A, y) if modal else ([], [])
-    Kq = _assemble([R] + [o[0] for o in own_q], [C] + [o[1] for o in own_q],
-                   [end_rows(dF, True)[ok]] + [o[2] for o in own_q], n)
-    Kv = _assemble([R] + [o[0] for o in own_v], [C] + [o[1] for o in own_v],
-                   [end_rows(dFv, False)[ok]] + [o[2] for o in own_v], n)
+    own_q, own_v = _own_terms(system, A, y)
+    K, out = (pat.K.dense, pat.out.dense) if dense else (pat.K.csr, pat.out.csr)
+    Kq = K(np.concatenate([end_rows(dF, True)] + own_q))
+    Kv = K(np.concatenate([end_rows(dFv, False)] + own_v))
     fields_q = {"w_dx": dDx, "w_dxd": np.zeros_like(dDx), "w_f": df, "w_F": dF}
     fields_v = {"w_dx": np.zeros_like(dDv), "w_dxd": dDv, "w_f": dfv, "w_F": dFv}
-    okm = np.broadcast_to((cols_m >= 0)[:, None, :], dDx.shape)
-    orow = np.broadcast_to((3 * np.arange(M)[:, None] + np.arange(3))[:, :, None], dDx.shape)[okm]
-    ocol = np.broadcast_to(cols_m[:, None, :], dDx.shape)[okm]
-    outputs_q = {k: _assemble([orow], [ocol], [fields_q[k][okm]], (3 * M, n)) for k in capture}
-    outputs_v = {k: _assemble([orow], [ocol], [fields_v[k][okm]], (3 * M, n)) for k in capture}
+    outputs_q = {k: out(fields_q[k][pat.mounts]) for k in capture}
+    outputs_v = {k: out(fields_v[k][pat.mounts]) for k in capture}
     return Tangent(Kq, Kv, outputs_q, outputs_v, 1)
 
 
-def _own_terms(system: System, g, A: np.ndarray, y: np.ndarray):
+@dataclass(frozen=True)
+class _Scatter:
+    """A sparsity pattern made once: entries (rows, cols) with repeats →
+    a CSR matrix whose values are the sums of the entries' (:meth:`csr`)."""
+
+    inverse: np.ndarray
+    indices: np.ndarray
+    indptr: np.ndarray
+    shape: tuple
+    flat: np.ndarray
+
+    @classmethod
+    def of(cls, rows: np.ndarray, cols: np.ndarray, shape: tuple) -> "_Scatter":
+        lin = rows.astype(np.int64) * shape[1] + cols
+        uniq, inverse = np.unique(lin, return_inverse=True)
+        r = uniq // shape[1]
+        indptr = np.searchsorted(r, np.arange(shape[0] + 1)).astype(np.int32)
+        return cls(inverse.ravel(), (uniq % shape[1]).astype(np.int32), indptr, shape, lin)
+
+    def csr(self, values: np.ndarray) -> sp.csr_matrix:
+        data = np.bincount(self.inverse, weights=values, minlength=self.indices.size)
+        return sp.csr_matrix((data, self.indices, self.indptr), shape=self.shape)
+
+    def dense(self, values: np.ndarray) -> np.ndarray:
+        return np.bincount(self.flat, weights=values,
+                           minlength=self.shape[0] * self.shape[1]).reshape(self.shape)
+
+
+@dataclass(frozen=True)
+class _Pattern:
+    """Where the ends' rows (``ends``: mask of (2M, W, 2W)) and the mounts'
+    fields (``mounts``: mask of (M, 3, 2W)) go, and the patterns of K and
+    of the mount fields' derivatives."""
+
+    ends: np.ndarray
+    mounts: np.ndarray
+    K: _Scatter
+    out: _Scatter
+
+
+_PATTERNS: "weakref.WeakKeyDictionary[System, dict]" = weakref.WeakKeyDictionary()
+
+
+def _pattern(system: System, modal: bool) -> _Pattern:
+    per = _PATTERNS.setdefault(system, {})
+    if modal not in per:
+        g = mount_graph(system, modal)
+        M, W, n = system.M, g.width, g.n
+        table = np.full((len(g.blocks) + 1, W), -1, dtype=np.intp)    # last row: the base
+        for s, blk in enumerate(g.blocks):
+            table[s, :blk.size] = blk
+        rows = table[np.concatenate([g.end_slot[:, 0], g.end_slot[:, 1]])]        # (2M, W)
+        cols_m = np.concatenate([table[g.end_slot[:, 0]], table[g.end_slot[:, 1]]], axis=1)
+        cols = np.concatenate([cols_m, cols_m])                                   # (2M, 2W)
+        ends = (rows[:, :, None] >= 0) & (cols[:, None, :] >= 0)
+        R = [np.broadcast_to(rows[:, :, None], ends.shape)[ends]]
+        C = [np.broadcast_to(cols[:, None, :], ends.shape)[ends]]
+        for fc in system.flex_compiled:
+            blk = g.blocks[fc.slot]
+            R.append(np.repeat(blk, blk.size))
+            C.append(np.tile(blk, blk.size))
+        mounts = np.broadcast_to((cols_m >= 0)[:, None, :], (M, 3, 2 * W))
+        orow = np.broadcast_to((3 * np.arange(M)[:, None] + np.arange(3))[:, :, None],
+                               mounts.shape)[mounts]
+        ocol = np.broadcast_to(cols_m[:, None, :], mounts.shape)[mounts]
+        per[modal] = _Pattern(ends, mounts, _Scatter.of(np.concatenate(R), np.concatenate(C),
+                                                         (n, n)),
+                              _Scatter.of(orow, ocol, (3 * M, n)))
+    return per[modal]
+
+
+def _own_terms(system: System, A: np.ndarray, y: np.ndarray):
     """A flexible body's weight turning with it, its modal stiffness and
-    damping: lists of (rows, cols, values) for Kq and Kv."""
+    damping: lists of the values of its block (row-major) in Kq and Kv."""
     q, v = [], []
     for fc in system.flex_compiled:
         e = fc.eom
         nm = e.n
-        blk = g.blocks[fc.slot]
         gb = A[fc.body].T @ np.asarray(system.g)
         I3 = np.asarray(e.I3)[:, :nm]
         S = np.asarray(e.I2) + I3 @ y[fc.qa]
@@ -301,14 +360,6 @@ def _own_terms(system: System, g, A: np.ndarray, y: np.ndarray):
         D[6:, 6:] = -np.asarray(e.K)[:nm, :nm]
         Dv = np.zeros_like(D)
         Dv[6:, 6:] = -np.asarray(e.C)[:nm, :nm]
-        r, c = np.repeat(blk, blk.size), np.tile(blk, blk.size)
-        q.append((r, c, D.ravel()))
-        v.append((r, c, Dv.ravel()))
+        q.append(D.ravel())
+        v.append(Dv.ravel())
     return q, v
-
-
-def _assemble(rows, cols, vals, shape) -> sp.csr_matrix:
-    if isinstance(shape, int):
-        shape = (shape, shape)
-    return sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                         shape=shape).tocsr()
