@@ -39,16 +39,21 @@ turn with it, its elastic and structural forces are ``−K a − C ȧ``:
     δQ_ω = S~ ḡ_b~ δθ − ḡ_b~ I3 δa,   δQ_a = I3ᵀ ḡ_b~ δθ − K δa − C δȧ.
 
 A rigid body's weight acts at its centre of mass (no moment) and is fixed
-in the inertial frame: no term. The rows are those of
+in the inertial frame: no term. A load on a body at ū (+ Φ a), of body-frame
+value ḡ at t: fixed in space (ḡ = A_bᵀ F, δḡ = ḡ~ δθ), it adds
+``ū~ ḡ~ δθ`` to the moment and ``Φᵀ ḡ~ δθ`` to the modal rows; turning with
+the body, ``−A_b ḡ~ δθ`` to the force; both ``−ḡ~ Φ δa`` to the moment; a
+moment fixed in space on a rigid body ``ḡ~ δθ`` (the kernel applies no
+moment to a flexible body's equations). The rows are those of
 :func:`flexbed.dynamics.block_linearisation.linearised` (``M v̇``: inertial
 force, body-frame moment, modal forces); terms proportional to the
 accelerations at the state (nil at an equilibrium, to the statics'
 tolerance) are left out.
 
 Not covered (:func:`uncovered` says why; the callers then take central
-differences): a state with motion, loads on bodies, a flexible body's frame
-without its modal coordinates, a law kind other than linear, polynomial or
-curve data.
+differences of everything): a state with motion (or a moving base), a
+flexible body's frame without its modal coordinates, a law kind other than
+linear, polynomial or curve data, loads on bodies at or past ``seg_end``.
 """
 
 from __future__ import annotations
@@ -91,8 +96,6 @@ def uncovered(system: System, y: np.ndarray, modal: bool = True) -> str:
     """Why :func:`tangent` does not apply at the state y (ny,), or "" when it does
     (the base's velocity is checked by :func:`tangent` itself)."""
     lay = system.layout
-    if system.scene.loads:
-        return "loads on bodies"
     if system.flex_compiled and not modal:
         return "a flexible body's frame without its modal coordinates"
     if not set(np.unique(system.data.law_kind).tolist()) <= set(_KINDS):
@@ -207,7 +210,7 @@ def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = m
     dense : bool
         The matrices as arrays rather than CSR (cheaper for small systems).
     """
-    if uncovered(system, y, modal):
+    if uncovered(system, y, modal) or (system.scene.loads and t >= seg_end):
         return None
     _, cap = system.rhs_batch(np.array([float(t)]), np.asarray(y, dtype=float)[None, :],
                               capture=_FIELDS, seg_end=seg_end)
@@ -261,7 +264,7 @@ def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = m
         Q[:, 6:] = PhT @ dg
         return (sg * Q)[pat.ends]
 
-    own_q, own_v = _own_terms(system, A, y)
+    own_q, own_v = _own_terms(system, A, y, float(t))
     K, out = (pat.K.dense, pat.out.dense) if dense else (pat.K.csr, pat.out.csr)
     Kq = K(np.concatenate([end_rows(dF, True)] + own_q))
     Kv = K(np.concatenate([end_rows(dFv, False)] + own_v))
@@ -329,8 +332,8 @@ def _pattern(system: System, modal: bool) -> _Pattern:
         ends = (rows[:, :, None] >= 0) & (cols[:, None, :] >= 0)
         R = [np.broadcast_to(rows[:, :, None], ends.shape)[ends]]
         C = [np.broadcast_to(cols[:, None, :], ends.shape)[ends]]
-        for fc in system.flex_compiled:
-            blk = g.blocks[fc.slot]
+        for slot in _own_slots(system):
+            blk = g.blocks[slot]
             R.append(np.repeat(blk, blk.size))
             C.append(np.tile(blk, blk.size))
         mounts = np.broadcast_to((cols_m >= 0)[:, None, :], (M, 3, 2 * W))
@@ -343,23 +346,55 @@ def _pattern(system: System, modal: bool) -> _Pattern:
     return per[modal]
 
 
-def _own_terms(system: System, A: np.ndarray, y: np.ndarray):
+def _own_slots(system: System) -> list:
+    """The slots of the bodies with terms of their own: flexible, or loaded."""
+    ints = np.asarray(system.data.in_ints)
+    loaded = ints[ints[:, 2] == 2, 3] - 1
+    return sorted({fc.slot for fc in system.flex_compiled} | set(loaded.tolist()))
+
+
+def _own_terms(system: System, A: np.ndarray, y: np.ndarray, t: float):
     """A flexible body's weight turning with it, its modal stiffness and
-    damping: lists of the values of its block (row-major) in Kq and Kv."""
+    damping, and the loads on bodies (follower or fixed in space): lists of
+    the values of each body's block (row-major, :func:`_own_slots`) in Kq and
+    Kv."""
+    d = system.data
+    ints = np.asarray(d.in_ints)
+    flex = {fc.slot: fc for fc in system.flex_compiled}
     q, v = [], []
-    for fc in system.flex_compiled:
-        e = fc.eom
-        nm = e.n
-        gb = A[fc.body].T @ np.asarray(system.g)
-        I3 = np.asarray(e.I3)[:, :nm]
-        S = np.asarray(e.I2) + I3 @ y[fc.qa]
+    for slot in _own_slots(system):
+        fc = flex.get(slot)
+        nm = fc.eom.n if fc is not None else 0
         D = np.zeros((6 + nm, 6 + nm))
-        D[3:6, 3:6] = _skew(S) @ _skew(gb)
-        D[3:6, 6:] = -_skew(gb) @ I3
-        D[6:, 3:6] = I3.T @ _skew(gb)
-        D[6:, 6:] = -np.asarray(e.K)[:nm, :nm]
         Dv = np.zeros_like(D)
-        Dv[6:, 6:] = -np.asarray(e.C)[:nm, :nm]
+        Ab = A[slot + 1]
+        if fc is not None:
+            e = fc.eom
+            gb = Ab.T @ np.asarray(system.g)
+            I3 = np.asarray(e.I3)[:, :nm]
+            S = np.asarray(e.I2) + I3 @ y[fc.qa]
+            D[3:6, 3:6] = _skew(S) @ _skew(gb)
+            D[3:6, 6:] = -_skew(gb) @ I3
+            D[6:, 3:6] = I3.T @ _skew(gb)
+            D[6:, 6:] = -np.asarray(e.K)[:nm, :nm]
+            Dv[6:, 6:] = -np.asarray(e.C)[:nm, :nm]
+        for i in np.flatnonzero((ints[:, 2] == 2) & (ints[:, 3] == slot + 1)):
+            _, c, _, _, body_frame, moment = ints[i]
+            val = float(system.inputs.compiled[i].values(np.array([t]))[0])
+            gbar = val * (np.eye(3)[c] if body_frame else Ab[c])          # body frame [N, N m]
+            gx = _skew(gbar)
+            if moment:                       # a flexible body's moments: none (as the kernel)
+                if fc is None and not body_frame:
+                    D[3:6, 3:6] += gx
+                continue
+            phi = np.asarray(d.in_phi)[i, :, :nm]
+            u = np.asarray(d.in_pt)[i] + (phi @ y[fc.qa] if fc is not None else 0.0)
+            if body_frame:
+                D[:3, 3:6] -= Ab @ gx
+            else:
+                D[3:6, 3:6] += _skew(u) @ gx
+                D[6:, 3:6] += phi.T @ gx
+            D[3:6, 6:] -= gx @ phi
         q.append(D.ravel())
         v.append(Dv.ravel())
     return q, v

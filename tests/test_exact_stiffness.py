@@ -23,6 +23,7 @@ import pytest
 from built_scenes import bed_and_equipment
 
 from flexbed.dynamics.block_linearisation import linearised
+from flexbed.dynamics.body_loads import BodyLoad
 from flexbed.dynamics.frequency.frf import Input, Outputs, responses
 from flexbed.dynamics.frequency.mounted import mounted_system
 from flexbed.dynamics.jacobian import mount_graph
@@ -31,6 +32,7 @@ from flexbed.dynamics.scene import Base, Body, Mount, Scene
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
 from flexbed.dynamics.tangent import tangent, uncovered
+from flexbed.dynamics.time_functions import Curve
 
 FIELDS = ("w_dx", "w_dxd", "w_f", "w_F")
 
@@ -110,9 +112,22 @@ def _tilted(a, b):
     return (Ry @ Rx).T
 
 
-@pytest.mark.parametrize("law", ["polynomial", "spline"])
+def _constant(value):
+    return Curve(np.arange(4.0), np.full(4, value))
+
+
+#: loads on bodies at t = 0: forces fixed in space and turning with the body
+#: (whose moments turn with it), moments of both kinds
+LOADS = (BodyLoad("eq", (0.2, -0.1, 0.15), 0, _constant(300.0)),
+         BodyLoad("eq", (-0.1, 0.2, 0.1), 2, _constant(-500.0), "body"),
+         BodyLoad("eq", (0.0, 0.0, 0.0), 1, _constant(80.0), "inertial", "moment"),
+         BodyLoad("bed", (1.0, -2.0, 0.1), 1, _constant(900.0), "body"),
+         BodyLoad("bed", (0.0, 0.0, 0.0), 0, _constant(-250.0), "body", "moment"))
+
+
+@pytest.mark.parametrize("law", ["polynomial", "spline", "polynomial, loads on bodies"])
 def test_inclined_polynomial_and_spline_mounts(law):
-    if law == "polynomial":
+    if law.startswith("polynomial"):
         laws = (PolynomialLaw((0.0, 8e4, 3e6, 2e8), (0.0, 250.0, 0.0, 40.0)),
                 PolynomialLaw((0.0, 9e4, -1e6, 5e8), (0.0, 300.0)),
                 PolynomialLaw((0.0, 1.2e5, 4e6, 1e9), (0.0, 200.0, 10.0)))
@@ -124,6 +139,8 @@ def test_inclined_polynomial_and_spline_mounts(law):
                                           (1.2e5, 1e9, 200.0, 15.0)))
     scene = bed_and_equipment(laws, axes=_tilted(0.3, -0.2), base=Base("fixed"),
                               bed_axes=_tilted(-0.1, 0.15))
+    if "loads" in law:
+        scene = replace(scene, loads=LOADS)
     system = System(scene)
     eq = solve_statics(system, tol=1e-11)
     assert eq.success, eq.message
