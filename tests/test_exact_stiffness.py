@@ -102,6 +102,16 @@ def test_reference_scene_flexible_bed_six_modes(reference_scene, tmp_path):
     fc = system.flex_compiled[0]
     blk = mount_graph(system).blocks[fc.slot][6:]
     assert np.all(np.diag(tg.Kq.toarray()[np.ix_(blk, blk)]) <= -np.diag(fc.eom.K)[:6] * 0.999)
+    # loads on the flexible bed, at points that move with its modes
+    bed = sf.scene.bodies[1].name
+    loads = (BodyLoad(bed, (0.3, -1.2, 0.0), 2, _constant(-4e3)),
+             BodyLoad(bed, (-0.2, 1.5, 0.0), 0, _constant(2.5e3), "body"),
+             BodyLoad(bed, (0.1, 0.8, 0.0), 1, _constant(1.5e3)))
+    sf = replace(sf, scene=replace(sf.scene, loads=loads))
+    system = compile_scene(sf, modes=read_modes_file(d.path))
+    eq = solve_statics(system, tol=sf.solver.static_tol, sag=True)
+    assert eq.success, eq.message
+    _check_against_differences(system, eq.y)
 
 
 def _tilted(a, b):
