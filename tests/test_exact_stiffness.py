@@ -27,7 +27,7 @@ from flexbed.dynamics.body_loads import BodyLoad
 from flexbed.dynamics.frequency.frf import Input, Outputs, responses
 from flexbed.dynamics.frequency.mounted import mounted_system
 from flexbed.dynamics.jacobian import mount_graph
-from flexbed.dynamics.laws import CurveLaw, LinearLaw, PolynomialLaw
+from flexbed.dynamics.laws import BumpStop, CurveLaw, LinearLaw, PolynomialLaw
 from flexbed.dynamics.scene import Base, Body, Mount, Scene
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
@@ -58,11 +58,11 @@ def _richardson(system, y, hq=4e-4, hv=4e-2):
     return out
 
 
-def _check_against_differences(system, y, tol=1e-11):
+def _check_against_differences(system, y, tol=1e-11, hq=4e-4):
     assert uncovered(system, y) == ""
     tg = tangent(system, y, capture=FIELDS)
     assert tg is not None and tg.evaluations == 1
-    ref = _richardson(system, y)
+    ref = _richardson(system, y, hq=hq)
     got = {"Kq": tg.Kq, "Kv": tg.Kv}
     for f in FIELDS:
         got[f"q {f}"], got[f"v {f}"] = tg.outputs_q[f], tg.outputs_v[f]
@@ -161,6 +161,28 @@ def test_inclined_polynomial_and_spline_mounts(law):
     eq_rows = np.arange(12, 24)
     slope = (df[eq_rows] * dx[eq_rows]).sum(axis=1) / (dx[eq_rows] ** 2).sum(axis=1)
     assert np.all(np.abs(slope - np.tile([8e4, 9e4, 1.2e5], 4)) > 1.0)
+
+
+def test_bump_stops_in_contact_at_the_equilibrium():
+    """The equipment sits on its compression stops (gap 0.2 mm, 2 × the
+    mount's stiffness): the contact's stiffness and damping are in K and C."""
+    stop = BumpStop(2e5, gap_compression=2e-4, damping=50.0)
+    scene = bed_and_equipment((LinearLaw(1e5, 300.0),) * 3, axes=_tilted(0.2, 0.1),
+                              base=Base("fixed"))
+    mounts = tuple(replace(m, stops=(None, None, stop)) if m.body_j == "eq" else m
+                   for m in scene.mounts)
+    system = System(replace(scene, mounts=mounts))
+    eq = solve_statics(system, tol=1e-11)
+    assert eq.success, eq.message
+    tg = _check_against_differences(system, eq.y, hq=2e-4)
+    rows = 3 * np.arange(4, 8) + 2                                  # the stops' directions
+    dx = tg.outputs_q["w_dx"].toarray()[rows]
+    assert np.all(system.observe(0.0, eq.y).dx[4:, 2] < -2e-4 - 3e-4)   # in contact
+    slope = (tg.outputs_q["w_f"].toarray()[rows] * dx).sum(axis=1) / (dx * dx).sum(axis=1)
+    assert slope == pytest.approx(3e5, rel=1e-12)
+    dv = tg.outputs_v["w_dxd"].toarray()[rows]
+    slope = (tg.outputs_v["w_f"].toarray()[rows] * dv).sum(axis=1) / (dv * dv).sum(axis=1)
+    assert slope == pytest.approx(350.0, rel=1e-12)
 
 
 # ------------------------------------------- the FRF of nearly undamped modes
