@@ -81,8 +81,16 @@ def _check_against_differences(system, y, tol=1e-11, hq=4e-4):
 
 
 def test_reference_scene_rigid_bed(reference_system, reference_equilibrium):
-    tg = _check_against_differences(reference_system, np.array(reference_equilibrium))
+    y = np.array(reference_equilibrium)
+    tg = _check_against_differences(reference_system, y)
     assert tg.Kq.shape == (18, 18)
+    # the mounted system's dense path and its block-sparse one (large scenes) agree
+    dense = mounted_system(reference_system, y)
+    sparse = mounted_system(reference_system, y, sparse=True)
+    assert dense.evaluations == sparse.evaluations == 1
+    for name in ("M", "K", "C", "D", "Dv", "Fq", "Fv", "Bq", "Bv", "k_tangent", "c_tangent"):
+        a, b = getattr(dense, name), getattr(sparse, name)
+        assert np.abs(a - b).max() <= 1e-15 * np.abs(a).max(), name
 
 
 @pytest.mark.slow
