@@ -214,9 +214,8 @@ def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = m
     """
     if uncovered(system, y, modal) or (system.scene.loads and t >= seg_end):
         return None
-    _, cap = system.rhs_batch(np.array([float(t)]), np.asarray(y, dtype=float)[None, :],
-                              capture=_FIELDS, seg_end=seg_end)
-    cap = {k: v[0] for k, v in cap.items()}
+    system.rhs(float(t), y, seg_end)                # its work arrays keep this call's fields
+    cap = {k: np.array(getattr(system.data, k)) for k in _FIELDS}
     if np.any(cap["w_Pd"] != 0.0) or not all(np.all(np.isfinite(v)) for v in cap.values()):
         return None
     g = mount_graph(system, modal)
