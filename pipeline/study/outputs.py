@@ -88,8 +88,9 @@ class PointRun:
 
     ``t`` (k,) [s], ``mount_force`` (k, M, 3) [N] and ``mount_deflection``
     (k, M, 3) [m] along the mount axes, :meth:`point` as
-    :meth:`flexbed.Results.point`; every other attribute of
-    :class:`flexbed.Results` through :meth:`results`.
+    :meth:`flexbed.Results.point`; every other attribute (and dataset,
+    ``run["energy/balance"]``) of :class:`flexbed.Results` through
+    :meth:`results`.
     """
 
     def __init__(self, scene, system, sim, modes):
@@ -113,6 +114,9 @@ class PointRun:
         if name.startswith("_"):
             raise AttributeError(name)
         return getattr(self._results, name)
+
+    def __getitem__(self, name: str):
+        return self._results[name]
 
     @cached_property
     def _captured(self) -> dict:
