@@ -318,7 +318,7 @@ def exudyn_table(runs: list, s: list, n: int, ms) -> list:
            "The same points in Exudyn (`docs/sweep_exudyn.py`, whose docstring says what is "
            "compared: the same bodies, mounts, loads, statics with the base held, 3 s, output "
            "every 1 ms, the same 17 figures per point), `ParameterVariation` with 2 processes, "
-           "run on the same machine during this report (the loads differ from run to run: "
+           "run on the same machine apart from this report (the loads differ from run to run: "
            "CPU per point is the steadier figure). Agreement: the largest relative difference "
            "of Exudyn's figures from flexbed's on the first 4 points.", "",
            "Commands: `python docs/sweep_exudyn.py variants variants.json 200` (flexbed's "
