@@ -133,19 +133,36 @@ def idle_cost(workers: int, seconds: float = 5.0) -> float:
         return (_cpu(me) + sum(map(_cpu, procs)) - c0) / (time.perf_counter() - w0)
 
 
-def in_process(plan, count: int = 40) -> tuple[float, float]:
-    """A: median (wall, CPU) [s] per point of ``run_point`` in this process."""
+def in_process(plan, count: int = 40) -> dict:
+    """A: median wall and CPU [s] per point of ``run_point`` in this
+    process (``wall``, ``cpu``), and the CPU of its parts run alone on the
+    same points: ``solve``, the motion from the equilibrium
+    (``simulate_system``: the stiffness check, the integration, the output
+    samples; what ``flexbed simulate`` costs past the statics and before its
+    results), and ``statics`` (``flexbed.statics``: compiling, Newton, the
+    checks)."""
+    from flexbed.api import statics
+    from flexbed.stages.simulation import simulate_system
     from flexbed.study.point import run_point, warm
     warm(plan.base)
     pick = plan.points[:: max(1, len(plan.points) // count)][:count]
-    walls, cpus = [], []
+    walls, cpus, solves, eqs = [], [], [], []
     for p in pick:
         t0, c0 = time.perf_counter(), time.thread_time()
         res = run_point(p.scene, plan.analyses, plan.metrics)
         walls.append(time.perf_counter() - t0)
         cpus.append(time.thread_time() - c0)
         assert res.status == "ok", res.message
-    return statistics.median(walls), statistics.median(cpus)
+        c0 = time.thread_time()
+        st = statics(p.scene)
+        eqs.append(time.thread_time() - c0)
+        s = p.scene.solver
+        c0 = time.thread_time()
+        simulate_system(p.scene, st.system, s.settings(), start="equilibrium", model=s.model,
+                        linear_tol=s.linear_tol, eq=st.equilibrium)
+        solves.append(time.thread_time() - c0)
+    med = statistics.median
+    return {"wall": med(walls), "cpu": med(cpus), "solve": med(solves), "statics": med(eqs)}
 
 
 # ------------------------------------------------------------ the serial parts

@@ -20,10 +20,41 @@ from .rotation import A as rotation_matrix
 from .rotation import angles_from_p
 from .system import System
 
-__all__ = ["history"]
+__all__ = ["history", "body_motion", "MOTION_CAPTURED"]
 
 #: the kernel's work arrays a history keeps at each sample
 _CAPTURED = ("w_base", "w_acc", "w_dx", "w_dxd", "w_f", "w_F", "w_M")
+#: the work arrays :func:`body_motion` needs
+MOTION_CAPTURED = ("w_base", "w_acc")
+
+
+def body_motion(system: System, Y: np.ndarray, cap: dict) -> dict[str, np.ndarray]:
+    """The bodies' motion at k samples: states Y (k, ny) and the kernel's
+    work arrays ``cap`` captured there (:data:`MOTION_CAPTURED` at least,
+    by :meth:`System.rhs_batch`). Returns ``position``, ``velocity``,
+    ``acceleration``, ``angular_velocity``, ``angular_acceleration`` (k, nb,
+    3) and ``euler_parameters`` (k, nb, 4), as :func:`history`."""
+    k, nb = Y.shape[0], system.nb
+    parts = system.layout.split(Y)
+    r = np.zeros((k, nb, 3))
+    r[:, 0] = cap["w_base"][:, 0]
+    r[:, 1:] = parts["r"]
+    p = np.zeros((k, nb, 4))
+    p[:, 0, 0] = 1.0
+    p[:, 1:] = parts["p"] / np.linalg.norm(parts["p"], axis=-1, keepdims=True)
+    rd = np.zeros((k, nb, 3))
+    rd[:, 0] = cap["w_base"][:, 1]
+    rd[:, 1:] = parts["rd"]
+    w = np.zeros((k, nb, 3))
+    w[:, 1:] = parts["w"]
+    acc = cap["w_acc"]
+    rdd = acc[:, :, :3].copy()
+    if system.base_motion == "fixed":
+        rdd[:, 0] = 0.0
+    wd = acc[:, :, 3:].copy()
+    wd[:, 0] = 0.0
+    return dict(position=r, euler_parameters=p, velocity=rd, angular_velocity=w,
+                acceleration=rdd, angular_acceleration=wd)
 
 
 def history(system: System, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarray]:
@@ -52,27 +83,11 @@ def history(system: System, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarra
     dY, cap = system.rhs_batch(t, Y, _CAPTURED)
     parts = lay.split(Y)
 
-    out = {}
-    r = np.zeros((k, nb, 3))
-    r[:, 0] = cap["w_base"][:, 0]
-    r[:, 1:] = parts["r"]
-    p = np.zeros((k, nb, 4))
-    p[:, 0, 0] = 1.0
-    p[:, 1:] = parts["p"] / np.linalg.norm(parts["p"], axis=-1, keepdims=True)
-    rd = np.zeros((k, nb, 3))
-    rd[:, 0] = cap["w_base"][:, 1]
-    rd[:, 1:] = parts["rd"]
-    w = np.zeros((k, nb, 3))
-    w[:, 1:] = parts["w"]
-    acc = cap["w_acc"]
-    rdd = acc[:, :, :3].copy()
-    if system.base_motion == "fixed":
-        rdd[:, 0] = 0.0
-    wd = acc[:, :, 3:].copy()
-    wd[:, 0] = 0.0
-    out.update(position=r, euler_parameters=p, velocity=rd, angular_velocity=w,
-               acceleration=rdd, angular_acceleration=wd, deflection=cap["w_dx"],
-               rate=cap["w_dxd"], force=cap["w_f"], force_i=cap["w_F"], force_j=-cap["w_F"])
+    out = body_motion(system, Y, cap)
+    r, p, rd, w = (out[key] for key in ("position", "euler_parameters", "velocity",
+                                        "angular_velocity"))
+    out.update(deflection=cap["w_dx"], rate=cap["w_dxd"], force=cap["w_f"],
+               force_i=cap["w_F"], force_j=-cap["w_F"])
 
     kinetic = 0.5 * system.mass * np.einsum("kbi,kbi->kb", rd, rd)
     kinetic[:, 1:] += 0.5 * np.einsum("kbi,bij,kbj->kb", w[:, 1:], system.J, w[:, 1:])

@@ -22,10 +22,11 @@ from flexbed.files.modes import ModesData
 from flexbed.files.results import results_contents
 from flexbed.files.scene import MODELS, SceneFile, read_solver
 from flexbed.files.store import in_memory
-from flexbed.stages.simulation import simulate_system
+from flexbed.dynamics.system import System
+from flexbed.stages.simulation import Simulation, simulate_system
 from flexbed.threads import limited
 
-__all__ = ["simulate", "solver_with", "SETTINGS"]
+__all__ = ["simulate", "solver_with", "solved", "results_of", "SETTINGS"]
 
 #: the ``[solver]`` entries :func:`simulate` and :func:`flexbed.compare` take by keyword
 SETTINGS = ("integrator", "t_end", "dt", "rtol", "atol", "output_dt")
@@ -73,6 +74,21 @@ def simulate(scene: SceneFile, *, modes: ModesData | None = None,
     Results
         ``complete`` False (with ``message``) when the run stopped early.
     """
+    return results_of(*solved(scene, modes=modes, equilibrium=equilibrium, start=start,
+                              model=model, linear_tol=linear_tol, progress=progress,
+                              **settings))
+
+
+@limited()
+def solved(scene: SceneFile, *, modes: ModesData | None = None,
+           equilibrium: Statics | None = None, start: str | None = None,
+           model: str | None = None, linear_tol: float | None = None,
+           progress=None, **settings) -> tuple:
+    """:func:`simulate`'s motion (its arguments, checked as there) before
+    anything is evaluated at the output samples: (scene, system, sim,
+    modes) — the compiled scene (System), the Simulation, the flexible
+    bed's modes or None — which :func:`results_of` turns into Results (a
+    study evaluates only what its metrics need)."""
     check = Arguments("simulate")
     scene = check.scene(scene)
     modes = check.modes(modes)
@@ -96,6 +112,15 @@ def simulate(scene: SceneFile, *, modes: ModesData | None = None,
                           linear_tol=solver.linear_tol if linear_tol is None else linear_tol,
                           eq=equilibrium.equilibrium if equilibrium is not None else None,
                           progress=progress)
+    return scene, system, sim, modes
+
+
+def results_of(scene: SceneFile, system: System, sim: Simulation,
+               modes: ModesData | None) -> Results:
+    """The :class:`Results` of a run solved by :func:`simulate` (every
+    dataset of its results file, evaluated at every output sample):
+    ``system`` is the compiled ``scene``, ``sim`` its motion, ``modes`` the
+    flexible bed's (or None)."""
     contents = results_contents(scene, system, sim.motion.run, start=sim.start,
                                 equilibrium=sim.equilibrium if sim.start == "equilibrium"
                                 else None, modes_path=modes.path if modes else None,

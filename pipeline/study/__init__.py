@@ -5,6 +5,8 @@
   list, zip, Latin hypercube);
 - :mod:`~flexbed.study.analyses` runs the analyses of one point (static,
   simulate, compare; a registry other analyses join);
+- :mod:`~flexbed.study.outputs` holds a point's run and evaluates only what
+  its metrics read;
 - :mod:`~flexbed.study.metrics` reduces them to the numbers kept;
 - :mod:`~flexbed.study.plan` checks the whole study before anything runs;
 - :mod:`~flexbed.study.point` is what a Dask worker runs;

@@ -5,7 +5,10 @@ point's numbers are those of a single ``flexbed static`` / ``simulate`` /
 ``compare`` of the same scene. An analysis receives the scene, the outcomes
 of the analyses run before it at this point (``simulate`` starts from
 ``static``'s equilibrium when both run) and the bed's modes (computed once
-per plate by the runner and shared).
+per plate by the runner and shared). ``simulate``'s outcome is a
+:class:`flexbed.study.outputs.PointRun`: the solved motion, of which only
+what the metrics read is evaluated at the output samples (the whole
+:class:`flexbed.Results` when asked, and for a kept results file).
 
 The frequency-domain analyses: ``modal`` is :func:`flexbed.modal` of the
 point's scene (about ``static``'s equilibrium when that runs too);
@@ -80,9 +83,10 @@ def _static(scene, outcomes, modes):
 
 
 def _simulate(scene, outcomes, modes):
-    from flexbed.api import simulate
-    run = simulate(scene, modes=modes if scene.bed.flexible else None,
-                   equilibrium=outcomes.get("static"))
+    from flexbed.api.simulation import solved
+    from flexbed.study.outputs import PointRun
+    run = PointRun(*solved(scene, modes=modes if scene.bed.flexible else None,
+                           equilibrium=outcomes.get("static")))
     if not run.complete:
         raise NumericalError(f"simulate: {run.message}")
     return run
@@ -95,6 +99,9 @@ def _compare(scene, outcomes, modes):
 
 def _results_file(run) -> tuple:
     from flexbed.files.results import write_results_contents
+    from flexbed.study.outputs import PointRun
+    if isinstance(run, PointRun):
+        run = run.results()
     return write_results_contents, run._datasets
 
 

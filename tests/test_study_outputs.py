@@ -1,0 +1,106 @@
+"""A study point's run (issue 30, part 5): :class:`flexbed.study.outputs.PointRun`
+evaluates only what the metrics read, and what it gives equals
+:func:`flexbed.simulate`'s results bit for bit — the points on the
+equipment (its own kinematics), a point on the bed (the whole results,
+built on demand), the mounts' forces and deflections, any other attribute
+— while a study of peaks never builds the whole results.
+
+The reference scene (rigid bed) and a flexible variant, over 0.05 s."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import flexbed
+from flexbed.api.simulation import solved
+from flexbed.study.analyses import ANALYSES
+from flexbed.study.metrics import PeakMotion, PeakMount
+from flexbed.study.outputs import PointRun
+from flexbed.study.point import run_point
+
+T_END = 0.05
+
+POINTS = [("equipment A", (0.0, 0.0, 0.15), "bed"),         # the scene's "A top"
+          ("equipment B", (0.1, -0.05, 0.2), None),
+          ("equipment B", (0.0, 0.0, 0.0), "equipment A"),
+          ("bed", (0.3, 1.0, 0.05), None),                    # on the bed: the whole results
+          ("equipment A", (0.0, 0.0, 0.15), "base")]
+
+
+def _pair(scene, **kw):
+    st = flexbed.statics(scene, **kw)
+    lazy = PointRun(*solved(scene, equilibrium=st, t_end=T_END, **kw))
+    full = flexbed.simulate(scene, equilibrium=st, t_end=T_END, **kw)
+    return lazy, full
+
+
+def _same(a: np.ndarray, b: np.ndarray) -> None:
+    assert a.shape == b.shape
+    assert np.array_equal(a, b), float(np.max(np.abs(a - b)))
+
+
+@pytest.fixture(scope="module")
+def rigid():
+    return _pair(flexbed.load_scene())
+
+
+def test_points_and_mounts_equal_the_results_bit_for_bit(rigid):
+    lazy, full = rigid
+    for body, xyz, rel in POINTS:
+        a = lazy.point(body, xyz, relative_to=rel)
+        b = full.point(body, xyz, relative_to=rel)
+        for key in ("position", "velocity", "acceleration"):
+            _same(getattr(a, key), getattr(b, key))
+    _same(lazy.mount_force, full.mount_force)
+    _same(lazy.mount_deflection, full.mount_deflection)
+    _same(lazy.t, full.t)
+    # any other attribute: the whole results'
+    _same(lazy.angular_velocity, full.angular_velocity)
+    _same(lazy["energy/balance"], full["energy/balance"])
+    assert lazy.complete and lazy.message == full.message
+
+
+def test_a_study_of_peaks_on_the_equipment_builds_no_results():
+    scene = flexbed.load_scene()
+    st = flexbed.statics(scene)
+    run = PointRun(*solved(scene, equilibrium=st, t_end=T_END))
+    outcomes = {"simulate": run}
+    peak = PeakMotion("peak_displacement", "A", "equipment A", (0.0, 0.0, 0.15), "bed", None)
+    force = PeakMount("peak_mount_force", tuple(range(12)), tuple(f"M{i}" for i in range(1, 13)),
+                      None, None)
+    peak.values(outcomes)
+    force.values(outcomes)
+    assert "_results" not in vars(run)
+    # the bodies' frames computed: the point's body and the one it is relative to
+    assert sorted(run._kinematics.A._done) == [1, 2]
+    run.point("bed", (0.0, 0.0, 0.05))
+    assert "_results" in vars(run)
+
+
+def test_the_kept_results_file_is_simulate_s(tmp_path):
+    scene = flexbed.vary(flexbed.load_scene(), {"solver.t_end": T_END})
+    res = run_point(scene, ("static", "simulate"), (), keep=True)
+    assert res.status == "ok", res.message
+    writer, args = res.files["results.h5"]
+    full = flexbed.simulate(scene, equilibrium=flexbed.statics(scene))
+    datasets, attrs = args
+    want, want_attrs = full._datasets
+    assert set(datasets) == set(want)
+    for key in want:
+        a, b = np.asarray(datasets[key].data), np.asarray(want[key].data)
+        assert a.dtype == b.dtype and (np.array_equal(a, b) if a.dtype.kind in "fiub"
+                                       else (a == b).all()), key
+    assert ANALYSES["simulate"].files is not None
+
+
+@pytest.mark.slow
+def test_a_flexible_bed_s_points_equal_the_results_bit_for_bit():
+    scene = flexbed.vary(flexbed.load_scene(), {"bed.model": "flexible"})
+    lazy, full = _pair(scene, modes=flexbed.modes(scene))
+    for body, xyz, rel in POINTS:
+        a = lazy.point(body, xyz, relative_to=rel)
+        b = full.point(body, xyz, relative_to=rel)
+        for key in ("position", "velocity", "acceleration"):
+            _same(getattr(a, key), getattr(b, key))
+    _same(lazy.mount_force, full.mount_force)
