@@ -76,16 +76,6 @@ def test_kirchhoff_rate_is_four_and_its_estimate_holds():
 
 
 @pytest.mark.slow
-def test_shell_rate_is_two_on_the_graded_meshes():
-    spec = auto_spec("plain")
-    beds = [compute_bed_modes(mesh_spec(spec, h), n_modes=6) for h in (0.2, 0.1, 0.05)]
-    f = np.array([b.modes.frequency for b in beds])
-    bending = [i for i, lab in enumerate(beds[-1].modes.labels) if lab == "bending about x"]
-    rate = np.log2((f[0] - f[1]) / (f[1] - f[2]))[bending]
-    assert len(bending) >= 3 and np.all((rate > 1.85) & (rate < 2.15)), rate
-
-
-@pytest.mark.slow
 @pytest.mark.parametrize("case", ["plain", "cutout"])
 def test_estimate_within_a_factor_of_two(case):
     """At h = 0.1 m every mode's estimate is within a factor of 2 of its
@@ -96,6 +86,13 @@ def test_estimate_within_a_factor_of_two(case):
     spec = auto_spec(case)
     beds = {h: compute_bed_modes(mesh_spec(spec, h), n_modes=10 if h < 0.2 else 16)
             for h in (0.2, 0.1, 0.05)}
+    if case == "plain":
+        # the shell's rate on these graded meshes is 2 (what the estimate assumes)
+        f = np.array([beds[h].modes.frequency[:6] for h in (0.2, 0.1, 0.05)])
+        bending = [i for i, lab in enumerate(beds[0.05].modes.labels[:6])
+                   if lab == "bending about x"]
+        rate = np.log2((f[0] - f[1]) / (f[1] - f[2]))[bending]
+        assert len(bending) >= 3 and np.all((rate > 1.85) & (rate < 2.15)), rate
     for h in (0.1, 0.05):
         fine, coarse = beds[h], beds[2 * h]
         ratio = element_size(coarse.nodes, coarse.cells) / element_size(fine.nodes, fine.cells)
@@ -110,7 +107,7 @@ def test_estimate_within_a_factor_of_two(case):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", ["plain", "cutout", "thick"])
+@pytest.mark.parametrize("case", ["cutout", "thick"])     # plain: the `modes` test below
 def test_auto_is_within_its_tolerance(case):
     bed = compute_bed_modes(auto_spec(case), n_modes=10)
     acc = bed.accuracy
@@ -179,6 +176,8 @@ def test_modes_with_only_mindlin_set_is_within_half_a_percent(tmp_path, capsys):
     assert "estimated discretisation error of the frequencies up to" in out
     data = read_modes_file(out_file)
     assert data.n_modes == 10 and data.accuracy.worst <= 0.005
+    assert data.accuracy.tolerance == 0.005
+    assert "chosen" in data.accuracy.mesh and "graded at free edges" in data.accuracy.mesh
     rel = data.frequency / np.array(REFERENCE["plain"]) - 1
     assert np.all(np.abs(rel) <= 0.005), rel
 
