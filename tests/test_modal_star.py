@@ -175,3 +175,31 @@ def test_batched_crossings_exact_and_equal_to_brent():
     never = dfrf.unit_crossings(lambda f: 0.5 * evaluate(f) / evaluate(f), grid,
                                 np.full_like(mag, 0.5), batched=True)
     assert np.all(np.isnan(never))
+
+
+def test_frf_isolation_crossings_batched_equal_brent(monkeypatch):
+    """The 2 × 2 tiling's FRF (54 coordinates: the large systems' path): the
+    crossings of every body's vertical transmissibility found together
+    equal Brent's method's, output by output, to 1e-11 relative."""
+    from flexbed.analyses.frf import frequency_response
+    from flexbed.analyses.modal import mounted
+
+    sf = tiled_scene(2, bed_model="rigid")
+    system = compile_scene(sf)
+    eq = solve_statics(system, tol=sf.solver.static_tol)
+    mt = mounted(sf, system, y_eq=eq.y)
+    assert mt.ms.n > dfrf.DENSE_LIMIT
+    grid = np.geomspace(1.0, 40.0, 300)
+    batched = frequency_response(sf, mt, frequencies=grid).isolation_from
+    brent = dfrf.unit_crossings
+    monkeypatch.setattr(dfrf, "unit_crossings",
+                        lambda *a, batched=False, **k: brent(*a, **k))
+    one_by_one = frequency_response(sf, mt, frequencies=grid).isolation_from
+    found = np.isfinite(one_by_one)
+    assert found.sum() >= 9
+    assert np.array_equal(found, np.isfinite(batched))
+    assert batched[found] == pytest.approx(one_by_one[found], rel=1e-11)
+
+
+def test_no_plan_when_the_sparse_matrices_are_not_the_dense_ones(tiled8):
+    assert star_modes.plan_of(replace(tiled8, K=2.0 * tiled8.K)) is None

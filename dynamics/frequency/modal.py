@@ -116,11 +116,8 @@ def _bilinear(a: np.ndarray, B, c: np.ndarray, large: bool) -> np.ndarray:
 def _times(B, c: np.ndarray) -> np.ndarray:
     """Rows of ``c @ Bᵀ`` (m, r) for B (r, n) sparse, c (m, n) real or complex."""
     if np.iscomplexobj(c):
-        out = np.empty((c.shape[0], B.shape[0]), dtype=complex)
-        out.real = (B @ c.real.T).T
-        out.imag = (B @ c.imag.T).T
-        return out
-    return (B @ c.T).T
+        B = B.astype(complex)
+    return (B @ np.ascontiguousarray(c.T)).T
 
 
 def _sparse(ms: MountedSystem, name: str):
@@ -212,8 +209,11 @@ def strain_shares(ms: MountedSystem, phi: np.ndarray) -> tuple[np.ndarray, np.nd
     large = ms.n > DENSE_LIMIT
     dx = _times(_sparse(ms, "D"), phi) if large else phi @ ms.D.T       # (m, 3M)
     mounts = 0.5 * ms.k_tangent[None, :] * np.abs(dx) ** 2
-    elastic = 0.5 * _bilinear(phi, _sparse(ms, "K_elastic") if large else ms.K_elastic, phi,
-                              large).real
+    if large and not ms.K_elastic.any():                          # a rigid bed
+        elastic = np.zeros(phi.shape[0])
+    else:
+        elastic = 0.5 * _bilinear(phi, _sparse(ms, "K_elastic") if large else ms.K_elastic,
+                                  phi, large).real
     total = mounts.sum(axis=1) + elastic
     total = np.where(total != 0.0, total, 1.0)
     return (mounts / total[:, None]).reshape(phi.shape[0], -1, 3), elastic / total

@@ -31,11 +31,15 @@ __all__ = ["plan_of", "undamped", "damped"]
 
 
 def plan_of(ms: MountedSystem) -> BlockPlan | None:
-    """The block plan of ``ms``, or None (no sparse matrices, no leaves,
-    too many hub coordinates, or mass coupling between leaves and hub)."""
+    """The block plan of ``ms``, or None (no sparse matrices or ones that
+    are not ``ms``'s dense M, K, C — a copy with K or C replaced —, no
+    leaves, too many hub coordinates, or mass coupling between leaves and
+    hub)."""
     if ms.sparse is None:
         return None
     Ms, Ks, Cs = ms.sparse
+    if any(np.any(S.toarray() != D) for S, D in ((Ms, ms.M), (Ks, ms.K), (Cs, ms.C))):
+        return None
     plan = block_plan(Ks, Ms, Cs, ms.body)
     if plan is None or np.any(plan.LH[1]) or np.any(plan.HL[1]):
         return None
