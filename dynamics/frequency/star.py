@@ -24,7 +24,7 @@ neither drive the hub (``C Q₂ = 0``) nor feel it (``Q₂ᴴ R = 0``), so
 
 exactly: they are eigenvectors, right and left, with the hub at rest. What
 is left, the hub and the r combinations Q₁ of every group, is a dense
-matrix of ``H + Σ r_G`` states (236 for 128 pieces of equipment of two
+matrix of ``H + Σ r_G`` states (156 for 128 pieces of equipment of two
 kinds on a rigid bed, against 1548), decoupled from the Q₂ states: its
 eigenpairs are the others, mapped back through Q₁ and V_ℓ, and its
 inverse eigenvector matrix gives their left vectors.
@@ -55,8 +55,10 @@ __all__ = ["Star", "StarEig", "star_eig", "GROUP_TOL", "RANK_TOL", "RESIDUAL_TOL
 
 #: leaf eigenvalues within this many times max|μ| of each other form a group
 GROUP_TOL = 1e-11
-#: singular values of a group's hub columns below this times the largest count as zero
-RANK_TOL = 1e-12
+#: singular values of a group's [C̄, R] below this times the largest count as
+#: zero (identical pieces' couplings differ by the linearisation's round-off,
+#: ~1e-11 relative: keeping those directions only makes the dense part larger)
+RANK_TOL = 1e-10
 #: largest relative residual ‖A x − λ x‖ / (‖A‖_F ‖x‖) accepted
 RESIDUAL_TOL = 1e-10
 
@@ -194,21 +196,24 @@ def star_eig(a: Star, left: bool = False, select=None, group_tol: float = GROUP_
     n_el = sum(e[1].shape[1] for e in elim)
     n = n_red + n_el
     Ys = Y[:, keep]
-    modes = np.zeros((nm, n), dtype=complex)
-    modes[:, :n_red] = P @ Ys[:n_kept]
-    hub = np.zeros((H, n), dtype=complex)
-    hub[:, :n_red] = Ys[n_kept:]
     lam = np.empty(n, dtype=complex)
     lam[:n_red] = lam_r[keep]
+    right = np.zeros((nm + H, n), dtype=complex)
+    right[:nm, :n_red] = (V @ (P @ Ys[:n_kept]).reshape(nL, s, n_red)).reshape(nm, n_red)
+    right[nm:, :n_red] = Ys[n_kept:]
     col = n_red
-    for idx, Q2, mean in elim:
+    for idx, Q2, mean in elim:           # leaf ℓ's states: V_ℓ[:, k] Q₂[(ℓ, k), :]
         k = Q2.shape[1]
-        modes[idx, col:col + k] = Q2
+        leaf, mode = np.divmod(idx, s)
+        rows = (leaf[:, None] * s + np.arange(s)[None, :])[..., None]          # (g, s, 1)
+        vals = V[leaf, :, mode][..., None] * Q2[:, None, :]                     # (g, s, k)
+        cols = np.arange(col, col + k)[None, None, :]
+        if np.unique(leaf).size == leaf.size:
+            right[rows, cols] = vals
+        else:                            # two of one leaf's modes in the group
+            np.add.at(right, (rows, cols), vals)
         lam[col:col + k] = mean
         col += k
-    right = np.empty((nm + H, n), dtype=complex)
-    right[:nm] = (V @ modes.reshape(nL, s, n)).reshape(nm, n)
-    right[nm:] = hub
 
     L = None
     if left:
