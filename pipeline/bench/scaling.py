@@ -160,12 +160,12 @@ def section_scaling(ctx: BenchContext) -> str:
         "hub-and-leaves structure (`flexbed.dynamics.frequency.star`): each piece of "
         "equipment's block diagonalised on its own, the combinations of identical pieces' "
         "modes that neither drive nor feel the bed found exactly with the bed at rest, one "
-        "dense eigen-solution of the rest (a few tens of states per kind of equipment) — "
+        "dense eigen-solution of the rest (156 of the 1548 first-order states at N = 128) — "
         "every mode, exact but for the spread of identical pieces' eigenvalues (~1e-11 "
-        "relative); frf eliminates each piece of equipment onto the bed per frequency "
-        "(`flexbed.dynamics.frequency.blocks`: batched 6 × 6 solves, O(N) per frequency) "
-        "and searches the isolation crossings of all outputs together (one batched solve per "
-        "step). "
+        "relative; `docs/theory.md`); frf eliminates each piece of equipment onto the bed "
+        "per frequency (`flexbed.dynamics.frequency.blocks`: batched 6 × 6 solves, O(N) "
+        "per frequency) and searches the isolation crossings of all outputs together (one "
+        "batched solve per step). "
         "Coordinates: the mounted system's (6 per body). Last row: the growth exponent p of "
         "t ∝ Nᵖ between the last two sizes.", "",
         md_table(["N", "coordinates", "statics [s]", "static [s]", "simulate [s]", "modal [s]",
