@@ -2,15 +2,18 @@
 its bed flexible (6 modes) under a MIL-STD-810-style random base
 acceleration given as a g²/Hz table on all three axes: RMS and 3σ mount
 deflections and equipment accelerations, Miles' equation beside them, and
-the PSD plots. Run: ``python docs/random_vibration.py`` from the
-repository's root (about 20 s, most of it the bed's modes)."""
+the PSD plots. Run: ``python docs/random_vibration.py [FOLDER]`` (about 9 s
+of CPU, most of it loading and compiling; the files go into FOLDER, default
+the current folder; ``FOLDER = docs`` redraws the page's plots)."""
 
+import sys
 from dataclasses import replace
 from pathlib import Path
 
 import flexbed
 
-here = Path(__file__).parent
+out = Path(sys.argv[1] if len(sys.argv) > 1 else ".")
+out.mkdir(parents=True, exist_ok=True)
 G = 9.80665
 
 # 1. The flexible reference bed, 6 modes kept.
@@ -47,19 +50,19 @@ for m in scene.scene.mounts:
           f"{r.rms_error[j] / r.rms[j]:.1e}")
 
 # 4. Files and plots: HDF5, CSV tables, and the PSDs with the input (log-log).
-r.save("random-lee1999")                    # into the current folder
+r.save(out / "random-lee1999")
 from flexbed.plots.random import plot_psd  # noqa: E402  (only the example draws)
 
 acc = [r.column(f"A top a{a}") for a in "xyz"] + [r.column(f"B top a{a}") for a in "xyz"]
-plot_psd(here / "random-lee1999-acceleration.png",
+plot_psd(out / "random-lee1999-acceleration.png",
          "flexible reference bed (6 modes): equipment acceleration PSDs",
          r.frequency, r.psd[:, acc] / G**2, [r.names[j] for j in acc], "g", r.rms[acc] / G,
          r.input_psd, ["X", "Y", "Z"], r.resonances)
 defl = sorted((r.column(f"{m.name} d{k}") for m in scene.scene.mounts for k in (1, 2, 3)),
               key=lambda j: -r.rms[j])[:6]
-plot_psd(here / "random-lee1999-deflection.png",
+plot_psd(out / "random-lee1999-deflection.png",
          "flexible reference bed (6 modes): the six largest mount deflection PSDs",
          r.frequency, r.psd[:, defl] * 1e6, [r.names[j] for j in defl], "mm",
          r.rms[defl] * 1e3, resonances=r.resonances)
-print("wrote random-lee1999.h5, -rms.csv, -psd.csv (here) and "
-      "docs/random-lee1999-acceleration.png, -deflection.png")
+print(f"wrote random-lee1999.h5, -rms.csv, -psd.csv, -acceleration.png and -deflection.png "
+      f"into {out}")

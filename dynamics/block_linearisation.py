@@ -19,6 +19,7 @@ import scipy.sparse as sp
 from .jacobian import force_jacobian, mount_graph, perturbed_positions, perturbed_rates
 from .rotation import A as rotation_matrix
 from .system import System
+from .tangent import tangent
 
 __all__ = ["mass_blocks", "block_inverse", "acceleration_rows", "Linearised", "linearised"]
 
@@ -111,7 +112,8 @@ class Linearised:
 
 def linearised(system: System, y: np.ndarray, q_steps: np.ndarray, v_steps: np.ndarray, *,
                t: float = 0.0, seg_end: float = math.inf, capture: tuple = (),
-               modal: bool = True, position_states=None, rate_states=None) -> Linearised:
+               modal: bool = True, position_states=None, rate_states=None,
+               exact: bool = False) -> Linearised:
     """:class:`Linearised` at the state y (ny,) by :func:`force_jacobian`,
     central steps ``q_steps`` (n,) and ``v_steps`` (n,); then ``v̇ ≈ M⁻¹
     (Kq δq + Kv δv)`` about y (exactly the right-hand side's derivative for
@@ -119,8 +121,18 @@ def linearised(system: System, y: np.ndarray, q_steps: np.ndarray, v_steps: np.n
     equilibrium). ``position_states`` and ``rate_states`` (callables DU (k,
     n) → states (k, ny)) replace :func:`perturbed_positions` and
     :func:`perturbed_rates` (another parametrisation of the rotations, the
-    same to first order)."""
+    same to first order).
+
+    ``exact``: at a state at rest, Kq, Kv and the mount fields' derivatives
+    written out analytically (:func:`flexbed.dynamics.tangent.tangent`: one
+    right-hand side, round-off only; the steps and state maps are then not
+    used); where that does not apply (:func:`flexbed.dynamics.tangent.uncovered`:
+    motion, loads on bodies, …) the central differences above."""
     Mb = mass_blocks(system, y, modal)
+    if exact:
+        tg = tangent(system, y, t=t, seg_end=seg_end, modal=modal, capture=capture)
+        if tg is not None:
+            return Linearised(Mb, tg.Kq, tg.Kv, tg.outputs_q, tg.outputs_v, tg.evaluations)
     if position_states is None:
         def position_states(DU):
             return perturbed_positions(system, y, DU)

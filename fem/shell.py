@@ -12,7 +12,7 @@ bed's mass, centre of mass and inertia come from it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -78,7 +78,10 @@ def _drilling(parts: list, N: int) -> sp.csr_matrix:
 
 @dataclass(frozen=True)
 class ShellModel:
-    """Assembled Mindlin shell. Matrices are (ndof, ndof) CSR, ndof = 5 N.
+    """Assembled Mindlin shell. Matrices are (ndof, ndof) CSR, ndof = 5 N + m:
+    the five DOFs of each node (node i: 5 i … 5 i + 4), then m DOFs of the
+    stiffeners' own (``model = "hinged"``: the web's section rotation at
+    each node of its line, :mod:`flexbed.fem.stiffeners`).
 
     Attributes
     ----------
@@ -114,6 +117,12 @@ class ShellModel:
         Fixed masses as (FixedMass, centre in the bed frame's x, y and its
         height above the mid-surface (3,), DOFs (20,), T (3, 20), R (3, 20))
         (:mod:`flexbed.fem.fixed_masses`); their mass is in ``M``.
+    extra_nodes : ndarray (m,) of int
+        The node each DOF past 5 N sits at (the banded ordering puts it
+        after that node's five).
+    extra_rigid : sparse (m, 5 N) or None
+        The extra DOFs' values in a rigid motion given by the nodes' DOFs
+        (the web's section turns with the plate's normal).
     """
 
     spec: PlateSpec
@@ -133,6 +142,8 @@ class ShellModel:
     origin: np.ndarray
     mid_z: float = 0.0
     fixed: tuple = ()
+    extra_nodes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    extra_rigid: sp.csr_matrix | None = None
 
     n_rigid = 6
 
@@ -143,12 +154,15 @@ class ShellModel:
         return np.arange(DOFS_PER_NODE * N).reshape(N, DOFS_PER_NODE).T
 
     def dof_vector(self, u=0.0, v=0.0, w=0.0, tx=0.0, ty=0.0) -> np.ndarray:
-        """DOF vector (ndof,) from nodal values."""
+        """DOF vector (ndof,) from nodal values (the extra DOFs as in a
+        rigid motion: ``extra_rigid`` of the nodal part)."""
         N = self.nodes.shape[0]
         out = np.empty((N, DOFS_PER_NODE))
         for k, values in enumerate((u, v, w, tx, ty)):
             out[:, k] = np.broadcast_to(values, (N,))
-        return out.ravel()
+        if self.extra_rigid is None:
+            return out.ravel()
+        return np.concatenate([out.ravel(), self.extra_rigid @ out.ravel()])
 
     def rigid_vectors(self) -> np.ndarray:
         """DOF vectors (ndof, 6): translations along x, y, z, rotations about
@@ -164,7 +178,14 @@ class ShellModel:
         span_x, span_y = np.ptp(x), np.ptp(y)
         fast, slow = (x, y) if span_x <= span_y else (y, x)
         node_order = np.lexsort((fast, slow))
-        return self.node_dofs[:, node_order].T.ravel()
+        if not self.extra_nodes.size:
+            return self.node_dofs[:, node_order].T.ravel()
+        N = self.nodes.shape[0]
+        rank = np.empty(N, dtype=np.int64)
+        rank[node_order] = np.arange(N)
+        m = self.extra_nodes.size
+        owner = np.concatenate([np.repeat(np.arange(N), DOFS_PER_NODE), self.extra_nodes])
+        return np.lexsort((np.arange(DOFS_PER_NODE * N + m), rank[owner]))
 
     def translations(self, phi: np.ndarray) -> np.ndarray:
         """Nodal translations (n, N, 3) of DOF vectors phi (ndof, n)."""
@@ -305,20 +326,38 @@ def assemble_shell(spec: PlateSpec) -> ShellModel:
         dofs, T, R = attachment(lay.nodes, lay.cells, cell, s_nat, item.position[2])
         mass_blocks.append((dofs, item.mass * T.T @ T + R.T @ np.array(item.inertia) @ R))
         attached.append((item, where, dofs, T, R))
+    n = model.M.shape[0]
+    extra_nodes, extra_rigid = [], []
     for st in spec.stiffeners:
         try:
-            K, M, slices = stiffener_matrices(st, lay.nodes, lay.cells, model.drilling,
-                                              lay.centre[:2],
-                                              spec.young, spec.poisson, spec.density)
+            K, M, slices, own = stiffener_matrices(st, lay.nodes, lay.cells, model.drilling,
+                                                   lay.centre[:2], spec.young, spec.poisson,
+                                                   spec.density, first=n)
         except GeometryError as exc:
             raise PlateSpecError("stiffener", str(exc)) from None
         stiff_blocks += K
         mass_blocks += M
         attached += slices
-    n = model.M.shape[0]
+        if own is not None:
+            extra_nodes.append(own[0])
+            extra_rigid.append(own[1])
+            n += own[0].size
+    if n > model.M.shape[0]:
+        model = replace(model, extra_nodes=np.concatenate(extra_nodes),
+                        extra_rigid=sp.vstack(extra_rigid).tocsr(),
+                        **{k: _grown(getattr(model, k), n) for k in (
+                            "K", "M", "K_xx", "K_yy", "K_twist", "K_membrane", "K_shear",
+                            "drilling")})
     K = (model.K + _sum_blocks(stiff_blocks, n)).tocsr() if stiff_blocks else model.K
     return replace(model, K=K, M=(model.M + _sum_blocks(mass_blocks, n)).tocsr(),
                    mid_z=lay.mid_z, fixed=tuple(attached))
+
+
+def _grown(A: sp.spmatrix, n: int) -> sp.csr_matrix:
+    """A with its columns (and its rows, when square) padded with zeros to n."""
+    A = A.tocoo()
+    rows = n if A.shape[0] == A.shape[1] else A.shape[0]
+    return sp.coo_matrix((A.data, (A.row, A.col)), shape=(rows, n)).tocsr()
 
 
 def _sum_blocks(blocks: list, n: int) -> sp.csr_matrix:

@@ -21,13 +21,15 @@ stress at the top face σb = (t/2) Q κ; the bottom face's bending stress is
 
 Stiffeners' stresses (:func:`stiffener_stress_operators`) are recovered
 from the shell DOFs the stiffener is joined to, with its own kinematics
-(centroid at the offset, moving as U = (u + e θy, v − e θx, w)); it is a
-small function of its own so that a different stiffener model changes one
-place.
+(centroid at the offset, moving as U = (u + e θy, v − e θx, w); a hinged
+stiffener's section with its own rotation ψ, DOFs after the nodes'); it is
+a small function of its own so that a different stiffener model changes
+one place.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -55,9 +57,9 @@ class StiffenerStress:
     axial : sparse (k, ndof)
         Axial stress at the section's centroid E ε_c [Pa per unit DOF].
     gradient : sparse (k, ndof)
-        Bending stress per metre above the centroid, −E w'' [Pa/m per
-        unit DOF]: the stress at a fibre d above the centroid is
-        axial + d · gradient.
+        Bending stress per metre above the centroid, −E w'' (a hinged
+        stiffener's: −E ψ', its own curvature) [Pa/m per unit DOF]: the
+        stress at a fibre d above the centroid is axial + d · gradient.
     fibres : ndarray (2,)
         The extreme fibres' heights above the centroid [m] (upper, lower).
     """
@@ -165,7 +167,12 @@ def shell_stress_operators(model) -> BedStressOperators:
         mem.append(_scatter(Q @ Bm, dofs, tris, ndof, ne))
         ben.append(_scatter((0.5 * t[tris])[:, None, None] * (Q @ Bb), dofs, tris, ndof, ne))
         centres[tris] = xy.mean(axis=1)
-    stiff = tuple(stiffener_stress_operators(st, model) for st in spec.stiffeners)
+    stiff, first = [], 5 * nodes.shape[0]          # the hinged ones' own DOFs follow the nodes'
+    for st in spec.stiffeners:
+        stiff.append(stiffener_stress_operators(st, model, first))
+        if st.model == "hinged":
+            first += stiff[-1].centres.shape[0] + 1
+    stiff = tuple(stiff)
     return BedStressOperators(centres=centres, membrane=sum(mem[1:], mem[0]).tocsr(),
                               bending=sum(ben[1:], ben[0]).tocsr(), stiffeners=stiff)
 
@@ -211,22 +218,30 @@ def stiffener_fibres(st) -> np.ndarray:
     return np.array([c, -c]) if c > 0 else np.zeros(0)
 
 
-def stiffener_stress_operators(st, model) -> StiffenerStress:
+def stiffener_stress_operators(st, model, first: int = 0) -> StiffenerStress:
     """Axial and bending stress operators of one stiffener on the shell.
 
     Kinematics (as the beam is joined, :mod:`flexbed.fem.stiffeners`): a
     fibre at height z above the mid-surface moves along the axis s by
-    u_s + z β_s (β = (θy, −θx): β_s = s_x θy − s_y θx), so its strain is
-    u_s' + z β_s'. Over a beam element between nodes A, B at distance L the
-    centroid's strain is ε_c = (u_s,B − u_s,A)/L + e (β_s,B − β_s,A)/L and
-    β_s' = (β_s,B − β_s,A)/L, which is also the cubic Hermite deflection's
-    −w'' at the element's mid-point. The in-plane (lateral) bending and
-    torsion stresses are not recovered.
+    u_s + z β_s (β = (θy, −θx): β_s = s_x θy − s_y θx = −φ), so its strain
+    is u_s' + z β_s'. Over a beam element between nodes A, B at distance L
+    the centroid's strain is ε_c = (u_s,B − u_s,A)/L + e (β_s,B − β_s,A)/L
+    and β_s' = (β_s,B − β_s,A)/L, which is also the cubic Hermite
+    deflection's −w'' at the element's mid-point. A ``"hinged"`` stiffener
+    has a section rotation ψ of its own (nodal DOFs ``first`` …, in order
+    along its line): its fibre d above the centroid, a = d + c above the
+    face z_f = e − c (c the centroid's height above the face, negative
+    below it), moves by u_s − z_f φ − a ψ, so ε_c = u_s' + (e − c)
+    β_s' − c ψ' and the gradient is −ψ' (its own curvature, not the
+    plate's). The in-plane (lateral) bending and torsion stresses are not
+    recovered.
 
     Parameters
     ----------
     st : Stiffener
     model : ShellModel
+    first : int
+        The first of a hinged stiffener's own DOFs.
 
     Returns
     -------
@@ -239,18 +254,30 @@ def stiffener_stress_operators(st, model) -> StiffenerStress:
     a, b = order[:-1], order[1:]
     k, L = a.size, along[b] - along[a]
 
-    def operator(w_u: float, w_beta: float) -> sp.csr_matrix:
-        """E (w_u Δu_s + w_beta Δβ_s) / L per element."""
-        per = np.array([w_u * s3[0], w_u * s3[1], -w_beta * s3[1], w_beta * s3[0]])
+    hinged = st.model == "hinged"
+    c = math.copysign(st.section.centroid, st.offset)     # the centroid above the face
+
+    def operator(w_u: float, w_beta: float, w_psi: float = 0.0) -> sp.csr_matrix:
+        """E (w_u Δu_s + w_beta Δβ_s + w_psi Δψ) / L per element."""
+        per = np.array([w_u * s3[0], w_u * s3[1], -w_beta * s3[1], w_beta * s3[0]]
+                       + ([w_psi] if hinged else []))
         cols, vals = [], []
-        for node, sign in ((a, -1.0), (b, 1.0)):
-            cols.append(5 * node[:, None] + np.array([0, 1, 3, 4]))
+        for node, own, sign in ((a, first + np.arange(k), -1.0), (b, first + 1 + np.arange(k),
+                                                                  1.0)):
+            at = [5 * node[:, None] + np.array([0, 1, 3, 4])]
+            cols.append(np.concatenate(at + ([own[:, None]] if hinged else []), axis=1))
             vals.append(sign * E * per[None, :] / L[:, None])
         return sp.coo_matrix((np.concatenate(vals, axis=1).ravel(),
-                              (np.repeat(np.arange(k), 8), np.concatenate(cols, axis=1).ravel())),
+                              (np.repeat(np.arange(k), 2 * per.size),
+                               np.concatenate(cols, axis=1).ravel())),
                              shape=(k, ndof)).tocsr()
 
-    return StiffenerStress(name=st.name, centres=0.5 * (model.nodes[a] + model.nodes[b]),
+    centres = 0.5 * (model.nodes[a] + model.nodes[b])
+    if hinged:
+        return StiffenerStress(name=st.name, centres=centres,
+                               axial=operator(1.0, st.offset - c, -c),
+                               gradient=operator(0.0, 0.0, -1.0), fibres=stiffener_fibres(st))
+    return StiffenerStress(name=st.name, centres=centres,
                            axial=operator(1.0, st.offset), gradient=operator(0.0, 1.0),
                            fibres=stiffener_fibres(st))
 

@@ -30,12 +30,15 @@ def _solve(K, f, fixed):
 
 def _cantilever_shell(spec):
     """Strip clamped at x = −L/2 in cylindrical bending (v = θx = 0) under a
-    downward line load P at x = +L/2: DOF vector and model."""
+    downward line load P at x = +L/2: DOF vector and model. The clamp holds
+    a hinged stiffener's own section rotation too (its DOFs after the
+    nodes', :class:`flexbed.fem.shell.ShellModel`)."""
     m = assemble_shell(spec)
     x, y = m.nodes.T
     d = m.node_dofs
     fixed = np.zeros(m.K.shape[0], bool)
     fixed[d[:, np.isclose(x, -L / 2)].ravel()] = True
+    fixed[d.size + np.flatnonzero(np.isclose(x[m.extra_nodes], -L / 2))] = True
     fixed[d[1]] = fixed[d[3]] = True
     tip = np.isclose(x, L / 2)
     dy = B / spec.ny

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -29,3 +30,50 @@ def test_validation_page_shows_what_its_script_computes(tmp_path):
     assert drift < 1e-9
     assert energy.split("drift ")[0] in page
     assert not list(tmp_path.iterdir())          # the script leaves nothing behind
+
+
+def _run_script(name: str, cwd: Path, *args: str) -> str:
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
+    cp = subprocess.run([sys.executable, str(ROOT / "docs" / name), *args], cwd=cwd,
+                        capture_output=True, text=True, timeout=900, env=env)
+    assert cp.returncode == 0, cp.stderr[-2000:]
+    return cp.stdout
+
+
+def _shown_output(page: str, command: str) -> list[str]:
+    """The lines of the plain block that follows ``command``'s console block
+    on ``page``, without the rows the page elides (``...``)."""
+    text = (ROOT / "docs" / page).read_text()
+    after = text.split(f"$ {command}\n", 1)[1].split("```\n", 1)[1]   # past its console block
+    block = re.search(r"^```\n(.*?)^```", after, flags=re.S | re.M).group(1)
+    return [ln for ln in block.splitlines() if ln.strip() and ln.strip() != "..."]
+
+
+@pytest.mark.slow
+def test_random_vibration_page_shows_what_its_script_prints(tmp_path):
+    out = _run_script("random_vibration.py", tmp_path, "random-out").splitlines()
+    shown = _shown_output("random-vibration.md", "python docs/random_vibration.py random-out")
+    assert len(shown) >= 15
+    first = shown[0].split("; solve ")[0]
+    assert out[0].split("; solve ")[0] == first          # the solve time varies from run to run
+    for row in shown[1:]:
+        assert row in out, row
+    names = {p.name for p in (tmp_path / "random-out").iterdir()}
+    assert {"random-lee1999.h5", "random-lee1999-acceleration.png",
+            "random-lee1999-deflection.png"} <= names
+
+
+@pytest.mark.slow
+def test_the_optimisation_tutorial_runs_on_a_small_budget(tmp_path):
+    out = _run_script("optimize.py", tmp_path, "try-out", "--max-evaluations", "4")
+    heads = [ln for ln in out.splitlines() if " bed: " in ln]
+    assert [h.split(" bed:")[0] for h in heads] == ["rigid", "flexible"], out
+    for tag in ("rigid", "flexible"):
+        folder = tmp_path / "try-out" / f"optimize-out-{tag}"
+        assert {"evaluations.csv", "optimum.toml", "comparison.md", "convergence.png",
+                "transmissibility.png"} <= {p.name for p in folder.iterdir()}
+        rows = (folder / "evaluations.csv").read_text().splitlines()
+        assert len(rows) >= 1 + 4                      # header and at least the budget
+        assert (tmp_path / "try-out" / f"optimize-convergence-{tag}.png").is_file()
+    assert "$ python docs/optimize.py try-out --max-evaluations 4" in (
+        ROOT / "docs" / "optimize.md").read_text()

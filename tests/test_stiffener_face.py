@@ -27,9 +27,11 @@ def _table(**extra):
 def test_stiffener_under_a_zone_sits_on_the_zone_face():
     """A zone of 30 mm over the whole 20 mm strip: the bar's offset is
     −(0.015 + 0.05) m, and the bed's modes equal those of a uniform 30 mm
-    strip with the same bar (round-off); its first bending mode is within
-    1 % of Euler–Bernoulli theory for the composite T-section, while the
-    nominal face (the old offset) would be 2.1 % off."""
+    strip with the same bar (round-off); its first bending mode lies 0.5 …
+    1.5 % below Euler–Bernoulli theory for the composite T-section (the
+    shear flexibility of plate and web, as for the strip of
+    test_stiffeners.py), while the nominal face (the old offset) would be
+    2.1 % off that theory's."""
     geometry = BedGeometry(zones=(Zone(Region("rectangle", (0.0, 0.0), size=(B, L)), TZ),),
                            element_size=0.05)
     (st,) = read_stiffeners(_table(), "s.toml: bed", geometry)
@@ -50,7 +52,7 @@ def test_stiffener_under_a_zone_sits_on_the_zone_face():
         return 4.730040745 ** 2 / (2 * math.pi * L * L) * math.sqrt(EI / (RHO * (Af + Aw)))
 
     f1 = zoned.modes.frequency[0]
-    assert f1 == pytest.approx(beam(st.offset), rel=0.01)
+    assert 0.005 < 1 - f1 / beam(st.offset) < 0.015
     assert abs(beam(-(T0 / 2 + 0.05)) / f1 - 1) > 0.02
 
 

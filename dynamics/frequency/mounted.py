@@ -34,6 +34,7 @@ from ..block_linearisation import linearised
 from ..linear.model import Coordinates, difference_steps, linearise
 from ..rotation import A as rotation_matrix
 from ..system import System
+from ..tangent import Tangent, tangent
 from .elastomer import ComplexStiffness
 
 __all__ = ["MountedSystem", "mounted_system", "DOF_NAMES"]
@@ -168,6 +169,17 @@ def _mass_matrix(system: System, coords: Coordinates, y_eq: np.ndarray) -> np.nd
     return M
 
 
+def _exact_parts(system: System, coords: Coordinates, tg: Tangent):
+    """The same from the exact tangent at rest (:func:`flexbed.dynamics.tangent.tangent`,
+    dense: one right-hand side)."""
+    M = _mass_matrix(system, coords, coords.y_eq)
+    sign = (system.body_i == 0).astype(float) - (system.body_j == 0).astype(float)
+    oq, ov = tg.outputs_q, tg.outputs_v
+    Bq, Bv = (np.einsum("m,mkc->kc", sign, o["w_F"].reshape(system.M, 3, -1)) for o in (oq, ov))
+    return (M, -tg.Kq, -tg.Kv, oq["w_dx"], ov["w_dxd"], oq["w_f"], ov["w_f"], Bq, Bv,
+            (sp.csr_matrix(M), sp.csr_matrix(-tg.Kq), sp.csr_matrix(-tg.Kv)))
+
+
 def _dense_parts(system: System, coords: Coordinates):
     """M, K, C and the mount outputs, dense, by the one linearisation
     (:func:`flexbed.dynamics.linear.model.linearise`: every column) and one
@@ -205,7 +217,7 @@ def _dense_parts(system: System, coords: Coordinates):
             (sp.csr_matrix(M), sp.csr_matrix(K), sp.csr_matrix(C)))
 
 
-def _sparse_parts(system: System, coords: Coordinates):
+def _sparse_parts(system: System, coords: Coordinates, exact: bool = False):
     """The same by colour classes of the mount graph
     (:func:`flexbed.dynamics.block_linearisation.linearised`: O(N) right-hand sides,
     block-sparse M, K, C; the path of large systems): the states are the
@@ -225,7 +237,7 @@ def _sparse_parts(system: System, coords: Coordinates):
 
     lin = linearised(system, coords.y_eq, step[keep], step[npos + keep],
                      capture=("w_dx", "w_dxd", "w_f", "w_F"), position_states=states(False),
-                     rate_states=states(True))
+                     rate_states=states(True), exact=exact)
     Ms, Ks, Cs = lin.M, (-lin.Kq).tocsr(), (-lin.Kv).tocsr()
     sign = (system.body_i == 0).astype(float) - (system.body_j == 0).astype(float)
     to_base = sp.kron(sp.csr_matrix(sign[None, :]), sp.identity(3), format="csr")   # (3, 3M)
@@ -236,8 +248,8 @@ def _sparse_parts(system: System, coords: Coordinates):
             (Ms, Ks, Cs))
 
 
-def mounted_system(system: System, y_eq: np.ndarray, sparse: bool | None = None
-                   ) -> MountedSystem:
+def mounted_system(system: System, y_eq: np.ndarray, sparse: bool | None = None,
+                   exact: bool = True) -> MountedSystem:
     """The mounted system about the equilibrium ``y_eq`` (ny,), base held.
 
     Central differences of the right-hand side at ±1e-6 in each rotation
@@ -250,7 +262,10 @@ def mounted_system(system: System, y_eq: np.ndarray, sparse: bool | None = None
     the columns by colour classes of the mount graph
     (:func:`_sparse_parts`, O(N) right-hand sides, block-sparse matrices)
     rather than one by one (:func:`_dense_parts`, today's path, cheaper on
-    small systems); both give the same matrices to round-off.
+    small systems); both give the same matrices to round-off. ``exact``
+    (default): K, C and the mount outputs written out analytically where
+    :func:`flexbed.dynamics.tangent.tangent` applies (one right-hand side,
+    round-off only; sparse or dense as ``sparse`` says); elsewhere the differences.
     """
     nfev0 = system.nfev
     coords = Coordinates(system, y_eq)
@@ -258,8 +273,13 @@ def mounted_system(system: System, y_eq: np.ndarray, sparse: bool | None = None
     n = coords.n_pos - nb3
     if sparse is None:
         sparse = n > DENSE_LIMIT
-    M, K, C, D, Dv, Fq, Fv, Bq, Bv, mats = (_sparse_parts if sparse else _dense_parts)(
-        system, coords)
+    tg = None if sparse or not exact else tangent(system, coords.y_eq, dense=True,
+                                                  capture=("w_dx", "w_dxd", "w_f", "w_F"))
+    if tg is not None:
+        parts = _exact_parts(system, coords, tg)
+    else:
+        parts = _sparse_parts(system, coords, exact) if sparse else _dense_parts(system, coords)
+    M, K, C, D, Dv, Fq, Fv, Bq, Bv, mats = parts
     k_t = _tangent(Fq, D)
     c_t = _tangent(Fv, Dv)
     K_el = np.zeros((n, n))

@@ -110,7 +110,7 @@ def accuracy_runs(quick: bool, repeats: int, log=lambda m: None,
 
 def stiffened_run(repeats: int) -> tuple[BedRun, np.ndarray]:
     """The stiffened bed with ``element_size = "auto"`` (tolerance 0.5 %,
-    Timoshenko stiffeners): its run and its error against
+    hinged stiffeners, the default): its run and its error against
     :data:`STIFFENED` (10,), modes matched kind by kind in order (the
     second bending and the first torsion mode lie within 0.5 %)."""
     from dataclasses import replace
@@ -206,7 +206,7 @@ def section_beds(ctx: BenchContext) -> str:
         "eigen-solution, invariants; 10 modes), CPU seconds (`time.process_time`), median "
         f"of {repeats}.", "",
         md_table(head, rows, align="lr" + "r" * len(acc)), ""] + auto + [""] * bool(auto) + [
-        "The stiffened bed (two flat bars 100 × 20 mm under it, Timoshenko stiffeners; "
+        "The stiffened bed (two flat bars 100 × 20 mm under it, hinged stiffeners; "
         "docs/stiffeners.md), `element_size = \"auto\"`: "
         f"{stiff.cpu:.2f} s CPU (median of {repeats}, with the meshes it tried), "
         f"{stiff.elements:,} elements; against its 3D solid's first ten modes "

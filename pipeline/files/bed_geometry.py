@@ -121,8 +121,9 @@ def read_stiffeners(table: dict, where: str, geometry: BedGeometry | None = None
     and I sections on the plate's face (offset = ∓(t/2 + centroid height),
     t the local thickness: a zone's under the stiffener, the plate's
     elsewhere); offset [m] is the centroid's height above the mid-surface;
-    model = "timoshenko" (the default, but for a general section without
-    shear_area [m²]) or "euler-bernoulli" (:mod:`flexbed.fem.stiffeners`)."""
+    model = "hinged" (the default for flat, T, I), "timoshenko" (a general
+    section's default with shear_area [m²]) or "euler-bernoulli" (general
+    without it) (:mod:`flexbed.fem.stiffeners`)."""
     default = {f.name: f.default for f in fields(PlateSpec)}
     thickness = table.get("thickness", default["thickness"])
     zones = geometry.zones if geometry is not None else ()
@@ -146,7 +147,7 @@ def read_stiffeners(table: dict, where: str, geometry: BedGeometry | None = None
             sec = section_of(kind, **{k: t[k] for k in ("height", "width", "web",
                                                         "flange_width", "flange", "area", "Iy",
                                                         "Iz", "J", "shear_area") if k in t})
-            model = t.get("model", "timoshenko" if sec.shear_area > 0 else "euler-bernoulli")
+            model = t.get("model")
             if kind == "general":
                 if "offset" not in t:
                     raise GeometryError("offset", "'offset' is required for section = "

@@ -108,8 +108,14 @@ def mount_forces_figure(title: str, t: np.ndarray, force: np.ndarray, names: lis
     groups = mount_groups(body_i, body_j)
     dirs = significant_directions(force)
     rows, cols = len(groups), len(dirs)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols + 2.2, 2.4 * rows + 0.8),
-                             squeeze=False, sharex=True, layout="constrained")
+    width, height = 4.2 * cols + 2.2, 2.4 * rows + 0.8
+    fig, axes = plt.subplots(rows, cols, figsize=(width, height), squeeze=False, sharex=True)
+    # fixed margins [inch] (a layout engine measured every label twice: half the figure's
+    # time): tick labels and the y label on the left of each panel, its title above, the
+    # legends in the 2.2 inch column on the right
+    fig.subplots_adjust(left=0.85 / width, right=(width - 1.9) / width, bottom=0.5 / height,
+                        top=(height - 0.55) / height, wspace=0.95 / (4.2 - 0.95),
+                        hspace=0.55 / (2.4 - 0.55))
     for r, (label, members) in enumerate(groups):
         for c, k in enumerate(dirs):
             ax = axes[r, c]
