@@ -78,9 +78,9 @@ def _matched(a, b):
 #: frequencies closer than this (relative) are one cluster in the comparisons
 #: of vectors: a mode's shape moves by the matrices' perturbation over its gap
 #: to the next, and the structured solution perturbs them by the spread of
-#: identical pieces' eigenvalues, ~1e-11 relative (the linearisation's own
-#: round-off, which the dense solution carries as much): 1e-8 over a gap of
-#: 1e-4, below 1e-9 for clusters 1e-3 apart
+#: identical pieces' eigenvalues, up to ~1e-11 relative (a differenced
+#: stiffness's round-off, which the dense solution carries as much): 1e-8
+#: over a gap of 1e-4, below 1e-9 for clusters 1e-3 apart
 CLUSTER = 1e-3
 
 

@@ -24,7 +24,7 @@ neither drive the hub (``C Q₂ = 0``) nor feel it (``Q₂ᴴ R = 0``), so
 
 exactly: they are eigenvectors, right and left, with the hub at rest. What
 is left, the hub and the r combinations Q₁ of every group, is a dense
-matrix of ``H + Σ r_G`` states (156 for 128 pieces of equipment of two
+matrix of ``H + Σ r_G`` states (60 for 128 pieces of equipment of two
 kinds on a rigid bed, against 1548), decoupled from the Q₂ states: its
 eigenpairs are the others, mapped back through Q₁ and V_ℓ, and its
 inverse eigenvector matrix gives their left vectors.
@@ -57,7 +57,8 @@ __all__ = ["Star", "StarEig", "star_eig", "GROUP_TOL", "RANK_TOL", "RESIDUAL_TOL
 GROUP_TOL = 1e-11
 #: singular values of a group's [C̄, R] below this times the largest count as
 #: zero (identical pieces' couplings differ by the linearisation's round-off,
-#: ~1e-11 relative: keeping those directions only makes the dense part larger)
+#: ~1e-11 relative with a differenced stiffness: keeping those directions only
+#: makes the dense part larger)
 RANK_TOL = 1e-10
 #: largest relative residual ‖A x − λ x‖ / (‖A‖_F ‖x‖) accepted
 RESIDUAL_TOL = 1e-10
