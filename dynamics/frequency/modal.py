@@ -120,6 +120,10 @@ def _times(B, c: np.ndarray) -> np.ndarray:
     return (B @ np.ascontiguousarray(c.T)).T
 
 
+#: modes per block of a large system's strain table (its temporaries stay small)
+_BLOCK = 128
+
+
 def _sparse(ms: MountedSystem, name: str):
     """``ms``'s matrix ``name`` as CSR (M from ``ms.sparse``)."""
     if name == "M" and ms.sparse is not None:
@@ -207,8 +211,16 @@ def strain_shares(ms: MountedSystem, phi: np.ndarray) -> tuple[np.ndarray, np.nd
     """Strain energy shares (m, M, 3) of the mount axes and (m,) of the
     flexible bodies' deformation for shapes φ (m, n)."""
     large = ms.n > DENSE_LIMIT
-    dx = _times(_sparse(ms, "D"), phi) if large else phi @ ms.D.T       # (m, 3M)
-    mounts = 0.5 * ms.k_tangent[None, :] * np.abs(dx) ** 2
+    if large:                                # by blocks of modes, into one array
+        D = _sparse(ms, "D")
+        half_k = 0.5 * ms.k_tangent
+        mounts = np.empty((phi.shape[0], D.shape[0]))
+        for a in range(0, phi.shape[0], _BLOCK):
+            dx = _times(D, phi[a:a + _BLOCK])                              # (b, 3M)
+            mounts[a:a + _BLOCK] = (dx.real ** 2 + dx.imag ** 2) * half_k
+    else:
+        dx = phi @ ms.D.T                                                  # (m, 3M)
+        mounts = 0.5 * ms.k_tangent[None, :] * np.abs(dx) ** 2
     if large and not ms.K_elastic.any():                          # a rigid bed
         elastic = np.zeros(phi.shape[0])
     else:
@@ -216,6 +228,9 @@ def strain_shares(ms: MountedSystem, phi: np.ndarray) -> tuple[np.ndarray, np.nd
                                   phi, large).real
     total = mounts.sum(axis=1) + elastic
     total = np.where(total != 0.0, total, 1.0)
+    if large:
+        mounts /= total[:, None]
+        return mounts.reshape(phi.shape[0], -1, 3), elastic / total
     return (mounts / total[:, None]).reshape(phi.shape[0], -1, 3), elastic / total
 
 
