@@ -5,6 +5,9 @@
   linearisation of the right-hand side (:mod:`flexbed.dynamics.linear.model`);
 - :mod:`.modal`: natural frequencies, damping ratios, mode shapes, the
   kinetic- and strain-energy tables and modal effective masses;
+  :mod:`.star` and :mod:`.star_modes`: the eigen-solutions of large
+  systems by their hub-and-leaves structure (a bed carrying many pieces
+  of equipment);
 - :mod:`.frf`: transmissibility and mount forces per frequency, on a grid
   refined until every resonance is resolved;
 - :mod:`.load_inputs`: loads on bodies (forces, unbalances) as inputs.

@@ -392,7 +392,7 @@ def isolation(transmissibility: np.ndarray) -> np.ndarray:
 
 
 def unit_crossings(evaluate, frequency: np.ndarray, magnitude: np.ndarray,
-                   rtol: float = 1e-12) -> np.ndarray:
+                   rtol: float = 1e-12, batched: bool = False) -> np.ndarray:
     """The frequency above which each output's |H| stays below 1 (the
     isolation crossing), located between grid points rather than read off
     the grid.
@@ -408,6 +408,10 @@ def unit_crossings(evaluate, frequency: np.ndarray, magnitude: np.ndarray,
     rtol : float
         Relative width [1] at which a crossing is located (Brent's method on
         ``|H(f)| − 1`` between the last grid point with |H| ≥ 1 and the next).
+    batched : bool
+        Every output's search at once (:func:`_crossings_batched`: one call
+        of ``evaluate`` per step for all of them, where a large system's
+        per-call cost dominates) rather than Brent's method output by output.
 
     Returns
     -------
@@ -418,6 +422,17 @@ def unit_crossings(evaluate, frequency: np.ndarray, magnitude: np.ndarray,
     from scipy.optimize import brentq
 
     out = np.full(magnitude.shape[1], np.nan)
+    if batched:
+        last = np.array([np.flatnonzero(magnitude[:, j] >= 1.0)[-1]
+                         if np.any(magnitude[:, j] >= 1.0) else -1
+                         for j in range(magnitude.shape[1])])
+        cols = np.flatnonzero((last >= 0) & (last + 1 < frequency.size))
+        if cols.size:
+            i = last[cols]
+            out[cols] = _crossings_batched(evaluate, frequency[i], frequency[i + 1],
+                                           magnitude[i, cols] - 1.0,
+                                           magnitude[i + 1, cols] - 1.0, cols, rtol)
+        return out
     for j in range(magnitude.shape[1]):
         above = np.flatnonzero(magnitude[:, j] >= 1.0)
         if not above.size or above[-1] + 1 >= frequency.size:
@@ -426,3 +441,57 @@ def unit_crossings(evaluate, frequency: np.ndarray, magnitude: np.ndarray,
         out[j] = brentq(lambda f, j=j: float(evaluate(np.array([f]))[0, j]) - 1.0, lo, hi,
                         xtol=rtol * hi, rtol=4.0 * np.finfo(float).eps)
     return out
+
+
+#: most steps of :func:`_crossings_batched` (each at least halves a bracket
+#: once in two steps; 2 × 64 halvings close any bracket of doubles)
+CROSSING_STEPS = 200
+
+
+def _crossings_batched(evaluate, a: np.ndarray, b: np.ndarray, fa: np.ndarray,
+                       fb: np.ndarray, columns: np.ndarray, rtol: float) -> np.ndarray:
+    """Roots of ``|H_j(f)| − 1`` in [a_j, b_j] (P,) for every column j at
+    once, by Chandrupatla's method (inverse quadratic interpolation where
+    it is safe, bisection otherwise: Chandrupatla, Adv. Eng. Software 28,
+    1997), all brackets advanced together so that each step is one call of
+    ``evaluate`` at P frequencies. fa ≥ 0 > fb (|H| − 1 at the ends). A
+    bracket ends when its width is within ``rtol`` of its end (as brentq's
+    ``xtol = rtol · hi``) or 4 units in the last place; returns the end
+    of smaller |f| (P,) [Hz]."""
+    a, b, fa, fb = (np.asarray(v, dtype=float).copy() for v in (a, b, fa, fb))
+    c, fc = a.copy(), fa.copy()
+    t = np.full(a.shape, 0.5)
+    done = (fa == 0.0) | (fb == 0.0)
+    xm = np.where(np.abs(fa) < np.abs(fb), a, b)
+    for _ in range(CROSSING_STEPS):
+        if done.all():
+            break
+        x = a + t * (b - a)
+        live = ~done
+        fx = np.zeros_like(x)
+        ux, inv = np.unique(x[live], return_inverse=True)
+        fx[live] = evaluate(ux)[inv, columns[live]] - 1.0
+        same = np.sign(fx) == np.sign(fa)
+        c = np.where(live, np.where(same, a, b), c)
+        fc = np.where(live, np.where(same, fa, fb), fc)
+        b = np.where(live & ~same, a, b)
+        fb = np.where(live & ~same, fa, fb)
+        a = np.where(live, x, a)
+        fa = np.where(live, fx, fa)
+        small = np.abs(fa) < np.abs(fb)
+        xm = np.where(live, np.where(small, a, b), xm)
+        fm = np.where(small, fa, fb)
+        tol = np.maximum(rtol * np.maximum(np.abs(b), np.abs(c)),
+                         4.0 * np.spacing(np.abs(xm)))
+        width = np.abs(b - c)
+        tlim = np.divide(tol, width, out=np.ones_like(tol), where=width > 0.0)
+        done |= (tlim > 0.5) | (fm == 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xi = (a - b) / (c - b)
+            ph = (fa - fb) / (fc - fb)
+            iqi = (ph * ph < xi) & ((1.0 - ph) ** 2 < 1.0 - xi)
+            t_iqi = (fa / (fb - fa) * fc / (fb - fc)
+                     + (c - a) / (b - a) * fa / (fc - fa) * fb / (fc - fb))
+        t = np.where(iqi & np.isfinite(t_iqi), t_iqi, 0.5)
+        t = np.clip(t, tlim, 1.0 - tlim)
+    return xm

@@ -36,8 +36,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
+import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigs, splu
 
+from . import star_modes
 from .mounted import DENSE_LIMIT, MountedSystem
 
 __all__ = ["Modes", "solve_modes"]
@@ -102,14 +104,31 @@ def _unit_phase(phi: np.ndarray) -> np.ndarray:
     return phi / phi[np.arange(phi.shape[0]), k][:, None]
 
 
-def _bilinear(a: np.ndarray, B: np.ndarray, c: np.ndarray, large: bool) -> np.ndarray:
-    """aₖᴴ B cₖ for each row k of a and c (m, n), B (n, n). A large system's
-    by matrix products (BLAS: 774 coordinates in 0.1 s, where the einsum
-    took 4 s); a small one's by the einsum, whose sums its results were made
-    with."""
+def _bilinear(a: np.ndarray, B, c: np.ndarray, large: bool) -> np.ndarray:
+    """aₖᴴ B cₖ for each row k of a and c (m, n), B (n, n) dense or sparse.
+    A large system's by a sparse product (B block-sparse by the mount graph);
+    a small one's by the einsum, whose sums its results were made with."""
     if large:
-        return np.sum(a.conj() * (c @ B.T), axis=1)
+        return np.sum(a.conj() * _times(B, c), axis=1)
     return np.einsum("ki,ij,kj->k", a.conj(), B, c)
+
+
+def _times(B, c: np.ndarray) -> np.ndarray:
+    """Rows of ``c @ Bᵀ`` (m, r) for B (r, n) sparse, c (m, n) real or complex."""
+    if np.iscomplexobj(c):
+        B = B.astype(complex)
+    return (B @ np.ascontiguousarray(c.T)).T
+
+
+#: modes per block of a large system's strain table (its temporaries stay small)
+_BLOCK = 128
+
+
+def _sparse(ms: MountedSystem, name: str):
+    """``ms``'s matrix ``name`` as CSR (M from ``ms.sparse``)."""
+    if name == "M" and ms.sparse is not None:
+        return ms.sparse[0]
+    return sp.csr_matrix(getattr(ms, name))
 
 
 def _standard_eig(ms: MountedSystem):
@@ -126,9 +145,12 @@ def _standard_eig(ms: MountedSystem):
     return lam, vl, vr
 
 
-def _undamped(ms: MountedSystem):
+def _undamped(ms: MountedSystem, plan=None):
     large = ms.n > DENSE_LIMIT
-    if large:
+    got = star_modes.undamped(ms, plan) if plan is not None else None
+    if got is not None:
+        lam, vl, vr = got
+    elif large:
         lam, vl, vr = _standard_eig(ms)
     else:
         lam, vl, vr = scipy.linalg.eig(ms.K, ms.M, left=True, right=True)
@@ -138,7 +160,7 @@ def _undamped(ms: MountedSystem):
     psi = _unit_phase(vl.T)
     if np.abs(phi.imag).max() <= 1e-9 * max(np.abs(phi).max(), 1.0):
         phi, psi = phi.real, psi.real
-    mu = _bilinear(psi, ms.M, phi, large)                        # ψᴴ M φ
+    mu = _bilinear(psi, _sparse(ms, "M") if large else ms.M, phi, large)     # ψᴴ M φ
     s = np.sqrt(np.abs(mu))
     phi = phi / s[:, None]
     psi = psi / (mu / s)[:, None].conj()          # now ψ_kᴴ M φ_k = 1
@@ -147,8 +169,11 @@ def _undamped(ms: MountedSystem):
     return f, phi, psi
 
 
-def _damped(ms: MountedSystem):
+def _damped(ms: MountedSystem, plan=None):
     n = ms.n
+    got = star_modes.damped(ms, plan) if plan is not None else None
+    if got is not None:
+        return _damped_from(got[0], got[1], n)
     Minv = np.linalg.solve(ms.M, np.hstack([ms.K, ms.C]))
     S = np.zeros((2 * n, 2 * n))
     S[:n, n:] = np.eye(n)
@@ -177,7 +202,7 @@ def _damped_from(lam: np.ndarray, V: np.ndarray, n: int):
 
 def energy_shares(ms: MountedSystem, phi: np.ndarray) -> np.ndarray:
     """Kinetic energy share of each coordinate (m, n) for shapes φ (m, n)."""
-    Mphi = phi @ ms.M.T
+    Mphi = _times(_sparse(ms, "M"), phi) if ms.n > DENSE_LIMIT else phi @ ms.M.T
     e = (phi.conj() * Mphi).real
     return e / e.sum(axis=1, keepdims=True)
 
@@ -185,11 +210,27 @@ def energy_shares(ms: MountedSystem, phi: np.ndarray) -> np.ndarray:
 def strain_shares(ms: MountedSystem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Strain energy shares (m, M, 3) of the mount axes and (m,) of the
     flexible bodies' deformation for shapes φ (m, n)."""
-    dx = phi @ ms.D.T                                             # (m, 3M)
-    mounts = 0.5 * ms.k_tangent[None, :] * np.abs(dx) ** 2
-    elastic = 0.5 * _bilinear(phi, ms.K_elastic, phi, ms.n > DENSE_LIMIT).real
+    large = ms.n > DENSE_LIMIT
+    if large:                                # by blocks of modes, into one array
+        D = _sparse(ms, "D")
+        half_k = 0.5 * ms.k_tangent
+        mounts = np.empty((phi.shape[0], D.shape[0]))
+        for a in range(0, phi.shape[0], _BLOCK):
+            dx = _times(D, phi[a:a + _BLOCK])                              # (b, 3M)
+            mounts[a:a + _BLOCK] = (dx.real ** 2 + dx.imag ** 2) * half_k
+    else:
+        dx = phi @ ms.D.T                                                  # (m, 3M)
+        mounts = 0.5 * ms.k_tangent[None, :] * np.abs(dx) ** 2
+    if large and not ms.K_elastic.any():                          # a rigid bed
+        elastic = np.zeros(phi.shape[0])
+    else:
+        elastic = 0.5 * _bilinear(phi, _sparse(ms, "K_elastic") if large else ms.K_elastic,
+                                  phi, large).real
     total = mounts.sum(axis=1) + elastic
     total = np.where(total != 0.0, total, 1.0)
+    if large:
+        mounts /= total[:, None]
+        return mounts.reshape(phi.shape[0], -1, 3), elastic / total
     return (mounts / total[:, None]).reshape(phi.shape[0], -1, 3), elastic / total
 
 
@@ -248,12 +289,18 @@ def solve_modes(ms: MountedSystem, count: int | None = None) -> Modes:
         sparse matrices (``MountedSystem.sparse``; :func:`_lowest_undamped`,
         :func:`_lowest_damped`); the effective masses are then those of the
         modes found (their sum the share of the moving mass they carry,
-        ``cumulative_mass_fraction``). Default: every mode, by dense
-        eigen-solutions (O(n³): 774 coordinates, 128 pieces of equipment,
-        take seconds). Arnoldi converges slowly where ``count`` cuts a
-        cluster of nearly equal frequencies (many identical pieces of
-        equipment); if it does not converge, the dense solution is cut to
-        ``count``.
+        ``cumulative_mass_fraction``). Default: every mode. Above
+        :data:`~flexbed.dynamics.frequency.mounted.DENSE_LIMIT` coordinates,
+        when the bodies split into leaves and a hub
+        (:func:`~flexbed.dynamics.frequency.star_modes.plan_of`: pieces of
+        equipment on one bed), by the structured eigen-solution of
+        :mod:`~flexbed.dynamics.frequency.star` (identical pieces of
+        equipment's modes with the bed at rest found exactly, a dense solve
+        of the rest: 774 coordinates in ~0.3 s), else by dense
+        eigen-solutions (O(n³), seconds at that size). Arnoldi converges
+        slowly where ``count`` cuts a cluster of nearly equal frequencies
+        (many identical pieces of equipment); if it does not converge, the
+        full solution is cut to ``count``.
     """
     lowest = count is not None and ms.sparse is not None and count < ms.n - 1
     if lowest:
@@ -263,8 +310,9 @@ def solve_modes(ms: MountedSystem, count: int | None = None) -> Modes:
         except ArpackNoConvergence:
             lowest = False
     if not lowest:
-        f0, phi0, psi0 = _undamped(ms)
-        damped = _damped(ms) if ms.damped else None
+        plan = star_modes.plan_of(ms) if ms.n > DENSE_LIMIT else None
+        f0, phi0, psi0 = _undamped(ms, plan)
+        damped = _damped(ms, plan) if ms.damped else None
         if count is not None:
             f0, phi0, psi0 = f0[:count], phi0[:count], psi0[:count]
     if damped is not None:

@@ -304,5 +304,8 @@ def _tangent(F: np.ndarray, D: np.ndarray) -> np.ndarray:
     dd = np.einsum("rc,rc->r", D, D)
     out = np.zeros(D.shape[0])
     ok = dd > 0.0
-    out[ok] = np.einsum("rc,rc->r", F[ok], D[ok]) / dd[ok]
+    if D.shape[1] > DENSE_LIMIT:             # every row, no copies of the selected ones
+        out[ok] = np.einsum("rc,rc->r", F, D)[ok] / dd[ok]
+    else:
+        out[ok] = np.einsum("rc,rc->r", F[ok], D[ok]) / dd[ok]
     return out

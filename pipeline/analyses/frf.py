@@ -238,7 +238,8 @@ def frequency_response(sf, mt: Mounted, *, input: str = "base z", force_at: Poin
         def evaluate(f):
             return np.abs(dfrf.responses(ms, 2.0 * np.pi * f, inp, iso_pos)[0])
 
-        crossing[iso] = dfrf.unit_crossings(evaluate, sw.frequency, np.abs(H[:, iso]))
+        crossing[iso] = dfrf.unit_crossings(evaluate, sw.frequency, np.abs(H[:, iso]),
+                                            batched=ms.n > dfrf.DENSE_LIMIT)
     cpu = time.process_time() - t0
     inband = (md.frequency >= sw.frequency[0]) & (md.frequency <= sw.frequency[-1])
     return FRF(sw.frequency, tuple(names), tuple(units), H, label, md.frequency[inband],

@@ -16,9 +16,13 @@ Stages, CPU seconds (``time.process_time``, every thread of the process):
   from the equilibrium, compiled code loaded first;
 - modal: ``flexbed modal``'s solve (linearisation, mass, stiffness and
   damping matrices, eigen-solution and tables: ``Mounted.solve_time``);
+  above 100 coordinates the eigen-solutions use the hub-and-leaves
+  structure (:mod:`flexbed.dynamics.frequency.star`);
 - frf: ``flexbed frf``'s solve at :data:`FRF_FREQUENCIES` given log-spaced
   frequencies (base acceleration along z to every body's centre of mass and
-  every mount force: ``FRF.solve_time``).
+  every mount force: ``FRF.solve_time``), the leaves eliminated onto the
+  bed per frequency (:mod:`flexbed.dynamics.frequency.blocks`) and the
+  isolation crossings of all outputs searched together.
 
 Growth exponents: log(t_b / t_a) / log(N_b / N_a) between the last two sizes.
 """
@@ -151,7 +155,17 @@ def section_scaling(ctx: BenchContext) -> str:
         f"{SIMULATE_T_END:g} s, the base's force burst, the scene's integrator and "
         "tolerances, stiffness check included), modal (linearisation and eigen-solution, "
         f"`flexbed modal`'s solve) and frf ({FRF_FREQUENCIES} given log-spaced frequencies, "
-        "base acceleration along z to every body's centre of mass and every mount force). "
+        "base acceleration along z to every body's centre of mass and every mount force, "
+        "with the isolation crossings). Above 100 coordinates modal solves by the "
+        "hub-and-leaves structure (`flexbed.dynamics.frequency.star`): each piece of "
+        "equipment's block diagonalised on its own, the combinations of identical pieces' "
+        "modes that neither drive nor feel the bed found exactly with the bed at rest, one "
+        "dense eigen-solution of the rest (60 of the 1548 first-order states at N = 128) — "
+        "every mode, exact but for the spread of identical pieces' eigenvalues (round-off; "
+        "`docs/theory.md`); frf eliminates each piece of equipment onto the bed "
+        "per frequency (`flexbed.dynamics.frequency.blocks`: batched 6 × 6 solves, O(N) "
+        "per frequency) and searches the isolation crossings of all outputs together (one "
+        "batched solve per step). "
         "Coordinates: the mounted system's (6 per body). Last row: the growth exponent p of "
         "t ∝ Nᵖ between the last two sizes.", "",
         md_table(["N", "coordinates", "statics [s]", "static [s]", "simulate [s]", "modal [s]",
