@@ -141,6 +141,18 @@ def test_structured_modes_equal_the_dense_ones_32():
     _compare(ms)
 
 
+def test_lowest_modes_of_pieces_on_a_bed_are_the_structured_ones_cut(tiled8, monkeypatch):
+    """``count`` on a hub with leaves: every mode by the structured solution,
+    then the lowest ``count``: the same numbers as the whole solution's
+    first ``count``, repeated frequencies of identical pieces included."""
+    monkeypatch.setattr(modal, "DENSE_LIMIT", 0)
+    full = solve_modes(tiled8)
+    low = solve_modes(tiled8, count=13)
+    np.testing.assert_array_equal(low.frequency, full.frequency[:13])
+    np.testing.assert_array_equal(low.undamped_frequency, full.undamped_frequency[:13])
+    np.testing.assert_array_equal(low.effective_mass, full.effective_mass[:13])
+
+
 def test_structured_left_and_right_vectors_biorthogonal(tiled8):
     ms = tiled8
     lam, vl, vr = star_modes.undamped(ms, star_modes.plan_of(ms))

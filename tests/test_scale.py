@@ -405,13 +405,11 @@ def test_block_and_sparse_frf_equal_the_dense_solve(tiled8, monkeypatch):
 
 def test_lowest_modes_by_arnoldi_equal_the_dense_ones(tiled8):
     """12 lowest modes (a gap in the spectrum follows the 12th): the same
-    frequencies, damping ratios and effective masses. On the central
-    differences' matrices: the exact ones (dynamics/tangent.py) make the
-    equipment's 8.031 Hz mode exactly 4-fold, and shift-invert Arnoldi with
-    SciPy's default 25 Lanczos vectors then finds 2 of its 4 copies (all 4
-    with ncv = 40): a matter for ``_lowest_undamped``'s ncv."""
+    frequencies, damping ratios and effective masses, on the exact
+    matrices (dynamics/tangent.py), where the equipment's 8.031 Hz mode is
+    exactly 4-fold (SciPy's default Krylov size found 2 of its 4 copies)."""
     sf, system, y = tiled8
-    ms = mounted_system(system, y, exact=False)
+    ms = mounted_system(system, y)
     full = solve_modes(ms)
     low = solve_modes(ms, count=12)
     assert low.frequency.size == 12

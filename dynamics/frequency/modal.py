@@ -234,6 +234,16 @@ def strain_shares(ms: MountedSystem, phi: np.ndarray) -> tuple[np.ndarray, np.nd
     return (mounts / total[:, None]).reshape(phi.shape[0], -1, 3), elastic / total
 
 
+def _krylov_size(n: int, count: int) -> int:
+    """Arnoldi's basis for ``count`` eigenvalues of an n × n problem: 30
+    vectors more than asked (SciPy's default, 2·count + 1, found 2 of the 4
+    copies of an exactly 4-fold frequency of four identical pieces of
+    equipment; a Krylov space holds one vector of an exactly repeated
+    eigenvalue's space, the others come from round-off, which more vectors
+    give time to grow)."""
+    return min(n - 1, max(2 * count + 1, count + 30))
+
+
 def _lowest_undamped(ms: MountedSystem, count: int):
     """The ``count`` lowest undamped modes by shift-invert Arnoldi at 0
     (right vectors from (K, M), left ones from (Kᵀ, Mᵀ)), biorthogonalised
@@ -242,8 +252,10 @@ def _lowest_undamped(ms: MountedSystem, count: int):
     scales them."""
     Ms, Ks, _ = ms.sparse
     v0 = np.cos(np.arange(ms.n) + 0.5)
-    lam, vr = eigs(Ks.tocsc(), k=count, M=Ms.tocsc(), sigma=0.0, which="LM", v0=v0)
-    lam_l, vl = eigs(Ks.T.tocsc(), k=count, M=Ms.T.tocsc(), sigma=0.0, which="LM", v0=v0)
+    ncv = _krylov_size(ms.n, count)
+    lam, vr = eigs(Ks.tocsc(), k=count, M=Ms.tocsc(), sigma=0.0, which="LM", v0=v0, ncv=ncv)
+    lam_l, vl = eigs(Ks.T.tocsc(), k=count, M=Ms.T.tocsc(), sigma=0.0, which="LM", v0=v0,
+                     ncv=ncv)
     order, order_l = np.argsort(lam.real, kind="stable"), np.argsort(lam_l.real, kind="stable")
     lam, vr, vl = lam[order], vr[:, order], vl[:, order_l]
     phi = _unit_phase(vr.T)
@@ -276,7 +288,8 @@ def _lowest_damped(ms: MountedSystem, count: int):
 
     op = LinearOperator((2 * n, 2 * n), matvec=matvec, dtype=float)
     k = min(2 * count, 2 * n - 2)
-    mu, V = eigs(op, k=k, which="LM", v0=np.cos(np.arange(2 * n) + 0.5))
+    mu, V = eigs(op, k=k, which="LM", v0=np.cos(np.arange(2 * n) + 0.5),
+                 ncv=_krylov_size(2 * n, k))
     lam = 1.0 / mu
     return _damped_from(lam, V[:n], n)
 
@@ -297,12 +310,17 @@ def solve_modes(ms: MountedSystem, count: int | None = None) -> Modes:
         :mod:`~flexbed.dynamics.frequency.star` (identical pieces of
         equipment's modes with the bed at rest found exactly, a dense solve
         of the rest: 774 coordinates in ~0.3 s), else by dense
-        eigen-solutions (O(n³), seconds at that size). Arnoldi converges
-        slowly where ``count`` cuts a cluster of nearly equal frequencies
-        (many identical pieces of equipment); if it does not converge, the
-        full solution is cut to ``count``.
+        eigen-solutions (O(n³), seconds at that size). With ``count`` and
+        such a structure, that solution cut to ``count`` (exact where
+        identical pieces repeat a frequency exactly). Arnoldi converges
+        slowly where ``count`` cuts a cluster of nearly equal frequencies;
+        if it does not converge, the full solution is cut to ``count``.
     """
-    lowest = count is not None and ms.sparse is not None and count < ms.n - 1
+    plan = star_modes.plan_of(ms) if ms.n > DENSE_LIMIT else None
+    # pieces of equipment on a bed: every mode by the structured solution (exact
+    # where identical pieces repeat a frequency exactly, which Arnoldi is not), then cut
+    lowest = (count is not None and ms.sparse is not None and count < ms.n - 1
+              and plan is None)
     if lowest:
         try:
             f0, phi0, psi0 = _lowest_undamped(ms, count)
@@ -310,7 +328,6 @@ def solve_modes(ms: MountedSystem, count: int | None = None) -> Modes:
         except ArpackNoConvergence:
             lowest = False
     if not lowest:
-        plan = star_modes.plan_of(ms) if ms.n > DENSE_LIMIT else None
         f0, phi0, psi0 = _undamped(ms, plan)
         damped = _damped(ms, plan) if ms.damped else None
         if count is not None:
