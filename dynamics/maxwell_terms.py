@@ -88,7 +88,8 @@ def maxwell_tables(maxwell: tuple, mount_names: list, z0: int) -> dict:
     """The kernel's tables of the terms, sorted by (mount, direction) row:
     ``mx_ints`` (nt, 2) the row 3 m + direction and the state's offset in y
     (from ``z0``, in that order); ``mx_k`` (nt, 2) k_i [N/m] and 1/τ_i
-    [1/s]; ``w_relax`` (1,) 0 (1: relaxed, :func:`relaxed`)."""
+    [1/s]; ``w_relax`` (1,) 0 (1: relaxed, :func:`relaxed`); the work array
+    ``w_mx`` (3M, 2), no rows without terms (then the mount loop skips them)."""
     rows = []
     for s in maxwell:
         m = mount_names.index(s.mount)
@@ -102,7 +103,8 @@ def maxwell_tables(maxwell: tuple, mount_names: list, z0: int) -> dict:
     for j, (row, k, rate) in enumerate(rows):
         ints[j] = (row, z0 + j)
         kt[j] = (k, rate)
-    return dict(mx_ints=ints, mx_k=kt, w_relax=np.zeros(1))
+    return dict(mx_ints=ints, mx_k=kt, w_relax=np.zeros(1),
+                w_mx=np.zeros((3 * len(mount_names) if rows else 0, 2)))
 
 
 @contextlib.contextmanager
