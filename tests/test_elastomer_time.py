@@ -169,7 +169,8 @@ def test_time_runs_take_elastomer_mounts_and_refuse_the_linear_model(tmp_path, c
     """``flexbed simulate`` runs a scene with elastomer mounts (the stiffness
     check sees the terms' fastest rate, 1/τ of the series' shortest τ), its mount forces
     include the terms' (f3 = k Δx + Σ k_i (Δx − z_i), 0 at rest); ``model =
-    "linear"`` is one line, exit 2; ``auto`` runs the nonlinear model and says why."""
+    "linear"`` is one line, exit 2; ``auto`` runs the nonlinear model; an
+    equilibrium file without the states (``flexbed static``) starts it alike."""
     import flexbed
     from flexbed.cli import main
     from flexbed.files.results import read_results
@@ -195,3 +196,9 @@ def test_time_runs_take_elastomer_mounts_and_refuse_the_linear_model(tmp_path, c
     assert not (tmp_path / "l.h5").exists()
     run = flexbed.simulate(flexbed.load_scene(path), model="auto")
     assert run.complete
+    # an equilibrium file of `flexbed static` (no Maxwell states) starts the run alike
+    assert main(["static", str(path), "-o", str(tmp_path / "eq.h5")]) == 0
+    assert main(["simulate", str(path), "--equilibrium", str(tmp_path / "eq.h5"), "-o",
+                 str(tmp_path / "e.h5"), "--no-progress"]) == 0
+    np.testing.assert_array_equal(np.asarray(read_results(tmp_path / "e.h5").get("mounts/force")),
+                                  f)
