@@ -422,7 +422,7 @@ def _run_compiled(system, z, shift, settings, grid, Y, bounds, rtol, atol, count
     step = getattr(steppers, _COMPILED[method])
     lay = system.layout
     p_idx = np.ascontiguousarray(lay.p_indices(), dtype=np.int64).reshape(-1, 4)
-    n_motion = lay.nq + lay.nv
+    n_motion = lay.n_motion
     work = steppers.radau_workspace(z.size) if method == "radau" else ()
     kernel = system.kernel
     grid = np.ascontiguousarray(grid, dtype=float)
@@ -529,7 +529,7 @@ def _run_scipy(system, z, shift, settings, grid, Y, bounds, rtol, atol, state, s
     from there)."""
     lay = system.layout
     project_y = _Projector(system)
-    n_motion = lay.nq + lay.nv
+    n_motion = lay.n_motion
     stepper = None
     try:
         for tb in bounds:

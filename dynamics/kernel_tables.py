@@ -19,6 +19,7 @@ import numpy as np
 
 from .kernel import Compiled, pack
 from .laws import LawBank
+from .maxwell_terms import maxwell_tables
 from .time_functions import Sinusoid
 
 __all__ = ["kernel_storage", "law_tables", "flexible_tables", "input_tables", "load_points",
@@ -269,6 +270,8 @@ def kernel_storage(system) -> tuple[tuple[np.ndarray, np.ndarray], Compiled]:
         **flexible_tables(flex, nb, system.end_body, system.S),
         **input_tables(inputs.items, inputs.roles, inputs.compiled, system.scene.body_index),
         **load_points(inputs.items, inputs.roles, flex, system.scene.body_index),
+        **maxwell_tables(system.scene.maxwell, [m.name for m in system.scene.mounts],
+                         lay.internal.start),
         **work_arrays(nb, M, nf, nm)), lay.ny)
     for name, v in zip(views._fields, views):
         if not name.startswith("w_"):

@@ -1,6 +1,6 @@
 """The state vector: the one place that says where everything lives.
 
-``y = [ q | v | w ]`` with
+``y = [ q | v | z | w ]`` with
 
 ``q`` — coordinates, one block per moving body:
 
@@ -17,6 +17,10 @@
 - every other body: ``ṙ`` (3) [m/s], inertial frame; ``ω̄`` (3) [rad/s],
   angular velocity in the body frame (``ṗ = ½ G(p)ᵀ ω̄``)
 - then the modal rates ``ȧ``, same blocks as ``a``
+
+``z`` — internal states of the elastomer mounts' Maxwell terms [m], one
+per term, in (mount, direction) order (:mod:`flexbed.dynamics.maxwell_terms`;
+none in a scene without them)
 
 ``w`` — energy quadratures (4) [J], integrated along with the motion:
 ``W_mount`` (work of all mount forces on the bodies, springs and dampers),
@@ -57,12 +61,15 @@ class Layout:
         rigid or flexible.
     modal : tuple of (int, int)
         (scene index, number of modes) of each flexible body, in scene order.
+    n_internal : int
+        Internal states z (the Maxwell terms).
     """
 
     n_bodies: int
     base_free: bool
     rigid: tuple
     modal: tuple = ()
+    n_internal: int = 0
 
     @property
     def n_modal(self) -> int:
@@ -97,8 +104,18 @@ class Layout:
         raise KeyError(body)
 
     @property
+    def n_motion(self) -> int:
+        """The states that evolve by the physics (q, v, z): all but the work."""
+        return self.nq + self.nv + self.n_internal
+
+    @property
+    def internal(self) -> slice:
+        """The internal states z."""
+        return slice(self.nq + self.nv, self.n_motion)
+
+    @property
     def ny(self) -> int:
-        return self.nq + self.nv + N_WORK
+        return self.n_motion + N_WORK
 
     @property
     def q_rigid(self) -> slice:
@@ -120,7 +137,7 @@ class Layout:
 
     @property
     def work(self) -> slice:
-        return slice(self.nq + self.nv, self.ny)
+        return slice(self.n_motion, self.ny)
 
     def p_indices(self) -> np.ndarray:
         """Indices in y of all Euler parameters, shape (n_rigid, 4)."""
@@ -133,7 +150,7 @@ class Layout:
         Returns dict with ``r_base`` (..., 3) or None, ``rd_base``,
         ``r`` (..., n, 3), ``p`` (..., n, 4), ``rd`` (..., n, 3),
         ``w`` (..., n, 3) [ω̄], ``a`` (..., n_modal), ``ad`` (..., n_modal),
-        ``work`` (..., 3).
+        ``z`` (..., n_internal), ``work`` (..., 4).
         """
         y = np.asarray(y)
         lead = y.shape[:-1]
@@ -145,5 +162,5 @@ class Layout:
             "rd_base": y[..., self.v_base] if self.base_free else None,
             "r": qr[..., :3], "p": qr[..., 3:], "rd": vr[..., :3], "w": vr[..., 3:],
             "a": y[..., self.q_modal], "ad": y[..., self.v_modal],
-            "work": y[..., self.work],
+            "z": y[..., self.internal], "work": y[..., self.work],
         }

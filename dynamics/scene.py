@@ -16,6 +16,7 @@ from .body_loads import check_loads
 from .errors import SceneError
 from .flexible import FlexibleBody
 from .laws import BumpStop, CurveLaw, LinearLaw, PolynomialLaw
+from .maxwell_terms import check_maxwell
 from .time_functions import SHAPES as _SHAPES
 
 __all__ = ["Body", "Drive", "Load", "Base", "Mount", "Scene", "DIRECTIONS"]
@@ -290,6 +291,9 @@ class Scene:
     loads : tuple of BodyLoad
         External forces and moments on bodies other than the base
         (:mod:`flexbed.dynamics.body_loads`); they add up.
+    maxwell : tuple of MaxwellSeries
+        Generalised Maxwell terms of elastomer mounts, one internal state
+        per term (:mod:`flexbed.dynamics.maxwell_terms`); time runs only.
     """
 
     bodies: tuple
@@ -299,6 +303,7 @@ class Scene:
     name: str = "scene"
     flexible: tuple = ()
     loads: tuple = ()
+    maxwell: tuple = ()
 
     def __post_init__(self):
         bodies = tuple(self.bodies)
@@ -368,6 +373,7 @@ class Scene:
         if len({n for n, _ in flexible}) != len(flexible):
             raise SceneError("a body is listed as flexible twice")
         object.__setattr__(self, "loads", check_loads(self.loads, names, dict(flexible)))
+        object.__setattr__(self, "maxwell", check_maxwell(self.maxwell, mnames))
         object.__setattr__(self, "flexible", flexible)
         object.__setattr__(self, "bodies", bodies)
         object.__setattr__(self, "mounts", mounts)

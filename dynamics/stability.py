@@ -41,6 +41,7 @@ from scipy.sparse.linalg import ArpackNoConvergence, eigs
 from .block_linearisation import block_inverse, linearised
 from .jacobian import mount_graph
 from .linear.model import Coordinates, difference_steps, linearise
+from .maxwell_terms import relaxed
 from .system import System
 
 __all__ = ["Instability", "instability", "DIRECTIONS", "DENSE_LIMIT", "LEFTMOST_COUNT"]
@@ -86,13 +87,16 @@ def instability(system: System, y_eq: np.ndarray,
     every eigenvalue of M⁻¹K is ≥ 0 (to the linearisation's accuracy).
 
     ``dense_limit``: the most free coordinates answered by the dense path
-    (above it, the sparse path of the module docstring)."""
+    (above it, the sparse path of the module docstring). Elastomer mounts'
+    Maxwell terms are relaxed (the static stiffness k∞ = k:
+    :mod:`flexbed.dynamics.maxwell_terms`)."""
     y_eq = np.asarray(y_eq, dtype=float)
-    if mount_graph(system, True).n > dense_limit:
-        found = _sparse(system, y_eq)
-        if found is not _UNANSWERED:
-            return found
-    return _dense(system, y_eq)
+    with relaxed(system):
+        if mount_graph(system, True).n > dense_limit:
+            found = _sparse(system, y_eq)
+            if found is not _UNANSWERED:
+                return found
+        return _dense(system, y_eq)
 
 
 def _dense(system: System, y_eq: np.ndarray) -> Instability | None:

@@ -16,6 +16,7 @@ round-off.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import time
@@ -27,6 +28,7 @@ from scipy.sparse.linalg import splu
 
 from .rotation import A as rotation_matrix
 from .jacobian import force_jacobian, perturbed_positions
+from .maxwell_terms import relax_states, relaxed
 from .rotation import quat_mul, rotvec_to_p
 from .system import System
 
@@ -174,8 +176,23 @@ def solve_statics(system: System, y0: np.ndarray | None = None, *, tol: float = 
     Equilibrium
         ``success = False`` with a message naming the body and direction when
         the Jacobian is singular (a body free in some direction) or the
-        iteration diverges; never NaN in ``y``.
+        iteration diverges; never NaN in ``y``. Elastomer mounts' Maxwell
+        terms are relaxed throughout (the static stiffness is the law's k)
+        and their states at rest in ``y`` (z = d,
+        :mod:`flexbed.dynamics.maxwell_terms`).
     """
+    options = dict(tol=tol, max_iter=max_iter, polish=polish, fd_step=fd_step,
+                   max_move=max_move, sag=sag, sparse=sparse)
+    if not system.layout.n_internal:
+        return _solve_statics(system, y0, **options)
+    with relaxed(system):
+        eq = _solve_statics(system, y0, **options)
+    return dataclasses.replace(eq, y=relax_states(system, eq.y))
+
+
+def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_move, sag,
+                   sparse) -> Equilibrium:
+    """:func:`solve_statics`, its options all given."""
     t_start = time.perf_counter()
     n = system.n_rigid
     nfev0 = system.nfev

@@ -128,8 +128,9 @@ def motion_eigenvalues(system: System, y: np.ndarray, t: float = 0.0,
     Forward differences of the right-hand side over the coordinates and
     velocities (q, v), steps of sqrt(eps)·max(1, |y_j|) (the states of
     :func:`jacobian_columns`, evaluated in one compiled call); the energy
-    quadratures are left out (nothing depends on them). Costs nq + nv + 1
-    right-hand sides (counted in ``system.nfev``).
+    quadratures are left out (nothing depends on them); an elastomer mount's
+    Maxwell states are in (:mod:`flexbed.dynamics.maxwell_terms`). Costs
+    nq + nv + nz + 1 right-hand sides (counted in ``system.nfev``).
 
     Parameters
     ----------
@@ -147,11 +148,11 @@ def motion_eigenvalues(system: System, y: np.ndarray, t: float = 0.0,
 
     Returns
     -------
-    (nq + nv,) complex array [1/s] (sparse: (k,), k ≤ ARNOLDI_COUNT); all-NaN
+    (nq + nv + nz,) complex array [1/s] (sparse: (k,), k ≤ ARNOLDI_COUNT); all-NaN
     if the right-hand side is not finite there.
     """
     lay = system.layout
-    n = lay.nq + lay.nv
+    n = lay.n_motion               # the Maxwell terms' states too: their rates 1/τ_i
     y = np.asarray(y, dtype=float)
     if sparse is None:
         sparse = n > DENSE_EIG_LIMIT
@@ -175,7 +176,16 @@ def largest_eigenvalues(system: System, y: np.ndarray, t: float = 0.0,
     the sparse operator of the module docstring; all-NaN if the right-hand
     side is not finite there. The free base's own (three zero eigenvalues
     and its coupling) and the Euler parameters' norm (zero eigenvalues)
-    are left out: they cannot set a step."""
+    are left out: they cannot set a step. The Maxwell terms' states
+    (:mod:`flexbed.dynamics.maxwell_terms`) are not in the operator: their
+    relaxation rates −1/τ_i (the diagonal of their block) are appended."""
+    lam = _largest_of_bodies(system, y, t, seg_end, count)
+    rates = system.data.mx_k[:, 1]
+    return np.concatenate([lam, -np.unique(rates).astype(complex)]) if rates.size else lam
+
+
+def _largest_of_bodies(system, y, t, seg_end, count):
+    """:func:`largest_eigenvalues` of the bodies' coordinates alone."""
     y = np.asarray(y, dtype=float)
     g = mount_graph(system, True)
     steps = np.full(g.n, _LIN_STEP)

@@ -39,6 +39,7 @@ from .flexible import FlexibleEOM
 from .kernel import evaluate_batch, rhs_function
 from .kernel_tables import kernel_storage
 from .layout import Layout
+from .maxwell_terms import relax_states
 from .laws import LawBank
 from .observation import Observation, observe
 from .rotation import A as rotation_matrix
@@ -114,7 +115,8 @@ class System:
         self.layout = Layout(n_bodies=nb, base_free=base.motion == "free",
                              rigid=tuple(range(1, nb)),
                              modal=tuple((i, flex[bodies[i].name].n_modes)
-                                         for i in self.flex_index))
+                                         for i in self.flex_index),
+                             n_internal=sum(s.n_states for s in scene.maxwell))
         lay = self.layout
         self.n_rigid = n = nb - 1
         self.ny = lay.ny
@@ -337,7 +339,9 @@ class System:
             Velocities from the scene's bodies: ``velocity`` [m/s, inertial]
             and ``angular_velocity`` [rad/s, body frame] of bodies 2… (a
             flexible body's frame), ``velocity`` of a free base; modal rates
-            zero; the work quadratures zero.
+            zero; the Maxwell terms' states relaxed (z = d, no force:
+            :func:`flexbed.dynamics.maxwell_terms.relax_states`); the work
+            quadratures zero.
         """
         lay = self.layout
         bodies = self.scene.bodies
@@ -356,4 +360,4 @@ class System:
             vr = y[lay.v_rigid].reshape(self.n_rigid, 6)
             vr[:, :3] = [b.velocity for b in bodies[1:]]
             vr[:, 3:] = [b.angular_velocity for b in bodies[1:]]
-        return y
+        return relax_states(self, y)

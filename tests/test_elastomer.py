@@ -216,21 +216,6 @@ def test_a_constant_loss_factor_fit_is_reported_when_read(tmp_path):
     assert len([w for w in got if "Maxwell" in str(w.message)]) == 1
 
 
-def test_time_runs_refuse_elastomer_mounts(tmp_path, capsys):
-    import flexbed
-    from flexbed.cli import main
-    path = tmp_path / "rubber.toml"
-    path.write_text(_with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
-    for argv in (["simulate", str(path)], ["run", str(path), "-o", str(tmp_path / "out")],
-                 ["compare", str(path)], ["qualify", str(path)]):
-        assert main(argv) == 2
-        err = capsys.readouterr().err.strip().splitlines()
-        assert "mount 'M1' is an elastomer mount" in err[-1] and "flexbed frf" in err[-1], err
-        assert not (tmp_path / "out").exists()
-    with pytest.raises(flexbed.InputError, match="time runs do not take"):
-        flexbed.simulate(flexbed.load_scene(path))
-
-
 def test_modal_takes_each_mode_at_its_own_frequency(tmp_path):
     """The vertical mode of the isolator on a table: fₙ = √(4 k(fₙ)/m)/2π (the
     fixed point, by bisection on the table's log-log interpolation) and

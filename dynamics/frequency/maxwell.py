@@ -4,9 +4,13 @@ the time-domain stand-in for k(f)(1 + iη(f)).
     K(ω) = k∞ + Σ_i k_i iωτ_i / (1 + iωτ_i),   k∞, k_i ≥ 0,
 
 a spring k∞ beside springs k_i in series with dashpots k_i τ_i (each one
-internal state, the dashpot's stretch, in a time run). The relaxation
+internal state, the dashpot's stretch, in a time run). k∞ is the law's
+static ``k`` (:attr:`ElastomerTable.k_static`): the relaxed (ω → 0)
+stiffness of the model is the stiffness the statics and the preloads use,
+so the time run starts at the static equilibrium of the frequency
+analyses, and the terms fit the rise ``k(f)(1 + iη(f)) − k``. The relaxation
 times τ_i = 1/(2π f_i) are log-spaced, :data:`TERMS_PER_DECADE` per
-decade, over the band widened by half a decade each side; k∞ and k_i come
+decade, over the band widened by half a decade each side; the k_i come
 from nonnegative least squares (:func:`scipy.optimize.nnls`) on the real
 and imaginary parts over :data:`FIT_POINTS` log-spaced frequencies of the
 band, each relative to |k(f)(1 + iη)| [Tschoegl, *The Phenomenological
@@ -38,7 +42,7 @@ class MaxwellFit:
     """A fitted generalised Maxwell model per direction.
 
     band : (2,) — [Hz]; tau : (N,) — relaxation times [s];
-    k_inf : (3,) [N/m]; k : (3, N) [N/m];
+    k_inf : (3,) — the static stiffness, the law's k [N/m]; k : (3, N) [N/m];
     error : (3,) — max over the band of |K_fit − K_table| / |K_table| [1].
     """
 
@@ -56,7 +60,7 @@ class MaxwellFit:
 
 def fit_maxwell(table: ElastomerTable) -> MaxwellFit:
     """Fit :class:`MaxwellFit` to ``table`` over its frequency band (a one-row
-    table: over :data:`CONSTANT_BAND`)."""
+    table: over :data:`CONSTANT_BAND`), with k∞ = ``table.k_static``."""
     from scipy.optimize import nnls       # only for a scene with elastomer mounts: keeps
                                           # scipy.optimize out of every other scene's start
     f_lo, f_hi = ((float(table.frequency[0]), float(table.frequency[-1]))
@@ -66,14 +70,14 @@ def fit_maxwell(table: ElastomerTable) -> MaxwellFit:
     tau = 1.0 / (2.0 * math.pi * np.logspace(lo, hi, n_terms))
     f = np.logspace(math.log10(f_lo), math.log10(f_hi), FIT_POINTS)
     s = 2j * math.pi * f[:, None] * tau[None, :]
-    basis = np.hstack([np.ones((f.size, 1)), s / (1.0 + s)])           # (F, 1 + N)
+    basis = s / (1.0 + s)                                               # (F, N)
     target = table.complex(f)                                           # (F, 3)
-    k_inf, k, err = np.zeros(3), np.zeros((3, n_terms)), np.zeros(3)
+    k_inf, k, err = np.array(table.k_static, dtype=float), np.zeros((3, n_terms)), np.zeros(3)
     for d in range(3):
         w = 1.0 / np.abs(target[:, d])
+        rise = target[:, d] - k_inf[d]
         A = np.vstack([basis.real * w[:, None], basis.imag * w[:, None]])
-        b = np.concatenate([target[:, d].real * w, target[:, d].imag * w])
-        x, _ = nnls(A, b)
-        k_inf[d], k[d] = x[0], x[1:]
-        err[d] = float(np.max(np.abs(basis @ x - target[:, d]) * w))
+        b = np.concatenate([rise.real * w, rise.imag * w])
+        k[d], _ = nnls(A, b)
+        err[d] = float(np.max(np.abs(basis @ k[d] - rise) * w))
     return MaxwellFit((f_lo, f_hi), tau, k_inf, k, err)

@@ -32,7 +32,11 @@ function per step (:mod:`.rhs`):
    invariants (:func:`flex_mass_body`, :func:`flex_forces_body`; the
    formulas are in :mod:`flexbed.dynamics.flexible`), solved by Cholesky;
 6. the velocity rates into dy, a free base's equations, and the powers
-   that feed the energy quadratures.
+   that feed the energy quadratures;
+7. the elastomer mounts' Maxwell terms (:mod:`flexbed.dynamics.maxwell_terms`):
+   their forces k_i (Δx − z_i) were added to the mount's in step 4 (their
+   sums per mount direction taken just before it, 4a); here their rates
+   ż_i = (Δx − z_i)/τ_i.
 
 Everything per call writes into arrays of :class:`Compiled` (the ``w_*``
 work arrays), so a call allocates nothing; ``w_dx``, ``w_dxd``, ``w_f``,

@@ -3,10 +3,11 @@ for what it computes, in order), compiled once as a C function.
 
 :func:`evaluate` builds its views of the scene's fields, then calls one
 compiled function per section: :func:`_base_inputs` (1),
-:func:`_rotations` (2), :func:`_mount_ends` (3), :func:`_mount_forces`
-(4), :func:`_body_loads` (4b), :func:`_newton_euler` and :func:`_floating_frame` (5),
-:func:`_rates_and_powers` (6). They take the views already built, and
-numba inlines them (``inline="always"``) into the one C function, which
+:func:`_rotations` (2), :func:`_mount_ends` (3), :func:`_maxwell_sums`
+(4a), :func:`_mount_forces` (4), :func:`_body_loads` (4b),
+:func:`_newton_euler` and :func:`_floating_frame` (5),
+:func:`_rates_and_powers` (6), :func:`_maxwell_rates` (7). They take the
+views already built, and numba inlines them (``inline="always"``) into the one C function, which
 is the code of one long function, operation for operation: same results
 to the bit, same speed (called as separate functions, with their
 arrays passed at each call, it measured a few per cent slower).
@@ -242,7 +243,7 @@ def _mount_ends(y, M, qr, vr, body_i, body_j, S, end_flex, end_phi, fx_ints, bas
 
 @njit(cache=True, no_cpython_wrapper=True, inline="always")
 def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, law_kind,
-                  law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c, stops, A, P, Pd, ub,
+                  law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c, extras, A, P, Pd, ub,
                   w_dx, w_dxd, w_f, w_F, force, torque, w_flexQ):
     """Section 4: every mount's deflections, rates and forces (paper eq.
     2–4), summed into the bodies' forces and moments.
@@ -257,9 +258,12 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
         [m] the unstrained deflections.
     law_kind, law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c
         The mount laws, one per (mount, direction).
+    extras : tuple (stops, w_mx)
+        The bump stops and the Maxwell terms (one tuple: a call of 30
+        arguments or more is compiled as ``*args``, which numba cannot
+        inline).
     stops : tuple (stop_gap, stop_kc, w_contact, w_hold)
-        The bump stops (one tuple: a call of more than 30 arguments would
-        be compiled as ``*args``, which numba cannot inline). stop_gap,
+        The bump stops. stop_gap,
         stop_kc (3M or 0, 2): gaps [m] (inf: no stop that side), contact
         stiffness [N/m] and damping [N s/m] (no rows: no stop); past a gap
         (Δx < −g_c or Δx > g_e) the contact force k (Δx ± g) + c Δẋ adds
@@ -267,6 +271,10 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
         ``w_hold[0] = 1`` the contacts are those of ``w_contact`` (−1, 0,
         +1: held by an integrator between the instants it located,
         :mod:`flexbed.dynamics.contacts`); with 0, decided by Δx.
+    w_mx : (3M or 0, 2) float64
+        The elastomer mounts' Maxwell terms per row 3 m + k
+        (:func:`_maxwell_sums`): ``f += w_mx[row, 0] Δx − w_mx[row, 1]``
+        (no rows: no terms).
     A : (nb, 3, 3) float64
         Rotation matrices (section 2).
     P, Pd, ub : (E, 3) float64
@@ -298,6 +306,7 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
         for c in range(w_flexQ.shape[1]):
             w_flexQ[k, c] = 0.0
     p_mount = 0.0
+    stops, w_mx = extras
     stop_gap, stop_kc, w_contact, w_hold = stops
     for m in range(M):
         bi = body_i[m]
@@ -340,6 +349,8 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
                     f += stop_kc[il, 0] * (x + gc) + stop_kc[il, 1] * xd
                 elif s > 0.0:
                     f += stop_kc[il, 0] * (x - ge) + stop_kc[il, 1] * xd
+            if w_mx.shape[0] > 0:
+                f += w_mx[il, 0] * x - w_mx[il, 1]
             w_dx[m, kd] = x
             w_dxd[m, kd] = xd
             w_f[m, kd] = f
@@ -695,6 +706,50 @@ def _rates_and_powers(y, dy, nb, vr, mode, qb, vb, w0, mass, g, force, Fx, base,
         acc[0, c] = base[2, c]
 
 
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
+def _maxwell_sums(y, mx_ints, mx_k, w_relax, w_mx):
+    """Section 4a: per mount row 3 m + k, the Maxwell terms' Σ k_i [N/m] and
+    Σ k_i z_i [N] into ``w_mx`` (3M or 0, 2), so that section 4 adds
+    Σ k_i (Δx − z_i) to the row's force; zero while ``w_relax[0] = 1``.
+
+    Parameters
+    ----------
+    y : (ny,) float64
+        State.
+    mx_ints : (nt, 2) int64
+        Per term: its row 3 m + k and the offset of its state z_i in y.
+    mx_k : (nt, 2) float64
+        Per term: k_i [N/m] and 1/τ_i [1/s].
+    w_relax : (1,) float64
+        1: the terms relaxed (statics: no force).
+    w_mx : (3M or 0, 2) float64
+        Written.
+    """
+    for r in range(w_mx.shape[0]):
+        w_mx[r, 0] = 0.0
+        w_mx[r, 1] = 0.0
+    if w_relax[0] != 0.0:
+        return
+    for j in range(mx_ints.shape[0]):
+        r = mx_ints[j, 0]
+        w_mx[r, 0] += mx_k[j, 0]
+        w_mx[r, 1] += mx_k[j, 0] * y[mx_ints[j, 1]]
+
+
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
+def _maxwell_rates(dy, y, mx_ints, mx_k, w_relax, w_dx):
+    """Section 7: the Maxwell terms' rates ż_i = (Δx − z_i)/τ_i into dy
+    (0 while ``w_relax[0] = 1``), from the deflections of section 4
+    (``w_dx`` (M, 3) [m]); ``mx_ints``, ``mx_k`` as for :func:`_mount_forces`."""
+    for j in range(mx_ints.shape[0]):
+        row = mx_ints[j, 0]
+        o = mx_ints[j, 1]
+        if w_relax[0] == 0.0:
+            dy[o] = (w_dx[row // 3, row % 3] - y[o]) * mx_k[j, 1]
+        else:
+            dy[o] = 0.0
+
+
 def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
     """dy/dt for the state y at time t, on the packed storage (F, I).
 
@@ -783,6 +838,10 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
     w_hold = _v1(F_ptr, meta[60], np.float64)
     in_pt = _v2(F_ptr, meta[61], np.float64)
     in_phi = _v3(F_ptr, meta[62], np.float64)
+    mx_ints = _v2(I_ptr, meta[63], np.int64)
+    mx_k = _v2(F_ptr, meta[64], np.float64)
+    w_relax = _v1(F_ptr, meta[65], np.float64)
+    w_mx = _v2(F_ptr, meta[66], np.float64)
     nb, M, nf, mode = ints[0], ints[1], ints[2], ints[3]
     qr, vr, qb, vb, w0 = ints[4], ints[5], ints[6], ints[7], ints[8]
     # the six sections of flexbed.dynamics.kernel, in order
@@ -791,10 +850,12 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
     _rotations(y, dy, nb, qr, vr, w_A)                                         # 2.
     _mount_ends(y, M, qr, vr, body_i, body_j, S, end_flex, end_phi, fx_ints, w_base, w_A, w_ub,
                 w_P, w_Pd)                                                     # 3.
+    _maxwell_sums(y, mx_ints, mx_k, w_relax, w_mx)                             # 4a.
     p_mount = _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints,
                             law_kind, law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c,
-                            (stop_gap, stop_kc, w_contact, w_hold), w_A, w_P, w_Pd, w_ub, w_dx,
-                            w_dxd, w_f, w_F, w_force, w_torque, w_flexQ)       # 4.
+                            ((stop_gap, stop_kc, w_contact, w_hold), w_mx),
+                            w_A, w_P, w_Pd, w_ub, w_dx, w_dxd, w_f, w_F, w_force, w_torque,
+                            w_flexQ)                                           # 4.
     p_load = _body_loads(t, seg_end, y, qr, vr, in_ints, in_sin, in_b, in_o, in_c, in_pt,
                          in_phi, body_flex, fx_ints, w_A, w_force, w_torque, w_flexQ)  # 4b.
     _newton_euler(y, nb, vr, gravity, mass, J, Jinv, body_flex, w_force, w_torque, w_acc)  # 5.
@@ -803,6 +864,7 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
                                w_Q, w_T, w_gb)
     _rates_and_powers(y, dy, nb, vr, mode, qb, vb, w0, mass, gravity, w_force, Fx, w_base, w_acc,
                       p_mount, p_struct, p_load)                               # 6.
+    _maxwell_rates(dy, y, mx_ints, mx_k, w_relax, w_dx)                        # 7.
 
 _compiled = []
 

@@ -81,6 +81,11 @@ FIELDS = (
     # loads on bodies, one row per input (zero for the base's)
     "in_pt",            # (ni, 3) [m] point of application in the body frame
     "in_phi",           # (ni, 3, nm) mode shapes at the point [kg^-1/2] (flexible body)
+    # the elastomer mounts' Maxwell terms (flexbed.dynamics.maxwell_terms), sorted by row
+    "mx_ints",          # (nt, 2) int: row 3 m + direction, offset of the term's state z in y
+    "mx_k",             # (nt, 2) k_i [N/m], 1/τ_i [1/s]
+    "w_relax",          # (1,) 1: the terms relaxed (z = Δx: no force, no rate; statics)
+    "w_mx",             # (3M or 0, 2) per row Σ k_i [N/m], Σ k_i z_i [N] (no terms: no rows)
 )
 
 Compiled = namedtuple("Compiled", FIELDS)
@@ -101,7 +106,8 @@ KINDS = {
     "w_torque": ("f", 2), "w_flexQ": ("f", 2), "w_acc": ("f", 2), "w_base": ("f", 2),
     "w_M": ("f", 3), "w_Q": ("f", 1), "w_T": ("f", 3), "w_gb": ("f", 1),
     "stop_gap": ("f", 2), "stop_kc": ("f", 2), "w_contact": ("f", 1), "w_hold": ("f", 1),
-    "in_pt": ("f", 2), "in_phi": ("f", 3),
+    "in_pt": ("f", 2), "in_phi": ("f", 3), "mx_ints": ("i", 2), "mx_k": ("f", 2),
+    "w_relax": ("f", 1), "w_mx": ("f", 2),
 }
 
 

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 
+from flexbed.files.elastomer import time_run_scene
 from flexbed.analyses.points import Run
 from flexbed.analyses.verdict import contact_events, judge
 from flexbed.stages.system import compile_scene
@@ -86,6 +87,7 @@ def solve_case(sf: SceneFile, data: ModesData | None, case: str) -> CaseSolution
     A flexible case needs the bed's modes ``data``; the rigid case keeps the
     static sag on (it has none). Raises NumericalError, naming the case,
     when there is no equilibrium."""
+    sf = time_run_scene(sf)                 # elastomers: their Maxwell states
     if case == "rigid":
         csf = replace(sf, bed=replace(sf.bed, model="rigid"))
         system = compile_scene(csf)

@@ -13,6 +13,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from flexbed.files.elastomer import time_run_scene
 from flexbed.api import bed_modes
 from flexbed.api.arguments import Arguments
 from flexbed.api.equilibrium import Statics
@@ -105,7 +106,9 @@ def solved(scene: SceneFile, *, modes: ModesData | None = None,
     solver = solver_with(scene, settings)
     if scene.bed.flexible and modes is None:
         modes = bed_modes.modes(scene)
-    same = equilibrium is not None and equilibrium.scene.digest == scene.digest
+    scene = time_run_scene(scene)           # elastomers: their Maxwell states
+    same = (equilibrium is not None and equilibrium.scene.digest == scene.digest
+            and not scene.elastomers)
     system = equilibrium.system if same else bed_modes.compiled(scene, modes)
     sim = simulate_system(scene, system, solver.settings(), start=start or solver.start,
                           model=model or solver.model,

@@ -20,7 +20,7 @@ from flexbed.analyses.compare import (CASES, LABELS, comparison_rows, csv_table,
 from flexbed.analyses.compare_verdict import verdict_csv, verdict_markdown, verdict_rows
 from flexbed.files.destination import make_folder, write_text
 from flexbed.errors import InputError
-from flexbed.files.elastomer import refuse_time_run
+from flexbed.files.elastomer import time_run_scene
 from flexbed.files.scene import SceneFile, load_scene
 from flexbed.plots.runs import plot_responses, plot_series
 from flexbed.stages.modes import ensure_modes
@@ -126,7 +126,7 @@ def _relative_to(sf: SceneFile, point: str) -> str:
 def run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     sf = with_solver_options(load_scene(args.scene), args.integrator, args.t_end)
-    refuse_time_run(sf)
+    sf = time_run_scene(sf)
     out = Path(args.output)
     print(f"compare '{sf.scene.name}': rigid, flexible and damped flexible bed, "
           f"0-{sf.solver.t_end:g} s, {sf.solver.integrator} -> {out}/")

@@ -21,7 +21,7 @@ from flexbed.commands.compare import add_solver_args
 from flexbed.commands.static import add_modes_file_arg
 from flexbed.errors import EXIT_FAIL, EXIT_OK, InputError
 from flexbed.files.destination import check_destination, refuse_inputs, write_text
-from flexbed.files.elastomer import refuse_time_run
+from flexbed.files.elastomer import time_run_scene
 from flexbed.files.scene import load_scene
 
 __all__ = ["add_args", "run", "outputs"]
@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
 
     t0 = time.perf_counter()
     sf = load_scene(args.scene)
-    refuse_time_run(sf)
+    sf = time_run_scene(sf)
     settings = {k: v for k, v in (("integrator", args.integrator), ("t_end", args.t_end),
                                   ("output_dt", args.output_dt)) if v is not None}
     for key in ("t_end", "output_dt"):

@@ -32,7 +32,7 @@ from flexbed.errors import NumericalError
 from flexbed.fem.export import write_modes_vtu
 from flexbed.files.modes import ModesData
 from flexbed.files.results import write_equilibrium
-from flexbed.files.elastomer import refuse_time_run
+from flexbed.files.elastomer import time_run_scene
 from flexbed.files.scene import load_scene
 from flexbed.files.xdmf import write_bed_motion
 from flexbed.plots.runs import plot_mount_forces
@@ -58,7 +58,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     t_start = time.perf_counter()
     sf = with_solver_options(load_scene(args.scene), args.integrator, args.t_end)
-    refuse_time_run(sf)
+    sf = time_run_scene(sf)
     out = Path(args.output)
     make_folder(out)
     name = sf.output_name

@@ -23,7 +23,7 @@ from flexbed.stages.simulation import simulate_system
 from flexbed.files.results import read_equilibrium, results_contents
 from flexbed.interrupts import kept
 from flexbed.stages.keep import write_kept
-from flexbed.files.elastomer import refuse_time_run
+from flexbed.files.elastomer import time_run_scene
 from flexbed.files.scene import MODELS, load_scene
 from flexbed.words import count
 
@@ -134,7 +134,7 @@ class Progress:
 
 def run(args: argparse.Namespace) -> int:
     sf = load_scene(args.scene)
-    refuse_time_run(sf)
+    sf = time_run_scene(sf)
     system = compile_scene(sf, args.modes_file)
     solver = sf.solver
     method = args.integrator or solver.integrator

@@ -16,24 +16,27 @@ stiffness is interpolated log-log in frequency, the loss factor linearly in
 log f (it may be 0), both held constant outside the table
 (:class:`flexbed.dynamics.frequency.elastomer.ComplexStiffness`).
 
-Time runs refuse elastomer mounts (:func:`refuse_time_run`); the
-generalised Maxwell model a time run would need is fitted when the scene
-is read and its error over the band said in one line
-(:func:`report_fits`, :mod:`flexbed.dynamics.frequency.maxwell`).
+Time runs take a generalised Maxwell series fitted to each elastomer
+(:mod:`flexbed.dynamics.frequency.maxwell`, k∞ = the law's k), whose
+error over the band is said in one line when the scene is read
+(:func:`report_fits`); :func:`time_run_scene` puts the series into the
+scene as internal states (:mod:`flexbed.dynamics.maxwell_terms`).
 """
 
 from __future__ import annotations
 
 import warnings
+from dataclasses import replace
 
 import numpy as np
 
 from flexbed.dynamics.frequency.elastomer import ElastomerTable
 from flexbed.dynamics.frequency.maxwell import fit_maxwell
 from flexbed.dynamics.laws import LinearLaw
-from flexbed.errors import FlexbedWarning, InputError
+from flexbed.dynamics.maxwell_terms import MaxwellSeries
+from flexbed.errors import FlexbedWarning
 
-__all__ = ["ELASTOMER_KEYS", "read_elastomer", "report_fits", "refuse_time_run"]
+__all__ = ["ELASTOMER_KEYS", "read_elastomer", "report_fits", "time_run_scene"]
 
 #: the mount keys this module reads
 ELASTOMER_KEYS = ("loss_factor", "elastomer")
@@ -89,11 +92,11 @@ def _rows(reader, where: str, key: str, value, n: int, *, positive: bool) -> np.
 def report_fits(label: str, elastomers: list) -> None:
     """One line (a :class:`FlexbedWarning`) per distinct elastomer of
     ``elastomers`` ((mount name, ElastomerTable) pairs) with the error of
-    its generalised Maxwell fit over its band, and that time runs do not
-    take it; mounts with the same table share the line."""
+    its generalised Maxwell fit over its band, the series time runs take;
+    mounts with the same table (and static k) share the line."""
     groups: dict = {}
     for name, table in elastomers:
-        key = (table.frequency.tobytes(), table.stiffness.tobytes(),
+        key = (table.k_static.tobytes(), table.frequency.tobytes(), table.stiffness.tobytes(),
                table.loss_factor.tobytes())
         groups.setdefault(key, (table, []))[1].append(name)
     for table, names in groups.values():
@@ -105,15 +108,19 @@ def report_fits(label: str, elastomers: list) -> None:
             f"{label}: {who}: elastomer: a generalised Maxwell series of {fit.tau.size} terms "
             f"matches k(f)(1 + i eta(f)) within {errs} % (directions 1-3) over "
             f"{fit.band[0]:g}-{fit.band[1]:g} Hz; frf, random and modal use the table "
-            f"exactly, time runs refuse the mount"), stacklevel=3)
+            f"exactly, time runs the series"), stacklevel=3)
 
 
-def refuse_time_run(sf) -> None:
-    """InputError naming the first elastomer mount of the SceneFile ``sf``:
-    time runs do not take them (the frequency analyses do)."""
-    if sf.elastomers:
-        name = sf.scene.mounts[sf.elastomers[0][0]].name
-        raise InputError(f"{sf.source.name}: mount {name!r} is an elastomer mount (loss_factor "
-                         f"or elastomer table): time runs do not take its complex stiffness; "
-                         f"use 'flexbed frf', 'flexbed random' or 'flexbed modal', or remove "
-                         f"the elastomer keys for a time run")
+def time_run_scene(sf):
+    """The SceneFile ``sf`` for a time run: its scene with the generalised
+    Maxwell series of each elastomer mount (internal states,
+    :class:`flexbed.dynamics.maxwell_terms.MaxwellSeries`); ``sf`` itself
+    without elastomers, or when its scene has them already."""
+    if not sf.elastomers or sf.scene.maxwell:
+        return sf
+    mounts = sf.scene.mounts
+    series = []
+    for i, table in sf.elastomers:
+        fit = fit_maxwell(table)
+        series.append(MaxwellSeries(mounts[i].name, fit.tau, fit.k))
+    return replace(sf, scene=replace(sf.scene, maxwell=tuple(series)))

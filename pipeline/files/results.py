@@ -59,6 +59,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from flexbed.dynamics.maxwell_terms import relax_states
 from flexbed.errors import InputError
 from flexbed.files.store import Contents, Dataset, read_file, write_file
 
@@ -140,6 +141,11 @@ def read_equilibrium(path, sf: SceneFile, system: System) -> np.ndarray:
     if not root.get("success", False):
         raise InputError(f"{path}: records a failed static solve: {root.get('message')}")
     y = np.asarray(c.get("state/y"), dtype=float)
+    lay = system.layout
+    if lay.n_internal and y.shape == (system.ny - lay.n_internal,):
+        # the statics' state of the scene without Maxwell states: theirs at rest
+        y = relax_states(system, np.concatenate([y[:lay.internal.start],
+                                                 np.zeros(lay.n_internal), y[lay.internal.start:]]))
     if y.shape != (system.ny,):
         raise InputError(f"{path}: dataset 'state/y' has shape {y.shape}, "
                          f"this scene needs ({system.ny},)")

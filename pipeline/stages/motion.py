@@ -89,6 +89,11 @@ def solve_motion(system: System, y_eq: np.ndarray | None, y0: np.ndarray, settin
         run = integrate(system, y0, settings, progress=progress)
         return Motion(run, "nonlinear", model, f"nonlinear: mount {mount!r} has a bump stop "
                       f"(contact is not linear)", None, linear_tol)
+    if system.scene.maxwell:                    # the linear model has no internal states
+        run = integrate(system, y0, settings, progress=progress)
+        return Motion(run, "nonlinear", model, f"nonlinear: mount "
+                      f"{system.scene.maxwell[0].mount!r} is an elastomer (the linear model "
+                      f"has no Maxwell states)", None, linear_tol)
     if y_eq is None:
         raise ValueError("the linear model needs the static equilibrium")
     lin = run_linear(system, y_eq, y0, settings)

@@ -14,7 +14,6 @@ from flexbed.dynamics.stability import instability
 from flexbed.dynamics.statics import Equilibrium, solve_statics
 from flexbed.dynamics.system import System
 from flexbed.errors import InputError, NumericalError
-from flexbed.files.elastomer import refuse_time_run
 from flexbed.files.scene import SceneFile
 from flexbed.stages.motion import Motion, solve_motion
 from flexbed.stages.plausibility import check_equilibrium
@@ -124,13 +123,18 @@ def simulate_system(sf: SceneFile, system: System, settings: Settings, *, start:
     -------
     Simulation
     """
-    refuse_time_run(sf)
+    assert not sf.elastomers or system.scene.maxwell, \
+        "a time run's system takes its elastomers' Maxwell terms (flexbed.files.elastomer)"
     check_results_size(system, settings)
     _check_steps(sf, system, settings)     # the linear path's pieces are as fine
     if model == "linear" and system.laws.stopped.size:
         mount = system.scene.mounts[int(system.laws.stopped[0]) // 3].name
         raise InputError(f"{sf.source.name}: model = 'linear' cannot follow a bump stop's "
                          f"contact (mount {mount!r} has one): use 'nonlinear' or 'auto'")
+    if model == "linear" and system.scene.maxwell:
+        raise InputError(f"{sf.source.name}: model = 'linear' does not take an elastomer "
+                         f"mount's Maxwell states (mount {system.scene.maxwell[0].mount!r}): "
+                         f"use 'nonlinear' or 'auto'")
     if (start == "equilibrium" or model != "nonlinear") and eq is None:
         eq = equilibrium(sf, system, sag=sag)
     y0 = system.initial_state(eq.y if start == "equilibrium" else None)   # + the velocities
