@@ -503,17 +503,20 @@ def refine_nodes(kernel, seg_end, t, Z, du, coords, b0, B, AT, w0, first, tol, n
         for r in range(n + m):
             if j < m and (i >= n or mids[j] < nodes[i]):
                 merged[r] = mids[j]
-                W[r] = V2[j]
+                for c in range(nv):
+                    W[r, c] = V2[j, c]
                 is_new[r] = True
                 j += 1
             else:
                 merged[r] = nodes[i]
-                W[r] = V[i]
+                for c in range(nv):
+                    W[r, c] = V[i, c]
                 i += 1
         n += m
         nodes = merged
         for r in range(n):
-            V[r] = W[r]
+            for c in range(nv):
+                V[r, c] = W[r, c]
     return nodes
 
 
@@ -554,10 +557,10 @@ def defect_sweep(Phis, Ps, which, C, col_scale, scale, E):
                 f *= p
             for a in range(c):
                 W[j, p * c + a] = C[j, p, a] * f / col_scale[a]
-    Q = np.empty((n1, nz))
     if m == 1:
-        Q[:] = np.dot(W, Ps[0].T)
+        Q = np.dot(W, Ps[0].T)
     else:
+        Q = np.empty((n1, nz))
         counts = np.zeros(m, dtype=np.int64)
         for j in range(n1):
             counts[which[j]] += 1
@@ -572,7 +575,8 @@ def defect_sweep(Phis, Ps, which, C, col_scale, scale, E):
                     r += 1
             Qi = np.dot(W[sel], Ps[i].T)
             for r in range(sel.size):
-                Q[sel[r]] = Qi[r]
+                for a in range(nz):
+                    Q[sel[r], a] = Qi[r, a]
     linear_sweep(Phis, which, Q, np.zeros(nz), E)
     for j in range(E.shape[0]):
         for a in range(nz):
