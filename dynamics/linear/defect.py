@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .sweep import deviations_to_states, jit, linear_sweep, rates_of_states
+from .sweep import deviations_to_states, inner, jit, linear_sweep, rates_of_states
 
 __all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak",
            "defect_rows", "cubic_misses", "refine_nodes", "defect_sweep", "error_peaks",
@@ -282,7 +282,7 @@ def largest_motion(Z, rows, T):
     return math.sqrt(best)
 
 
-@jit
+@inner
 def _group_peak(z, points, count, cols, vals, best):
     """max(best, the largest |T_p z|² of the points) (:func:`largest_motion`)."""
     for p in points:
@@ -300,7 +300,7 @@ def _group_peak(z, points, count, cols, vals, best):
     return best
 
 
-@jit
+@inner
 def defect_rows(kernel, seg_end, t, Z, idx, coords, b0, B, du, w0, V):
     """The rates and the powers at the samples idx (q,), one compiled pass:
     V[r] = [R, ẏ_i[w0 : w0 + c]], i = idx[r], R = ż(f(t_i, y(z_i))) − b0
@@ -356,7 +356,7 @@ def defect_rows(kernel, seg_end, t, Z, idx, coords, b0, B, du, w0, V):
     return r_max
 
 
-@jit
+@inner
 def cubic_misses(t_old, V_old, t_new, V_new, scale, miss):
     """miss[r] = the largest |p(t_new[r]) − V_new[r]| / scale over the
     columns, p the local cubics (module docstring) through the nodes t_old
@@ -386,7 +386,7 @@ def cubic_misses(t_old, V_old, t_new, V_new, scale, miss):
         miss[r] = best
 
 
-@jit
+@inner
 def _defect_at(kernel, seg_end, t, Z, idx, coords, b0, B, du, w0, AT, V):
     """V (q, nz + c) = [d | powers] at the piece ends idx (q,):
     :func:`defect_rows`, then A z off; returns the largest |R|."""
@@ -694,7 +694,7 @@ def modal_point_rows(on, body, p_eq, phi, idx, T):
                                      + R[k, 2] * phi[i, 2, j])
 
 
-@jit
+@inner
 def _rotation(p, R):
     """The rotation matrix of unit Euler parameters p (4,) (scalar first)
     into R (3, 3) (:func:`flexbed.dynamics.rotation.A`)."""
