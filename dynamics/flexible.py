@@ -192,6 +192,11 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
+def _writable(x: np.ndarray) -> np.ndarray:
+    """A writable C-contiguous float64 copy of x."""
+    return np.array(x, dtype=np.float64, order="C")
+
+
 class FlexibleEOM:
     """The equations of motion of one :class:`FlexibleBody`.
 
@@ -214,17 +219,22 @@ class FlexibleEOM:
         n = body.n_modes
         self.n = n
         self.m = body.mass
-        self.I2 = body.first_moment
-        self.I3 = body.phi_integral
-        self.I4 = body.u_cross_phi
-        self.I7 = body.inertia
-        self.I6 = body.modal_mass
-        self.K = body.modal_stiffness
-        self.C = body.modal_damping
-        self.I8 = body.inertia_first_order
+        # writable C-contiguous copies: the compiled functions then run on
+        # the same array types as the right-hand side's views of its
+        # storage, so one compiled specialisation serves both (a read-only
+        # array is another type to numba, compiled again)
+        self.I2 = _writable(body.first_moment)
+        self.I3 = _writable(body.phi_integral)
+        self.I4 = _writable(body.u_cross_phi)
+        self.I7 = _writable(body.inertia)
+        self.I6 = _writable(body.modal_mass)
+        self.K = _writable(body.modal_stiffness)
+        self.C = _writable(body.modal_damping)
+        self.I8 = _writable(body.inertia_first_order)
         self.full = bool(body.full) and n > 0
-        self.I5 = body.phi_cross_phi if self.full else np.zeros_like(body.phi_cross_phi)
-        self.I9 = body.inertia_second_order if self.full else np.zeros_like(
+        self.I5 = _writable(body.phi_cross_phi) if self.full else np.zeros_like(
+            body.phi_cross_phi)
+        self.I9 = _writable(body.inertia_second_order) if self.full else np.zeros_like(
             body.inertia_second_order)
         self._T = np.zeros((n, 3, 3))
         self._Mbar = np.zeros((6 + n, 6 + n))

@@ -4,9 +4,12 @@ and a changed stamp flushes the cache of all of them."""
 
 import importlib
 import pkgutil
+import subprocess
+import sys
 from pathlib import Path
 
 import numba
+import pytest
 from numba.core.ccallback import CFunc
 from numba.core.dispatcher import Dispatcher
 
@@ -79,3 +82,49 @@ def test_the_stamp_covers_the_coefficients_compiled_in_as_constants():
         jitcache.CONSTANTS)
     assert all(jitcache._source(name).is_file() for name in jitcache.CONSTANTS)
     assert dop853.DOP853.__module__ == "flexbed.dynamics.steppers.dop853_coefficients"
+
+
+_ONE_OF_EACH = r"""
+import sys, tempfile
+from pathlib import Path
+import numpy as np
+from numba.core.dispatcher import Dispatcher
+import flexbed
+from flexbed.bench.cases import CASES, ModesStore, build_case
+from flexbed.dynamics.integrate import Settings
+from flexbed.dynamics.linear.run import run_linear
+
+sf = flexbed.load_scene()
+store = ModesStore(sf, Path(tempfile.mkdtemp()))
+for key in ("rigid", "damped"):
+    case = build_case(sf, CASES[key], store)      # statics, and every stepper warmed up
+    for flex in case.system._flex:                  # the Python side of the flexible bed
+        flex.eom.forces_body(np.zeros(3), np.zeros(flex.eom.n), np.zeros(flex.eom.n),
+                             np.array([0.0, 0.0, -9.81]))
+    run_linear(case.system, case.y0, case.y0, Settings("dop853", t_end=0.01))
+for name, module in sorted(sys.modules.items()):
+    if not name.startswith("flexbed.dynamics"):
+        continue
+    for value in vars(module).values():
+        if isinstance(value, Dispatcher) and value.py_func.__module__ == name:
+            # storage.view1..5 take the dtype as an argument: one signature per dtype
+            dtypes = {str(sig[-1]) for sig in value.signatures}
+            extra = len(value.signatures) - (len(dtypes) if name.endswith(".storage") else 1)
+            if extra > 0:
+                print(f"{name}.{value.py_func.__name__}: {len(value.signatures)}")
+print("checked")
+"""
+
+
+@pytest.mark.slow
+def test_each_compiled_function_is_compiled_for_one_signature(tmp_path):
+    """The rigid and the damped flexible reference cases, every stepper, the
+    flexible bed's Python side and the linear path, in a fresh interpreter:
+    each compiled function of flexbed.dynamics ends with one signature (a
+    second one — a read-only array, a literal int, another layout — is a
+    second compilation of the same code on a first run)."""
+    out = subprocess.run([sys.executable, "-c", _ONE_OF_EACH], capture_output=True, text=True,
+                         cwd=tmp_path, timeout=1800)
+    assert out.returncode == 0, out.stderr[-2000:]
+    lines = out.stdout.strip().splitlines()
+    assert lines[-1] == "checked" and lines[:-1] == [], lines

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .sweep import deviations_to_states, jit, linear_sweep, rates_of_states
+from .sweep import deviations_to_states, inner, jit, linear_sweep, rates_of_states
 
 __all__ = ["cubic_pieces", "pieces_at", "pieces_integral_at", "hermite_peak",
            "defect_rows", "cubic_misses", "refine_nodes", "defect_sweep", "error_peaks",
@@ -282,7 +282,7 @@ def largest_motion(Z, rows, T):
     return math.sqrt(best)
 
 
-@jit
+@inner
 def _group_peak(z, points, count, cols, vals, best):
     """max(best, the largest |T_p z|² of the points) (:func:`largest_motion`)."""
     for p in points:
@@ -300,7 +300,7 @@ def _group_peak(z, points, count, cols, vals, best):
     return best
 
 
-@jit
+@inner
 def defect_rows(kernel, seg_end, t, Z, idx, coords, b0, B, du, w0, V):
     """The rates and the powers at the samples idx (q,), one compiled pass:
     V[r] = [R, ẏ_i[w0 : w0 + c]], i = idx[r], R = ż(f(t_i, y(z_i))) − b0
@@ -356,7 +356,7 @@ def defect_rows(kernel, seg_end, t, Z, idx, coords, b0, B, du, w0, V):
     return r_max
 
 
-@jit
+@inner
 def cubic_misses(t_old, V_old, t_new, V_new, scale, miss):
     """miss[r] = the largest |p(t_new[r]) − V_new[r]| / scale over the
     columns, p the local cubics (module docstring) through the nodes t_old
@@ -386,7 +386,7 @@ def cubic_misses(t_old, V_old, t_new, V_new, scale, miss):
         miss[r] = best
 
 
-@jit
+@inner
 def _defect_at(kernel, seg_end, t, Z, idx, coords, b0, B, du, w0, AT, V):
     """V (q, nz + c) = [d | powers] at the piece ends idx (q,):
     :func:`defect_rows`, then A z off; returns the largest |R|."""
@@ -503,17 +503,20 @@ def refine_nodes(kernel, seg_end, t, Z, du, coords, b0, B, AT, w0, first, tol, n
         for r in range(n + m):
             if j < m and (i >= n or mids[j] < nodes[i]):
                 merged[r] = mids[j]
-                W[r] = V2[j]
+                for c in range(nv):
+                    W[r, c] = V2[j, c]
                 is_new[r] = True
                 j += 1
             else:
                 merged[r] = nodes[i]
-                W[r] = V[i]
+                for c in range(nv):
+                    W[r, c] = V[i, c]
                 i += 1
         n += m
         nodes = merged
         for r in range(n):
-            V[r] = W[r]
+            for c in range(nv):
+                V[r, c] = W[r, c]
     return nodes
 
 
@@ -554,10 +557,10 @@ def defect_sweep(Phis, Ps, which, C, col_scale, scale, E):
                 f *= p
             for a in range(c):
                 W[j, p * c + a] = C[j, p, a] * f / col_scale[a]
-    Q = np.empty((n1, nz))
     if m == 1:
-        Q[:] = np.dot(W, Ps[0].T)
+        Q = np.dot(W, Ps[0].T)
     else:
+        Q = np.empty((n1, nz))
         counts = np.zeros(m, dtype=np.int64)
         for j in range(n1):
             counts[which[j]] += 1
@@ -572,7 +575,8 @@ def defect_sweep(Phis, Ps, which, C, col_scale, scale, E):
                     r += 1
             Qi = np.dot(W[sel], Ps[i].T)
             for r in range(sel.size):
-                Q[sel[r]] = Qi[r]
+                for a in range(nz):
+                    Q[sel[r], a] = Qi[r, a]
     linear_sweep(Phis, which, Q, np.zeros(nz), E)
     for j in range(E.shape[0]):
         for a in range(nz):
@@ -690,7 +694,7 @@ def modal_point_rows(on, body, p_eq, phi, idx, T):
                                      + R[k, 2] * phi[i, 2, j])
 
 
-@jit
+@inner
 def _rotation(p, R):
     """The rotation matrix of unit Euler parameters p (4,) (scalar first)
     into R (3, 3) (:func:`flexbed.dynamics.rotation.A`)."""

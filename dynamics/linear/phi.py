@@ -113,7 +113,7 @@ def phi_functions(X, out):
             powers[0, i, j] = 1.0 if i == j else 0.0
             powers[1, i, j] = X[i, j]
     for k in range(2, m + 1):
-        powers[k] = np.dot(powers[k - 1], X)
+        np.dot(powers[k - 1], X, powers[k])
     # coefficients 1/(k + q)!, k = 0 … K
     K = series_terms(X, q)
     c = np.empty(K + 1)
@@ -137,12 +137,14 @@ def phi_functions(X, out):
             for r in range(n):
                 for s in range(n):
                     R[r, s] += ck * powers[i, r, s]
-    out[q] = R
+    for r in range(n):
+        for s in range(n):
+            out[q, r, s] = R[r, s]
     inv = 1.0
     for j in range(1, q):
         inv /= j
     for j in range(q - 1, -1, -1):                    # inv = 1/j!
-        out[j] = np.dot(X, out[j + 1])
+        np.dot(X, out[j + 1], out[j])
         for r in range(n):
             out[j, r, r] += inv
         if j:
@@ -206,7 +208,7 @@ def exp_and_phi_columns(X, V, h, Phi, P):
     n, c = V.shape
     q = P.shape[0]
     phi_functions(X, Phi.reshape((1, n, n)))
-    K = series_terms(X, 0)
+    K = series_terms(X, np.int64(0))                 # int64 as in phi_functions
     inv = np.empty(K + q + 1)                          # inv[i] = 1/i!
     inv[0] = 1.0
     for i in range(1, K + q + 1):

@@ -19,6 +19,10 @@ import numpy as np
 #: faster; the results change by round-off only); NaNs and infinities keep
 #: their meaning
 jit = numba.njit(cache=True, error_model="numpy", fastmath={"reassoc", "contract"})
+#: the same, for the helpers that only compiled code calls: no wrapper for
+#: calls from Python is compiled (nor linked into their callers)
+inner = numba.njit(cache=True, error_model="numpy", fastmath={"reassoc", "contract"},
+                   no_cpython_wrapper=True)
 
 __all__ = ["linear_sweep", "poly_derivatives", "deviations_to_states", "states_to_deviations",
            "rates_of_states",

@@ -122,7 +122,8 @@ def write_rows(grid, Y, k_out, k_dense, t_new, z_new, shift, p_idx):
 def initial_step(t0, t_b, z, f0, shift, kernel, rtol, atol, h_max, order, ybuf, z1, f1, counts):
     """SciPy's ``select_initial_step`` (Hairer, Nørsett & Wanner I, II.4).
 
-    order : error-estimator order (dop853: 7; radau: 3). One evaluation.
+    order : error-estimator order (dop853: 7; radau: 3), an int64 (a
+    literal would compile one specialisation per stepper). One evaluation.
     Returns the first step [s].
     """
     ny = z.size

@@ -109,7 +109,7 @@ def dop853_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid
     if dt_or_h0 > 0.0:
         h_abs = dt_or_h0
     else:
-        h_abs = initial_step(t_a, t_b, z, f, shift, kernel, rtol, atol, h_max, 7,
+        h_abs = initial_step(t_a, t_b, z, f, shift, kernel, rtol, atol, h_max, np.int64(7),
                              ybuf, zt, ft, counts)
     t = t_a
     steps = 0

@@ -290,8 +290,8 @@ def radau_segment(t_a, t_b, z, shift, kernel, rtol, atol, dt_or_h0, h_max, grid,
     if dt_or_h0 > 0.0:
         h_abs = dt_or_h0
     else:
-        h_abs = initial_step(t_a, t_b, z, f, shift, kernel, rtol, atol, h_max, 3, ybuf, zt, fj,
-                              counts)
+        h_abs = initial_step(t_a, t_b, z, f, shift, kernel, rtol, atol, h_max, np.int64(3), ybuf,
+                              zt, fj, counts)
     newton_tol = max(10.0 * EPS / rtol, min(0.03, math.sqrt(rtol)))
     first = not resume
     t = t_a
