@@ -1,11 +1,14 @@
 """The worked example of docs/machinery-loads.md runs and gives the figures
-the page quotes (so the page cannot drift from the code)."""
+the page quotes (so the page cannot drift from the code), and the page's
+command lines run on the scene it wrote."""
 
 import importlib.util
+import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
+from test_docs import _env, commands
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "machinery_loads.py"
 
@@ -25,3 +28,12 @@ def test_the_machinery_example_gives_the_documented_levels(tmp_path, capsys):
                        atol=0.05)
     assert np.allclose([il[b25, 2], il[b63, 2]], [-15.7, 31.3], atol=0.05)
     assert (tmp_path / "example.png").stat().st_size > 10_000
+    # the page's command lines, in the folder the example filled (its machinery.toml)
+    page = EXAMPLE.parent / "machinery-loads.md"
+    lines = commands(page.read_text())
+    assert len(lines) >= 4
+    for cmd, expected in lines:
+        cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=tmp_path,
+                            env=_env(), capture_output=True, text=True, timeout=600)
+        assert cp.returncode == expected, f"`{cmd}` exited {cp.returncode}:\n{cp.stderr[-2000:]}"
+    assert 'model = "rigid"' in (tmp_path / "machinery-rigid.toml").read_text()
