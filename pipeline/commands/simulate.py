@@ -181,12 +181,21 @@ def run(args: argparse.Namespace) -> int:
               f"{sim.equilibrium.instability.line()}", file=sys.stderr)
     eq = sim.equilibrium if start == "equilibrium" else None
     result = motion.run
-    progress.phase(result.t_reached, f"writing {out}")
     modes_path = ((args.modes_file or default_modes_path(sf)) if sf.bed.flexible else None)
+    said = []
+
+    def contents():
+        # the line says "writing" inside what write_kept guards: a signal that lands
+        # as it is said is one that arrived while the results were written (they are
+        # kept, marked incomplete), not one that loses them
+        if not said:
+            said.append(True)
+            progress.phase(result.t_reached, f"writing {out}")
+        return results_contents(sf, system, result, start=start, equilibrium=eq,
+                                modes_path=modes_path, model=motion.attrs())
+
     try:
-        interrupt = write_kept(out, lambda: results_contents(
-            sf, system, result, start=start, equilibrium=eq, modes_path=modes_path,
-            model=motion.attrs()), result.interrupt)
+        interrupt = write_kept(out, contents, result.interrupt)
     except BaseException:
         progress.close(result.t_reached)
         raise
