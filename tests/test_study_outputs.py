@@ -45,14 +45,19 @@ def rigid():
     return _pair(flexbed.load_scene())
 
 
-def test_points_and_mounts_equal_the_results_bit_for_bit(rigid):
-    lazy, full = rigid
+def _same_points_and_mounts(lazy, full):
+    """Every point of POINTS and the mount forces, bit for bit."""
     for body, xyz, rel in POINTS:
         a = lazy.point(body, xyz, relative_to=rel)
         b = full.point(body, xyz, relative_to=rel)
         for key in ("position", "velocity", "acceleration"):
             _same(getattr(a, key), getattr(b, key))
     _same(lazy.mount_force, full.mount_force)
+
+
+def test_points_and_mounts_equal_the_results_bit_for_bit(rigid):
+    lazy, full = rigid
+    _same_points_and_mounts(lazy, full)
     _same(lazy.mount_deflection, full.mount_deflection)
     _same(lazy.t, full.t)
     # any other attribute: the whole results'
@@ -98,9 +103,4 @@ def test_the_kept_results_file_is_simulate_s(tmp_path):
 def test_a_flexible_bed_s_points_equal_the_results_bit_for_bit():
     scene = flexbed.vary(flexbed.load_scene(), {"bed.model": "flexible"})
     lazy, full = _pair(scene, modes=flexbed.modes(scene))
-    for body, xyz, rel in POINTS:
-        a = lazy.point(body, xyz, relative_to=rel)
-        b = full.point(body, xyz, relative_to=rel)
-        for key in ("position", "velocity", "acceleration"):
-            _same(getattr(a, key), getattr(b, key))
-    _same(lazy.mount_force, full.mount_force)
+    _same_points_and_mounts(lazy, full)
