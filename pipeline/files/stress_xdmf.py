@@ -22,9 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.files.destination import check_destination, write_text
+from flexbed.files.destination import write_text
 from flexbed.files.store import Dataset, write_file
-from flexbed.files.xdmf import temporal_xdmf, xdmf_topology
+from flexbed.files.xdmf import series_files, temporal_xdmf
 
 __all__ = ["write_stress_series", "STRESS_SCHEMA"]
 
@@ -57,14 +57,8 @@ def write_stress_series(path: str | os.PathLike, nodes: np.ndarray, cells: np.nd
     Path
         The XDMF file.
     """
-    path = check_destination(path)
-    h5 = check_destination(path.with_suffix(".h5"))
-    nodes = np.asarray(nodes, dtype=float)
-    ne = np.asarray(cells).shape[0]
-    topology, cells = xdmf_topology(cells)
-    times = np.asarray(times, dtype=float)
+    path, h5, nodes, ne, topology, cells, times, width = series_files(path, nodes, cells, times)
     k = times.size
-    width = max(4, len(str(max(k - 1, 0))))
     ds = {"mesh/nodes": Dataset(nodes, "m", "node positions in the bed frame"),
           "mesh/cells": Dataset(cells, "1", f"the cells, XDMF {topology} topology"),
           "time": Dataset(times, "s", "time of each frame"),

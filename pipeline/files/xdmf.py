@@ -69,6 +69,20 @@ def data_item(h5name: str, dataset: str, shape: tuple, kind: str) -> str:
             f"{escape(h5name)}:/{dataset}</DataItem>")
 
 
+def series_files(path, nodes, cells, times) -> tuple:
+    """What a time series' XDMF and its HDF5 share, checked before anything is
+    written: (path, h5 path, nodes (N, 3) float, number of cells, topology,
+    cells as XDMF numbers them, times (k,) float, width of the frame names)."""
+    path = check_destination(path)
+    h5 = check_destination(Path(path).with_suffix(".h5"))
+    nodes = np.asarray(nodes, dtype=float)
+    n_cells = np.asarray(cells).shape[0]
+    topology, cells = xdmf_topology(cells)
+    times = np.asarray(times, dtype=float)
+    width = max(4, len(str(max(times.size - 1, 0))))
+    return path, h5, nodes, n_cells, topology, cells, times, width
+
+
 def temporal_xdmf(h5name: str, stem: str, topology: str, n_cells: int, cells_shape: tuple,
                   nodes_shape: tuple, times: np.ndarray, width: int,
                   attributes: list[tuple[str, str, str, tuple]]) -> str:
@@ -138,14 +152,9 @@ def write_bed_motion(path: str | os.PathLike, nodes: np.ndarray, cells: np.ndarr
     Path
         The XDMF file.
     """
-    path = check_destination(path)
-    h5 = check_destination(path.with_suffix(".h5"))
-    nodes = np.asarray(nodes, dtype=float)
-    n_cells = np.asarray(cells).shape[0]
-    topology, cells = xdmf_topology(cells)
-    times = np.asarray(times, dtype=float)
+    path, h5, nodes, n_cells, topology, cells, times, width = series_files(path, nodes, cells,
+                                                                          times)
     k, n = times.size, nodes.shape[0]
-    width = max(4, len(str(max(k - 1, 0))))
     ds = {
         "mesh/nodes": Dataset(nodes, "m", "node positions at t = 0, inertial frame"),
         "mesh/cells": Dataset(cells, "1", f"the cells, XDMF {topology} topology"),
