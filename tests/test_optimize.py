@@ -172,6 +172,10 @@ def test_no_feasible_point_exits_1_and_keeps_the_best(tmp_path, capsys, cluster)
     cap = capsys.readouterr()
     assert code == 1, cap.err
     assert "opt.toml: no feasible point found" in cap.err and cap.err.count("\n") == 1
+    # one line per variable, not per path it sets (here 1 tied and 2 mirrored)
+    listed = [line for line in cap.out.splitlines() if line.startswith("  ")]
+    assert len(listed) == 1 and listed[0].startswith("  mount.M3.axes_deg[0] = ") and \
+        listed[0].endswith(" (and 3 paths set with it)"), cap.out
     text = (out / "optimum.toml").read_text()
     assert "NOT feasible" in text.splitlines()[0]
     assert flexbed.load_scene(out / "optimum.toml").scene.mounts[0].name == "M1"

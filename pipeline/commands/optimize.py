@@ -59,8 +59,10 @@ def run(args: argparse.Namespace) -> int:
     with cluster_client(args.scheduler, args.workers, warm_scene=problem.base) as client:
         opt = optimize_problem(problem, client, folder)
     written = write_report(opt, folder, plots=not args.no_plots)
-    for path, value in opt.values.items():
-        print(f"  {path} = {value:.8g}")
+    for v, x in zip(problem.variables, opt.x):
+        more = len(v.paths) - 1                   # tied, mirrored, linked: in optimum.toml
+        print(f"  {v.path} = {x:.8g}" + (f" (and {more} path{'s' if more > 1 else ''} set "
+                                         f"with it)" if more else ""))
     print(f"objective {opt.objective:.8g}, {opt.evaluations} evaluations "
           f"({opt.reused} reused) in {opt.wall_time:.1f} s; wrote "
           f"{', '.join(p.name for p in written)} and evaluations.csv in {folder}")
