@@ -74,7 +74,7 @@ class Modal:
     def save(self, prefix: str | Path) -> list[Path]:
         """Write ``PREFIX.h5`` and the CSV tables (as ``flexbed modal -o PREFIX``,
         without the plot and the mode shapes); returns the paths."""
-        return _save(prefix, modal_files(self.scene, self.mounted))
+        return save_files(prefix, modal_files(self.scene, self.mounted))
 
 
 class Transmissibility:
@@ -97,7 +97,7 @@ class Transmissibility:
     def save(self, prefix: str | Path) -> list[Path]:
         """Write ``PREFIX.h5`` and ``PREFIX.csv`` (as ``flexbed frf -o PREFIX``,
         without the plots); returns the paths."""
-        return _save(prefix, frf_files(self.scene, self.result))
+        return save_files(prefix, frf_files(self.scene, self.result))
 
 
 def modal_files(scene: SceneFile, mt: amodal.Mounted, *, shapes: bool = False) -> dict:
@@ -130,15 +130,22 @@ def frf_files(scene: SceneFile, r: afrf.FRF) -> dict:
             ".csv": (write_text, (afrf.frf_csv(r),))}
 
 
-def _save(prefix, files: dict) -> list[Path]:
+def save_files(prefix, files: dict) -> list[Path]:
+    """Write ``files`` (suffix → ``(writer, args)``, as :func:`modal_files`
+    gives them) to ``prefix`` + suffix, every destination checked first;
+    return the paths written."""
     paths = [check_destination(Path(str(prefix) + suffix)) for suffix in files]
     for path, (writer, args) in zip(paths, files.values()):
         writer(path, *args)
     return paths
 
 
-def _mounted(scene: SceneFile, modes: ModesData | None, equilibrium,
-             check: Arguments) -> amodal.Mounted:
+def mounted_for(scene: SceneFile, modes: ModesData | None, equilibrium,
+                check: Arguments) -> amodal.Mounted:
+    """The linearised mounted system of ``scene`` about ``equilibrium`` (a
+    Statics, an equilibrium file, a Modal whose linearisation is reused, or
+    None: solved here), with the bed's ``modes`` (computed when a flexible
+    bed has none); bad arguments are reported through ``check``."""
     if not (equilibrium is None or isinstance(equilibrium, (Modal, Statics, str, Path))):
         check.bad("equilibrium", equilibrium, "a Statics from flexbed.statics, an "
                                               "equilibrium file, a Modal, or None")
@@ -176,7 +183,7 @@ def modal(scene: SceneFile, *, modes: ModesData | None = None, equilibrium=None)
     """
     check = Arguments("modal")
     scene, modes = check.scene(scene), check.modes(modes)
-    return Modal(scene, _mounted(scene, modes, equilibrium, check))
+    return Modal(scene, mounted_for(scene, modes, equilibrium, check))
 
 
 @limited()
@@ -251,7 +258,7 @@ def frf(scene: SceneFile, *, input: str = "base z",
             [(f"points[{i}] relative_to", r) for i, (_, r) in enumerate(pts or []) if r]:
         if body not in names:
             check.bad(key, body, f"a body of {scene.source.name} ({', '.join(names)})")
-    mt = _mounted(scene, modes, equilibrium, check)
+    mt = mounted_for(scene, modes, equilibrium, check)
     return Transmissibility(scene, afrf.frequency_response(
         scene, mt, input=input, force_at=at, points=pts, band=band, n=n, frequencies=freqs,
         quantity=quantity, deflections=deflections))

@@ -16,7 +16,7 @@ from flexbed.analyses import random as arandom
 from flexbed.analyses.frf import MAX_GRID
 from flexbed.files.psd import BasePSD, load_psd, psd_from_tables
 from flexbed.api.arguments import Arguments
-from flexbed.api.frequency import _mounted, _save
+from flexbed.api.frequency import mounted_for, save_files
 from flexbed.errors import InputError
 from flexbed.files.destination import write_text
 from flexbed.files.modes import ModesData
@@ -48,7 +48,7 @@ class RandomVibration:
     def save(self, prefix: str | Path) -> list[Path]:
         """Write ``PREFIX.h5``, ``PREFIX-rms.csv`` and ``PREFIX-psd.csv`` (as
         ``flexbed random -o PREFIX --no-plots``); returns the paths."""
-        return _save(prefix, random_files(self.scene, self.result))
+        return save_files(prefix, random_files(self.scene, self.result))
 
 
 def random_files(scene: SceneFile, r: arandom.RandomResponse) -> dict:
@@ -90,7 +90,7 @@ def random_vibration(scene: SceneFile, *, psd, points: Sequence[tuple] | None = 
             [(f"points[{i}] relative_to", r) for i, (_, r) in enumerate(pts or []) if r]:
         if body not in names:
             check.bad(key, body, f"a body of {scene.source.name} ({', '.join(names)})")
-    mt = _mounted(scene, modes, equilibrium, check)
+    mt = mounted_for(scene, modes, equilibrium, check)
     return RandomVibration(scene, arandom.random_response(scene, mt, spec, points=pts, n=n,
                                                           peak_factor=peak_factor))
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from flexbed.analyses import response_spectrum as arsa
 from flexbed.api.arguments import Arguments
-from flexbed.api.frequency import _mounted
+from flexbed.api.frequency import mounted_for
 from flexbed.files.destination import check_destination, write_text
 from flexbed.files.modes import ModesData
 from flexbed.files.scene import SceneFile
@@ -132,7 +132,7 @@ def response_spectrum(scene: SceneFile, spectrum, *, damping: float | None = Non
     max_frequency = check.real(max_frequency, "max_frequency", positive=True)
     from flexbed.files.spectrum import check_damping
     check_damping(spec, damping)
-    mt = _mounted(scene, modes, equilibrium, check)
+    mt = mounted_for(scene, modes, equilibrium, check)
     return SpectrumResponse(scene, arsa.response_spectrum(scene, mt, spec, damping=damping,
                                                           max_frequency=max_frequency))
 
