@@ -133,6 +133,7 @@ def test_vary_is_a_scene_file():
     ({"bed.thicknes": 0.1}, ["thicknes"]),
     ({"base.force[3].amplitude": 1.0}, ["[3]", "1 entries"]),
     ({"solver.t_end.x": 1.0}, ["t_end", "value"]),
+    ({"mount.M1.axes_deg[0]": 10.0}, ["no 'axes_deg' to index", "(mount.M1.axes_deg = [...])"]),
 ])
 def test_vary_refuses_with_the_path(changes, words):
     with pytest.raises(flexbed.InputError) as err:

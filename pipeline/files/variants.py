@@ -66,7 +66,11 @@ def _step(node: Any, step: str | int, path: str, create: bool) -> Any:
 def _set(data: dict, path: str, value: Any) -> None:
     steps = split_path(path)
     node: Any = data
-    for step in steps[:-1]:
+    for step, after in zip(steps[:-1], steps[1:]):
+        if isinstance(after, int) and isinstance(node, dict) and step not in node:
+            whole = path[:path.rindex(f"{step}[") + len(step)]
+            raise InputError(f"variant path {path!r}: the scene gives no {step!r} to index; "
+                             f"set the whole array ({whole} = [...])")
         node = _step(node, step, path, create=True)
     last = steps[-1]
     if isinstance(node, dict) and isinstance(last, str):
