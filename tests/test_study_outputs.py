@@ -52,6 +52,9 @@ def _same_points_and_mounts(lazy, full):
         b = full.point(body, xyz, relative_to=rel)
         for key in ("position", "velocity", "acceleration"):
             _same(getattr(a, key), getattr(b, key))
+        # the positions alone (a peak displacement's), from a run not asked before
+        fresh = PointRun(lazy.scene, lazy.system, lazy.sim, lazy.modes)
+        _same(fresh.point_position(body, xyz, relative_to=rel), b.position)
     _same(lazy.mount_force, full.mount_force)
 
 
@@ -77,8 +80,10 @@ def test_a_study_of_peaks_on_the_equipment_builds_no_results():
     peak.values(outcomes)
     force.values(outcomes)
     assert "_results" not in vars(run)
-    # the bodies' frames computed: the point's body and the one it is relative to
-    assert sorted(run._kinematics.A._done) == [1, 2]
+    # a peak displacement reads the poses alone (no velocities, no accelerations),
+    # the frames of the point's body and of the one it is relative to
+    assert "_kinematics" not in vars(run)
+    assert sorted(run._poses.A._done) == [1, 2]
     run.point("bed", (0.0, 0.0, 0.05))
     assert "_results" in vars(run)
 

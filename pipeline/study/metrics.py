@@ -47,6 +47,7 @@ from flexbed.files.scene import SceneFile
 from flexbed.study.frequency_metrics import FREQUENCY_KINDS
 from flexbed.study.layout_metrics import LAYOUT_KINDS
 from flexbed.study.metric_keys import OneColumn, PerMount, _options, resolve_point
+from flexbed.study.outputs import PointRun
 from flexbed.study.spec import MetricTable
 
 __all__ = ["KINDS", "build_metric", "PeakMotion", "PeakMount", "StaticDeflection",
@@ -105,11 +106,15 @@ class PeakMotion(OneColumn):
     unit = property(lambda self: "m" if self.kind == "peak_displacement" else "m/s^2")
 
     def values(self, outcomes: dict) -> tuple:
-        m = outcomes["simulate"].point(self.body, self.position, relative_to=self.relative_to)
+        run = outcomes["simulate"]
         if self.kind == "peak_displacement":
-            v = m.position - m.position[0]
+            # a study point's run (PointRun) computes the positions alone
+            x = run.point_position(self.body, self.position, relative_to=self.relative_to) \
+                if isinstance(run, PointRun) else \
+                run.point(self.body, self.position, relative_to=self.relative_to).position
+            v = x - x[0]
         else:
-            v = m.acceleration
+            v = run.point(self.body, self.position, relative_to=self.relative_to).acceleration
         v = np.abs(v[:, self.direction]) if self.direction is not None \
             else np.linalg.norm(v, axis=1)
         return (float(v.max()),)
