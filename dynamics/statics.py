@@ -17,8 +17,8 @@ differences (eq. 21) by colour classes of the mount graph
 Convergence: the Newton step is below ``tol`` (m, rad) and every residual
 component is below ``tol`` times the body's force scale (its weight, or
 1 N·(1 m) without gravity). Once converged, up to ``polish`` more steps are
-taken while they still shrink, which costs little and takes the answer to
-round-off.
+taken while they still shrink, with the last Jacobian's factors, which costs
+little and takes the answer to round-off.
 """
 
 from __future__ import annotations
@@ -251,31 +251,38 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
     history = []
     converged_at = None
     prev_step = math.inf
+    solve = None
     for it in range(1, max_iter + 1):
-        jac = _jacobian(system, y, residual_rows, steps, modal, use_sparse)
-        njev += 1
-        values = jac.data if use_sparse else jac
-        if not (np.all(np.isfinite(values)) and np.all(np.isfinite(R))):
-            bad_cols = np.zeros(n_unknown, dtype=bool)
+        # a new Jacobian per iteration; polishing (converged) reuses the last one's
+        # factors: its change over a step at round-off level is below what the
+        # step can resolve
+        if converged_at is None or solve is None:
+            jac = _jacobian(system, y, residual_rows, steps, modal, use_sparse)
+            njev += 1
+            values = jac.data if use_sparse else jac
+            if not (np.all(np.isfinite(values)) and np.all(np.isfinite(R))):
+                bad_cols = np.zeros(n_unknown, dtype=bool)
+                if use_sparse:
+                    coo = jac.tocoo()
+                    bad_cols[coo.col[~np.isfinite(coo.data)]] = True
+                else:
+                    bad_cols = ~np.all(np.isfinite(jac), axis=0)
+                bad = int(np.argmax(bad_cols | ~np.isfinite(R)))
+                return result(False, f"no static equilibrium: the forces on {name_of(bad)} are "
+                              f"not finite (floating-point overflow: a mass, stiffness or load "
+                              f"too large for double precision)", it - 1, res, step, R, njev,
+                              history)
             if use_sparse:
-                coo = jac.tocoo()
-                bad_cols[coo.col[~np.isfinite(coo.data)]] = True
+                singular, solve = _sparse_solver(jac)
             else:
-                bad_cols = ~np.all(np.isfinite(jac), axis=0)
-            bad = int(np.argmax(bad_cols | ~np.isfinite(R)))
-            return result(False, f"no static equilibrium: the forces on {name_of(bad)} are not "
-                          f"finite (floating-point overflow: a mass, stiffness or load too "
-                          f"large for double precision)", it - 1, res, step, R, njev, history)
-        if use_sparse:
-            singular, solve = _sparse_solver(jac)
-        else:
-            Jac = jac
-            singular = _singular_direction(Jac)
-            solve = functools.partial(np.linalg.solve, Jac)
-        if singular is not None:
-            return result(False, f"no static equilibrium: {name_of(singular, 'is free in')} "
-                          f"(the stiffness matrix is singular: no mount holds that direction)",
-                          it - 1, res, step, R, njev, history)
+                Jac = jac
+                singular = _singular_direction(Jac)
+                solve = functools.partial(np.linalg.solve, Jac)
+            if singular is not None:
+                return result(False, f"no static equilibrium: "
+                              f"{name_of(singular, 'is free in')} (the stiffness matrix is "
+                              f"singular: no mount holds that direction)", it - 1, res, step, R,
+                              njev, history)
         dx = -solve(R)
         step = float(np.max(np.abs(dx) * step_unit))
         if converged_at is not None and not step < prev_step:
