@@ -15,7 +15,7 @@ import pytest
 import flexbed
 from flexbed.api.simulation import solved
 from flexbed.study.analyses import ANALYSES
-from flexbed.study.metrics import PeakMotion, PeakMount
+from flexbed.study.metrics import PeakMotion, PeakMount, peak_norm
 from flexbed.study.outputs import PointRun
 from flexbed.study.point import run_point
 
@@ -67,6 +67,27 @@ def test_points_and_mounts_equal_the_results_bit_for_bit(rigid):
     _same(lazy.angular_velocity, full.angular_velocity)
     _same(lazy["energy/balance"], full["energy/balance"])
     assert lazy.complete and lazy.message == full.message
+
+
+def test_the_peaks_are_numpy_s_norms_bit_for_bit(rigid):
+    """The metrics' peaks (:func:`peak_norm`: the squares summed, one root)
+    equal the largest of ``np.linalg.norm`` bit for bit: on the run's
+    mount forces and points, and on numbers spread over 300 decades."""
+    lazy, full = rigid
+    f = full.mount_force
+    want = np.linalg.norm(f, axis=2).max(axis=0)
+    _same(peak_norm(f), want)
+    force = PeakMount("peak_mount_force", tuple(range(12)), tuple(f"M{i}" for i in range(1, 13)),
+                      None, None)
+    assert force.values({"simulate": lazy}) == tuple(float(x) for x in want)
+    for body, xyz, rel in POINTS:
+        x = full.point(body, xyz, relative_to=rel).position
+        peak = PeakMotion("peak_displacement", "p", body, xyz, rel, None)
+        assert peak.values({"simulate": lazy}) == \
+            (float(np.linalg.norm(x - x[0], axis=1).max()),)
+    rng = np.random.default_rng(5)
+    v = rng.normal(size=(4000, 7, 3)) * 10.0 ** rng.uniform(-150, 150, size=(4000, 7, 1))
+    _same(peak_norm(v), np.linalg.norm(v, axis=2).max(axis=0))
 
 
 def test_a_study_of_peaks_on_the_equipment_builds_no_results():
