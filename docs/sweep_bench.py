@@ -7,7 +7,10 @@ prints it). The measurements are in ``docs/sweep_measure.py``.
 
 Usage: ``OPENBLAS_NUM_THREADS=1 python docs/sweep_bench.py [POINTS [ROUNDS]]
 [--exudyn FILE[,FILE]]`` (default 200 points, 4 rounds; ``--exudyn``: the
-lines ``docs/sweep_exudyn.py run`` printed, compared with S). About 3
+lines ``docs/sweep_exudyn.py run`` printed, compared with S); ``python
+docs/sweep_bench.py --parts [COUNT]``: a point's CPU by part alone
+(``sweep_measure.point_parts``, COUNT points, default 40), printed, not
+written. About 3
 minutes on 2 quiet cores (3 rounds took 3.8 min at load average 1-2.7, 4.8
 min at 2.3-4.3; 5 rounds 10.9 min at 4-6).
 
@@ -69,10 +72,48 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from sweep_measure import idle_cost, in_process, serial_costs, side_by_side, study_round  # noqa: E402
+from sweep_measure import (PARTS, idle_cost, in_process, point_parts, serial_costs,  # noqa: E402
+                           side_by_side, study_round)
 
 
 # ---------------------------------------------------------------------- report
+#: what each part of :func:`sweep_measure.point_parts` is, for the table
+PART_NAMES = {
+    "compile": "compiling the scene (a System)",
+    "newton": "Newton-Raphson (`solve_statics`)",
+    "stability": "the equilibrium's stability check",
+    "plausibility": "its plausibility check (mount deflections, turns)",
+    "simulate": "the `simulate` analysis (its arguments, the solve, `PointRun`)",
+    "metrics": "the metrics' values (the right-hand-side pass over the 3,001 output "
+               "samples, the points' positions, the peaks)",
+}
+
+
+def parts_table(parts: dict) -> list:
+    """Markdown lines: a point's CPU by part (:func:`sweep_measure.point_parts`)."""
+    solve = parts["solve"]
+    lines = ["| part | CPU per point | against the solve |", "|---|---:|---:|"]
+    lines += [f"| {PART_NAMES[k]} | {1e3 * parts[k]:.1f} ms | {parts[k] / solve:.2f}× |"
+              for k in PARTS]
+    total = sum(parts[k] for k in PARTS)
+    lines += [f"| the parts together | {1e3 * total:.1f} ms | {total / solve:.2f}× |",
+              f"| `run_point` (the whole, the same points) | {1e3 * parts['run_point']:.1f} ms | "
+              f"**{parts['run_point'] / solve:.2f}×** |",
+              f"| the solve alone (`simulate_system`, the same points) | {1e3 * solve:.1f} ms | "
+              f"1.00× |"]
+    return lines
+
+
+def parts_only(count: int) -> None:
+    """``--parts [COUNT]``: :func:`sweep_measure.point_parts` alone, printed
+    as a table and as JSON (for side-by-side runs of two versions)."""
+    from flexbed.study.plan import make_plan
+    from flexbed.study.spec import read_study
+    parts = point_parts(make_plan(read_study(HERE / "sweep-study.toml")), count)
+    print("\n".join(parts_table(parts)))
+    print(json.dumps({k: round(v, 6) for k, v in parts.items()}))
+
+
 def main() -> None:
     import dataclasses
 
@@ -82,6 +123,8 @@ def main() -> None:
     from flexbed.study.spec import read_study
 
     args = sys.argv[1:]
+    if args[:1] == ["--parts"]:
+        return parts_only(int(args[1]) if len(args) > 1 else 40)
     exudyn = []
     if "--exudyn" in args:
         i = args.index("--exudyn")
@@ -106,6 +149,7 @@ def main() -> None:
         s.append(study_round(plan, workers))
         loads.append(os.getloadavg()[0])
     a.append(in_process(plan))
+    parts = point_parts(plan)
     idle = idle_cost(workers)
     # the serial parts per task, measured with short points (0.01 s of
     # motion each) so that the study is short and the processes' idle
@@ -220,6 +264,12 @@ def main() -> None:
         "| quantity | value |",
         "|---|---:|",
         *(f"| {q} | {v} |" for q, v in rows),
+        "",
+        "Where a point's CPU goes (A's points, each part run alone in the order "
+        "`run_point` runs it; medians; `python docs/sweep_bench.py --parts` measures this "
+        "table alone):",
+        "",
+        *parts_table(parts),
         "",
         "Rounds (B then S each; A before and after):",
         "",
