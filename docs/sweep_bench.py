@@ -7,7 +7,10 @@ prints it). The measurements are in ``docs/sweep_measure.py``.
 
 Usage: ``OPENBLAS_NUM_THREADS=1 python docs/sweep_bench.py [POINTS [ROUNDS]]
 [--exudyn FILE[,FILE]]`` (default 200 points, 4 rounds; ``--exudyn``: the
-lines ``docs/sweep_exudyn.py run`` printed, compared with S). About 3
+lines ``docs/sweep_exudyn.py run`` printed, compared with S); ``python
+docs/sweep_bench.py --parts [COUNT]``: a point's CPU by part alone
+(``sweep_measure.point_parts``, COUNT points, default 40), printed, not
+written. About 3
 minutes on 2 quiet cores (3 rounds took 3.8 min at load average 1-2.7, 4.8
 min at 2.3-4.3; 5 rounds 10.9 min at 4-6).
 
@@ -69,10 +72,48 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from sweep_measure import idle_cost, in_process, serial_costs, side_by_side, study_round  # noqa: E402
+from sweep_measure import (PARTS, idle_cost, in_process, point_parts, serial_costs,  # noqa: E402
+                           side_by_side, study_round)
 
 
 # ---------------------------------------------------------------------- report
+#: what each part of :func:`sweep_measure.point_parts` is, for the table
+PART_NAMES = {
+    "compile": "compiling the scene (a System)",
+    "newton": "Newton-Raphson (`solve_statics`)",
+    "stability": "the equilibrium's stability check",
+    "plausibility": "its plausibility check (mount deflections, turns)",
+    "simulate": "the `simulate` analysis (its arguments, the solve, `PointRun`)",
+    "metrics": "the metrics' values (the right-hand-side pass over the 3,001 output "
+               "samples, the points' positions, the peaks)",
+}
+
+
+def parts_table(parts: dict) -> list:
+    """Markdown lines: a point's CPU by part (:func:`sweep_measure.point_parts`)."""
+    solve = parts["solve"]
+    lines = ["| part | CPU per point | against the solve |", "|---|---:|---:|"]
+    lines += [f"| {PART_NAMES[k]} | {1e3 * parts[k]:.1f} ms | {parts[k] / solve:.2f}× |"
+              for k in PARTS]
+    total = sum(parts[k] for k in PARTS)
+    lines += [f"| the parts together | {1e3 * total:.1f} ms | {total / solve:.2f}× |",
+              f"| `run_point` (the whole, the same points) | {1e3 * parts['run_point']:.1f} ms | "
+              f"**{parts['run_point'] / solve:.2f}×** |",
+              f"| the solve alone (`simulate_system`, the same points) | {1e3 * solve:.1f} ms | "
+              f"1.00× |"]
+    return lines
+
+
+def parts_only(count: int) -> None:
+    """``--parts [COUNT]``: :func:`sweep_measure.point_parts` alone, printed
+    as a table and as JSON (for side-by-side runs of two versions)."""
+    from flexbed.study.plan import make_plan
+    from flexbed.study.spec import read_study
+    parts = point_parts(make_plan(read_study(HERE / "sweep-study.toml")), count)
+    print("\n".join(parts_table(parts)))
+    print(json.dumps({k: round(v, 6) for k, v in parts.items()}))
+
+
 def main() -> None:
     import dataclasses
 
@@ -82,6 +123,8 @@ def main() -> None:
     from flexbed.study.spec import read_study
 
     args = sys.argv[1:]
+    if args[:1] == ["--parts"]:
+        return parts_only(int(args[1]) if len(args) > 1 else 40)
     exudyn = []
     if "--exudyn" in args:
         i = args.index("--exudyn")
@@ -106,6 +149,7 @@ def main() -> None:
         s.append(study_round(plan, workers))
         loads.append(os.getloadavg()[0])
     a.append(in_process(plan))
+    parts = point_parts(plan)
     idle = idle_cost(workers)
     # the serial parts per task, measured with short points (0.01 s of
     # motion each) so that the study is short and the processes' idle
@@ -209,17 +253,26 @@ def main() -> None:
         "the metrics read: one pass of the right-hand side over the output samples (the "
         "bodies' accelerations, the mounts' deflections and forces) and the frames of the "
         "bodies a point needs, not the whole results file (angles, energies, every "
-        "dataset: built only for a point on the bed or a kept file); the numbers are the "
-        "same bit for bit. What a point costs past its solve is then mostly the statics "
-        "(compiling the scene, Newton-Raphson with its finite-difference Jacobian, the "
-        "stability and plausibility checks), which alone costs more than the solve; "
-        "warm-starting Newton from the base scene's equilibrium saves about one iteration "
-        "of five and moves the dynamic peaks by up to 5e-8 relative (a start 1e-15 m away "
-        "changes the integrator's steps), so it is not used.",
+        "dataset: built only for a point on the bed or a kept file; a peak displacement "
+        "reads the point's positions alone); the numbers are the same bit for bit. The "
+        "statics' Newton-Raphson takes the exact tangent stiffness at rest as its Jacobian "
+        "(`flexbed.dynamics.tangent`: one right-hand side and its derivatives, where central "
+        "differences by colour classes took 24) and polishes with the last one's factors; "
+        "the plausibility check reads whether the scene has a `[bed]` from the scene "
+        "(no second TOML parse). What a point costs past its solve is then mostly the "
+        "right-hand-side pass over the output samples that the mount forces need (3,001 "
+        "evaluations, where the reference scene's integration makes 3,538), then the statics "
+        "(compiling the scene, Newton-Raphson, the checks).",
         "",
         "| quantity | value |",
         "|---|---:|",
         *(f"| {q} | {v} |" for q, v in rows),
+        "",
+        "Where a point's CPU goes (A's points, each part run alone in the order "
+        "`run_point` runs it; medians; `python docs/sweep_bench.py --parts` measures this "
+        "table alone):",
+        "",
+        *parts_table(parts),
         "",
         "Rounds (B then S each; A before and after):",
         "",

@@ -165,6 +165,70 @@ def in_process(plan, count: int = 40) -> dict:
     return {"wall": med(walls), "cpu": med(cpus), "solve": med(solves), "statics": med(eqs)}
 
 
+#: the parts of a point that :func:`point_parts` times, in the order they run
+PARTS = ("compile", "newton", "stability", "plausibility", "simulate", "metrics")
+
+
+def point_parts(plan, count: int = 40) -> dict:
+    """A point's CPU by part (median over ``count`` of the study's points,
+    [s]), each part run alone in the order ``run_point`` runs them:
+    ``compile`` (the scene into a System), ``newton`` (Newton-Raphson,
+    :func:`flexbed.dynamics.statics.solve_statics`), ``stability`` and
+    ``plausibility`` (the checks of the equilibrium), ``simulate`` (the
+    analysis: its arguments, the solve, :class:`PointRun`), ``metrics`` (the
+    metrics' values: the right-hand-side pass over the output samples and
+    what they read); and for the same points ``run_point`` (the whole, run
+    again) and ``solve`` (as :func:`in_process`). The metrics' values are
+    checked equal to ``run_point``'s."""
+    import numpy as np
+
+    from flexbed.api.bed_modes import compiled
+    from flexbed.api.equilibrium import _statics_of
+    from flexbed.api.simulation import solved
+    from flexbed.dynamics.statics import solve_statics
+    from flexbed.stages.plausibility import check_equilibrium
+    from flexbed.stages.simulation import checked, simulate_system
+    from flexbed.study.outputs import PointRun
+    from flexbed.study.point import run_point, warm
+    warm(plan.base)
+    pick = plan.points[:: max(1, len(plan.points) // count)][:count]
+    clock = time.thread_time
+    times = {k: [] for k in PARTS + ("run_point", "solve")}
+    for p in pick:
+        sf = p.scene
+        c = [clock()]
+        system = compiled(sf, None)
+        c.append(clock())
+        eq = solve_statics(system, tol=sf.solver.static_tol, sag=sf.bed.static_sag)
+        c.append(clock())
+        eq = checked(system, eq)
+        c.append(clock())
+        check_equilibrium(sf, system, eq)
+        c.append(clock())
+        st = _statics_of(sf, system, eq)
+        c0 = clock()
+        run = PointRun(*solved(sf, equilibrium=st))
+        c.append(clock())
+        with np.errstate(all="ignore"):
+            values = tuple(v for m in plan.metrics for v in m.values({"static": st,
+                                                                      "simulate": run}))
+        c.append(clock())
+        parts = [b - a for a, b in zip(c, c[1:])]
+        parts[4] = c[5] - c0                          # simulate: from its own start
+        for k, v in zip(PARTS, parts):
+            times[k].append(v)
+        c0 = clock()
+        res = run_point(sf, plan.analyses, plan.metrics)
+        times["run_point"].append(clock() - c0)
+        assert res.status == "ok" and res.values == values, res.message
+        s = sf.solver
+        c0 = clock()
+        simulate_system(sf, st.system, s.settings(), start="equilibrium", model=s.model,
+                        linear_tol=s.linear_tol, eq=st.equilibrium)
+        times["solve"].append(clock() - c0)
+    return {k: statistics.median(v) for k, v in times.items()}
+
+
 # ------------------------------------------------------------ the serial parts
 def serial_costs(plan, k: int, sizes=(1, 16)) -> dict:
     """The serial parts of a study, each one process that every task goes

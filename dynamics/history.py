@@ -20,12 +20,27 @@ from .rotation import A as rotation_matrix
 from .rotation import angles_from_p
 from .system import System
 
-__all__ = ["history", "body_motion", "MOTION_CAPTURED"]
+__all__ = ["history", "body_motion", "body_poses", "MOTION_CAPTURED"]
 
 #: the kernel's work arrays a history keeps at each sample
 _CAPTURED = ("w_base", "w_acc", "w_dx", "w_dxd", "w_f", "w_F", "w_M")
 #: the work arrays :func:`body_motion` needs
 MOTION_CAPTURED = ("w_base", "w_acc")
+
+
+def body_poses(system: System, Y: np.ndarray, cap: dict) -> dict[str, np.ndarray]:
+    """The bodies' poses at k samples: ``position`` (k, nb, 3) [m] and
+    ``euler_parameters`` (k, nb, 4) of :func:`body_motion`, from the states
+    Y (k, ny) and the base's motion ``cap["w_base"]`` (k, 3, 3)."""
+    k, nb = Y.shape[0], system.nb
+    parts = system.layout.split(Y)
+    r = np.zeros((k, nb, 3))
+    r[:, 0] = cap["w_base"][:, 0]
+    r[:, 1:] = parts["r"]
+    p = np.zeros((k, nb, 4))
+    p[:, 0, 0] = 1.0
+    p[:, 1:] = parts["p"] / np.linalg.norm(parts["p"], axis=-1, keepdims=True)
+    return dict(position=r, euler_parameters=p)
 
 
 def body_motion(system: System, Y: np.ndarray, cap: dict) -> dict[str, np.ndarray]:
@@ -36,12 +51,8 @@ def body_motion(system: System, Y: np.ndarray, cap: dict) -> dict[str, np.ndarra
     3) and ``euler_parameters`` (k, nb, 4), as :func:`history`."""
     k, nb = Y.shape[0], system.nb
     parts = system.layout.split(Y)
-    r = np.zeros((k, nb, 3))
-    r[:, 0] = cap["w_base"][:, 0]
-    r[:, 1:] = parts["r"]
-    p = np.zeros((k, nb, 4))
-    p[:, 0, 0] = 1.0
-    p[:, 1:] = parts["p"] / np.linalg.norm(parts["p"], axis=-1, keepdims=True)
+    poses = body_poses(system, Y, cap)
+    r, p = poses["position"], poses["euler_parameters"]
     rd = np.zeros((k, nb, 3))
     rd[:, 0] = cap["w_base"][:, 1]
     rd[:, 1:] = parts["rd"]

@@ -4,14 +4,21 @@ The unknowns are the free coordinates of every rigid body: a translation
 δr (3) [m] and a small rotation δθ (3) [rad] about the body axes, applied as
 ``p ← p ⊗ p(δθ)``. The base is held at its scene position. The residual is
 the generalized force on each body at rest, ``[m r̈, J ω̄̇]`` from the one
-right-hand side (N, N·m). The Jacobian is by central differences (eq. 21),
-one column per free coordinate.
+right-hand side (N, N·m). The Jacobian is the exact tangent stiffness at
+rest (:func:`flexbed.dynamics.tangent.tangent`: one right-hand side and its
+derivatives written out), where it applies; it leaves out the terms
+proportional to the accelerations (a flexible body's ∂M(q)/∂q v̇, nil at an
+equilibrium), so near the solution the steps are Newton's. Where the
+tangent does not cover the scene (a law of another kind, a flexible body's
+frame without its modal coordinates) the Jacobian is by central
+differences (eq. 21) by colour classes of the mount graph
+(:func:`flexbed.dynamics.jacobian.force_jacobian`).
 
 Convergence: the Newton step is below ``tol`` (m, rad) and every residual
 component is below ``tol`` times the body's force scale (its weight, or
 1 N·(1 m) without gravity). Once converged, up to ``polish`` more steps are
-taken while they still shrink, which costs little and takes the answer to
-round-off.
+taken while they still shrink, with the last Jacobian's factors, which costs
+little and takes the answer to round-off.
 """
 
 from __future__ import annotations
@@ -31,6 +38,7 @@ from .jacobian import force_jacobian, perturbed_positions
 from .maxwell_terms import relax_states, relaxed
 from .rotation import quat_mul, rotvec_to_p
 from .system import System
+from .tangent import tangent
 
 __all__ = ["Equilibrium", "solve_statics", "COORDINATES", "DENSE_LIMIT"]
 
@@ -243,31 +251,38 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
     history = []
     converged_at = None
     prev_step = math.inf
+    solve = None
     for it in range(1, max_iter + 1):
-        # central differences by colour classes of the mount graph (flexbed.dynamics.jacobian)
-        fj = force_jacobian(system, y, residual_rows,
-                            functools.partial(perturbed_positions, system, y), steps,
-                            modal=modal, capture=())
-        njev += 1
-        jac = fj.R
-        if not (np.all(np.isfinite(jac.data)) and np.all(np.isfinite(R))):
-            bad_cols = np.zeros(n_unknown, dtype=bool)
-            coo = jac.tocoo()
-            bad_cols[coo.col[~np.isfinite(coo.data)]] = True
-            bad = int(np.argmax(bad_cols | ~np.isfinite(R)))
-            return result(False, f"no static equilibrium: the forces on {name_of(bad)} are not "
-                          f"finite (floating-point overflow: a mass, stiffness or load too "
-                          f"large for double precision)", it - 1, res, step, R, njev, history)
-        if use_sparse:
-            singular, solve = _sparse_solver(jac)
-        else:
-            Jac = jac.toarray()
-            singular = _singular_direction(Jac)
-            solve = functools.partial(np.linalg.solve, Jac)
-        if singular is not None:
-            return result(False, f"no static equilibrium: {name_of(singular, 'is free in')} "
-                          f"(the stiffness matrix is singular: no mount holds that direction)",
-                          it - 1, res, step, R, njev, history)
+        # a new Jacobian per iteration; polishing (converged) reuses the last one's
+        # factors: its change over a step at round-off level is below what the
+        # step can resolve
+        if converged_at is None or solve is None:
+            jac = _jacobian(system, y, residual_rows, steps, modal, use_sparse)
+            njev += 1
+            values = jac.data if use_sparse else jac
+            if not (np.all(np.isfinite(values)) and np.all(np.isfinite(R))):
+                bad_cols = np.zeros(n_unknown, dtype=bool)
+                if use_sparse:
+                    coo = jac.tocoo()
+                    bad_cols[coo.col[~np.isfinite(coo.data)]] = True
+                else:
+                    bad_cols = ~np.all(np.isfinite(jac), axis=0)
+                bad = int(np.argmax(bad_cols | ~np.isfinite(R)))
+                return result(False, f"no static equilibrium: the forces on {name_of(bad)} are "
+                              f"not finite (floating-point overflow: a mass, stiffness or load "
+                              f"too large for double precision)", it - 1, res, step, R, njev,
+                              history)
+            if use_sparse:
+                singular, solve = _sparse_solver(jac)
+            else:
+                Jac = jac
+                singular = _singular_direction(Jac)
+                solve = functools.partial(np.linalg.solve, Jac)
+            if singular is not None:
+                return result(False, f"no static equilibrium: "
+                              f"{name_of(singular, 'is free in')} (the stiffness matrix is "
+                              f"singular: no mount holds that direction)", it - 1, res, step, R,
+                              njev, history)
         dx = -solve(R)
         step = float(np.max(np.abs(dx) * step_unit))
         if converged_at is not None and not step < prev_step:
@@ -307,6 +322,21 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
                           step, R, njev, history)
     return result(True, f"converged in {len(history)} iterations", len(history), res, step, R,
                   njev, history)
+
+
+def _jacobian(system: System, y: np.ndarray, residual_rows, steps: np.ndarray, modal: bool,
+              sparse: bool):
+    """∂R/∂(unknowns) at the state y at rest: the exact tangent stiffness
+    (:func:`flexbed.dynamics.tangent.tangent`) where it applies, else
+    central differences by colour classes of the mount graph
+    (:func:`flexbed.dynamics.jacobian.force_jacobian`, steps (n,)). A CSR
+    matrix when ``sparse``, else an array (n, n)."""
+    tg = tangent(system, y, modal=modal, dense=not sparse)
+    if tg is not None:
+        return tg.Kq
+    fj = force_jacobian(system, y, residual_rows, functools.partial(perturbed_positions, system, y),
+                        steps, modal=modal, capture=())
+    return fj.R if sparse else fj.R.toarray()
 
 
 def _singular_direction(Jac: np.ndarray) -> int | None:

@@ -15,7 +15,7 @@ import pytest
 import flexbed
 from flexbed.api.simulation import solved
 from flexbed.study.analyses import ANALYSES
-from flexbed.study.metrics import PeakMotion, PeakMount
+from flexbed.study.metrics import PeakMotion, PeakMount, peak_norm
 from flexbed.study.outputs import PointRun
 from flexbed.study.point import run_point
 
@@ -52,6 +52,9 @@ def _same_points_and_mounts(lazy, full):
         b = full.point(body, xyz, relative_to=rel)
         for key in ("position", "velocity", "acceleration"):
             _same(getattr(a, key), getattr(b, key))
+        # the positions alone (a peak displacement's), from a run not asked before
+        fresh = PointRun(lazy.scene, lazy.system, lazy.sim, lazy.modes)
+        _same(fresh.point_position(body, xyz, relative_to=rel), b.position)
     _same(lazy.mount_force, full.mount_force)
 
 
@@ -66,6 +69,27 @@ def test_points_and_mounts_equal_the_results_bit_for_bit(rigid):
     assert lazy.complete and lazy.message == full.message
 
 
+def test_the_peaks_are_numpy_s_norms_bit_for_bit(rigid):
+    """The metrics' peaks (:func:`peak_norm`: the squares summed, one root)
+    equal the largest of ``np.linalg.norm`` bit for bit: on the run's
+    mount forces and points, and on numbers spread over 300 decades."""
+    lazy, full = rigid
+    f = full.mount_force
+    want = np.linalg.norm(f, axis=2).max(axis=0)
+    _same(peak_norm(f), want)
+    force = PeakMount("peak_mount_force", tuple(range(12)), tuple(f"M{i}" for i in range(1, 13)),
+                      None, None)
+    assert force.values({"simulate": lazy}) == tuple(float(x) for x in want)
+    for body, xyz, rel in POINTS:
+        x = full.point(body, xyz, relative_to=rel).position
+        peak = PeakMotion("peak_displacement", "p", body, xyz, rel, None)
+        assert peak.values({"simulate": lazy}) == \
+            (float(np.linalg.norm(x - x[0], axis=1).max()),)
+    rng = np.random.default_rng(5)
+    v = rng.normal(size=(4000, 7, 3)) * 10.0 ** rng.uniform(-150, 150, size=(4000, 7, 1))
+    _same(peak_norm(v), np.linalg.norm(v, axis=2).max(axis=0))
+
+
 def test_a_study_of_peaks_on_the_equipment_builds_no_results():
     scene = flexbed.load_scene()
     st = flexbed.statics(scene)
@@ -77,8 +101,10 @@ def test_a_study_of_peaks_on_the_equipment_builds_no_results():
     peak.values(outcomes)
     force.values(outcomes)
     assert "_results" not in vars(run)
-    # the bodies' frames computed: the point's body and the one it is relative to
-    assert sorted(run._kinematics.A._done) == [1, 2]
+    # a peak displacement reads the poses alone (no velocities, no accelerations),
+    # the frames of the point's body and of the one it is relative to
+    assert "_kinematics" not in vars(run)
+    assert sorted(run._poses.A._done) == [1, 2]
     run.point("bed", (0.0, 0.0, 0.05))
     assert "_results" in vars(run)
 

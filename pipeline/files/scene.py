@@ -114,7 +114,8 @@ class SceneFile:
     static equilibrium depends on: gravity, bodies, mounts, bed and
     static_tol); limits : Limits (stroke, load, fragility and clearance
     limits: :mod:`flexbed.files.limits`); elastomers : tuple of (mount
-    index, ElastomerTable) (:mod:`flexbed.files.elastomer`).
+    index, ElastomerTable) (:mod:`flexbed.files.elastomer`); has_bed : bool
+    (the file has a ``[bed]`` table).
     """
 
     scene: Scene
@@ -127,6 +128,7 @@ class SceneFile:
     statics_digest: str
     limits: Limits = Limits()
     elastomers: tuple = ()
+    has_bed: bool = False
 
     @property
     def output_name(self) -> str:
@@ -234,7 +236,7 @@ class _Reader(ShapeReader):
         return SceneFile(scene=scene, bed=bed, solver=solver, points=tuple(points),
                          source=path, text=text, digest=digest,
                          statics_digest=_digest(statics, {}), limits=limits,
-                         elastomers=tuple(self.elastomers))
+                         elastomers=tuple(self.elastomers), has_bed="bed" in data)
 
     def resolve_auto_modes(self, scene: Scene, bed: BedSection, solver) -> BedSection:
         """``[bed] modes = "auto"`` → fmax = f_cut (see :mod:`flexbed.stages.modes_auto`)."""

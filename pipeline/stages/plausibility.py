@@ -42,7 +42,6 @@ from flexbed.dynamics.statics import Equilibrium
 from flexbed.dynamics.system import System
 from flexbed.errors import InputError, NumericalError
 from flexbed.files.sanity import body_sizes as scene_sizes
-from flexbed.files.scene_text import scene_data
 
 __all__ = ["MountStatics", "mount_statics", "mount_table", "mount_csv", "body_sizes",
            "implausibility", "check_equilibrium", "DEFLECTION_LIMIT", "ROTATION_LIMIT_DEG"]
@@ -115,7 +114,7 @@ def body_sizes(sf, system: System) -> np.ndarray:
     the base's: inf."""
     bodies = system.scene.bodies
     bed_body = None
-    if "bed" in scene_data(sf.text) and len(bodies) > 1:
+    if sf.has_bed and len(bodies) > 1:
         bed_body = sf.bed.body or bodies[1].name
     sizes = scene_sizes(system.scene, bed_body, sf.bed)
     return np.array([math.inf] + [sizes[b.name] for b in bodies[1:]])

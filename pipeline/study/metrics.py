@@ -47,14 +47,24 @@ from flexbed.files.scene import SceneFile
 from flexbed.study.frequency_metrics import FREQUENCY_KINDS
 from flexbed.study.layout_metrics import LAYOUT_KINDS
 from flexbed.study.metric_keys import OneColumn, PerMount, _options, resolve_point
+from flexbed.study.outputs import PointRun
 from flexbed.study.spec import MetricTable
 
 __all__ = ["KINDS", "build_metric", "PeakMotion", "PeakMount", "StaticDeflection",
-           "MaxStaticDeflection", "CompareFigure"]
+           "MaxStaticDeflection", "CompareFigure", "peak_norm"]
 
 _DIRECTIONS = {"x": 0, "y": 1, "z": 2}
 _CASES = ("rigid", "flexible", "damped")
 _QUANTITIES = {"peak": "m", "rms": "m", "static_z": "m", "frequency": "Hz"}
+
+
+def peak_norm(v: np.ndarray) -> np.ndarray:
+    """``np.linalg.norm(v, axis=-1).max(axis=0)`` for v (k, ..., 3), the same
+    numbers bit for bit (the squares summed in the same order, the root
+    taken of the largest sum alone: the root is monotone and correctly
+    rounded) at a tenth of the cost."""
+    s = v[..., 0] * v[..., 0] + v[..., 1] * v[..., 1] + v[..., 2] * v[..., 2]
+    return np.sqrt(s.max(axis=0))
 
 
 def _mounts(scene: SceneFile, opts: dict, where: str) -> tuple:
@@ -105,14 +115,18 @@ class PeakMotion(OneColumn):
     unit = property(lambda self: "m" if self.kind == "peak_displacement" else "m/s^2")
 
     def values(self, outcomes: dict) -> tuple:
-        m = outcomes["simulate"].point(self.body, self.position, relative_to=self.relative_to)
+        run = outcomes["simulate"]
         if self.kind == "peak_displacement":
-            v = m.position - m.position[0]
+            # a study point's run (PointRun) computes the positions alone
+            x = run.point_position(self.body, self.position, relative_to=self.relative_to) \
+                if isinstance(run, PointRun) else \
+                run.point(self.body, self.position, relative_to=self.relative_to).position
+            v = x - x[0]
         else:
-            v = m.acceleration
-        v = np.abs(v[:, self.direction]) if self.direction is not None \
-            else np.linalg.norm(v, axis=1)
-        return (float(v.max()),)
+            v = run.point(self.body, self.position, relative_to=self.relative_to).acceleration
+        peak = np.abs(v[:, self.direction]).max() if self.direction is not None \
+            else peak_norm(v)
+        return (float(peak),)
 
 
 #: ``sense`` of a peak mount metric: the largest |value|, or along an axis
@@ -171,16 +185,18 @@ class PeakMount(PerMount):
     def values(self, outcomes: dict) -> tuple:
         run = outcomes["simulate"]
         data = run.mount_force if self.kind == "peak_mount_force" else run.mount_deflection
-        data = data[:, list(self.indices)]                              # (k, m, 3)
+        if self.indices != tuple(range(data.shape[1])):
+            data = data[:, list(self.indices)]                          # (k, m, 3)
         if self.part == "dynamic":
             data = data - data[:1]
         if self.sense == "compression":
-            v = -data[:, :, self.axis - 1]
+            peak = (-data[:, :, self.axis - 1]).max(axis=0)
         elif self.sense == "extension":
-            v = data[:, :, self.axis - 1]
+            peak = data[:, :, self.axis - 1].max(axis=0)
         else:
-            v = np.abs(data[:, :, self.axis - 1]) if self.axis else np.linalg.norm(data, axis=2)
-        return tuple(float(x) for x in v.max(axis=0))
+            peak = np.abs(data[:, :, self.axis - 1]).max(axis=0) if self.axis \
+                else peak_norm(data)
+        return tuple(float(x) for x in peak)
 
 
 def static_deflections(outcomes: dict) -> np.ndarray:

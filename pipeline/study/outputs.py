@@ -30,7 +30,7 @@ import numpy as np
 from flexbed.analyses.points import Point, PointMotion, Run
 from flexbed.api.arguments import Arguments
 from flexbed.api.results import Results
-from flexbed.dynamics.history import MOTION_CAPTURED, body_motion
+from flexbed.dynamics.history import MOTION_CAPTURED, body_motion, body_poses
 from flexbed.dynamics.rotation import A as rotation_matrix
 
 __all__ = ["PointRun"]
@@ -60,17 +60,33 @@ class _Kinematics(Run):
     """:class:`Run`'s point kinematics over the bodies' motion in memory
     (rigid frames only: no point on the bed, whose frame the results file
     resolves). t (k,) [s]; names : list of str; motion : dict of
-    :func:`body_motion`'s arrays (k, nb, 3|4)."""
+    :func:`body_motion`'s arrays (k, nb, 3|4), or :func:`body_poses`' alone
+    (for :meth:`position`)."""
 
     def __init__(self, t: np.ndarray, names: list, motion: dict):
         self.path = Path("results")
         self.t, self.names = t, names
         self.r, self.p = motion["position"], motion["euler_parameters"]
-        self.rd, self.rdd = motion["velocity"], motion["acceleration"]
-        self.w, self.wd = motion["angular_velocity"], motion["angular_acceleration"]
+        # the poses alone (body_poses) leave these None
+        self.rd, self.rdd = motion.get("velocity"), motion.get("acceleration")
+        self.w, self.wd = motion.get("angular_velocity"), motion.get("angular_acceleration")
         self.A = _Frames(self.p)                                          # [:, b] (k, 3, 3)
         self.bed_body = self.bed_name = self.shapes = None
         self.bed_centre = np.zeros(3)
+
+    def position(self, point: Point, body: str | None) -> np.ndarray:
+        """The ``position`` (k, 3) [m] of :meth:`Run.absolute` (``body``
+        None) or :meth:`Run.relative` (in ``body``'s frame), by the same
+        operations (the same numbers, bit for bit: a test holds them
+        together) without the velocities and accelerations, which a peak
+        displacement does not read."""
+        b = self.body_index(point.body)
+        u = np.broadcast_to(np.asarray(point.position, dtype=float), (self.t.size, 3)).copy()
+        R = self.r[:, b] + np.einsum("kij,kj->ki", self.A[:, b], u)
+        if body is None:
+            return R
+        B = self.body_index(body)
+        return np.einsum("kji,kj->ki", self.A[:, B], R - self.r[:, B])
 
 
 class PointRun:
@@ -137,16 +153,43 @@ class PointRun:
         return _Kinematics(self.t, [b.name for b in self.system.scene.bodies],
                            body_motion(self.system, Y, self._captured))
 
+    def _in_memory(self, body: str, relative_to: str | None) -> bool:
+        """Whether a point on ``body`` (relative to ``relative_to``) is
+        answered from the bodies' motion in memory: a rigid body's."""
+        names = [b.name for b in self.system.scene.bodies]
+        bed = self.scene.bed.body or (names[1] if len(names) > 1 else None)
+        return not (body == bed or body not in names or (relative_to is not None
+                                                         and relative_to not in names))
+
+    def _point(self, body: str, position: Sequence[float], name: str) -> Point:
+        check = Arguments("Results.point")
+        return Point(name=check.name(name, "name"), body=body,
+                     position=check.position(position, "position"))
+
     def point(self, body: str, position: Sequence[float], *, relative_to: str | None = None,
               name: str = "point") -> PointMotion:
         """As :meth:`flexbed.Results.point`."""
-        names = [b.name for b in self.system.scene.bodies]
-        bed = self.scene.bed.body or (names[1] if len(names) > 1 else None)
-        if body == bed or body not in names or (relative_to is not None
-                                                and relative_to not in names):
+        if not self._in_memory(body, relative_to):
             return self._results.point(body, position, relative_to=relative_to, name=name)
-        check = Arguments("Results.point")
-        pt = Point(name=check.name(name, "name"), body=body,
-                   position=check.position(position, "position"))
+        pt = self._point(body, position, name)
         run = self._kinematics
         return run.relative(pt, relative_to) if relative_to else run.absolute(pt)
+
+    def point_position(self, body: str, position: Sequence[float], *,
+                       relative_to: str | None = None, name: str = "point") -> np.ndarray:
+        """``point(...).position`` (k, 3) [m], the same numbers, computed
+        alone for a rigid body's point (its velocity and acceleration are
+        not): from the states and the base's motion, without the bodies'
+        accelerations."""
+        if not self._in_memory(body, relative_to):
+            return self.point(body, position, relative_to=relative_to, name=name).position
+        return self._poses.position(self._point(body, position, name), relative_to)
+
+    @cached_property
+    def _poses(self) -> _Kinematics:
+        """The bodies' poses alone (:func:`body_poses`) for :meth:`point_position`."""
+        if "_kinematics" in self.__dict__:
+            return self._kinematics
+        Y = np.ascontiguousarray(self._run.y, dtype=float).reshape(self.t.size, self.system.ny)
+        return _Kinematics(self.t, [b.name for b in self.system.scene.bodies],
+                           body_poses(self.system, Y, self._captured))
