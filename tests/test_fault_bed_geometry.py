@@ -155,6 +155,13 @@ CASES = [
          ("bed: cutout 1", "at (0.4, 0.0)", "meets the outline's edge")),
     Case("cutout-covers-the-bed", _rect((0.0, 0.0), (2.0, 6.0)),
          ("bed: cutout 1", "rectangle 2 x 6 m", "covers the whole bed")),
+    Case("cutout-circle-without-centre", '[[bed.cutout]]\nshape = "circle"\nradius = 0.1\n',
+         ("bed: cutout 1", "'centre' is required for a circle")),
+    Case("cutout-rectangle-with-a-radius", _rect((0.0, 1.0), (0.2, 0.2)) + "radius = 0.1\n",
+         ("bed: cutout 1", "'radius' does not apply to a rectangle", "centre, size")),
+    Case("zone-polygon-with-a-centre", '[[bed.zone]]\nshape = "polygon"\n'
+         'points = [[0, 0], [0.2, 0], [0.2, 0.2]]\ncentre = [0, 0]\nthickness = 0.12\n',
+         ("bed: zone 1", "'centre' does not apply to a polygon")),
     Case("cutouts-overlap", _rect((0.0, 1.0), (0.2, 0.2)) + _rect((0.1, 1.0), (0.2, 0.2)),
          ("bed: cutout 2", "at (0.1, 1.0)", "overlaps cutout 1")),
     Case("cutouts-touch", _rect((-0.1, 1.0), (0.2, 0.2)) + _rect((0.1, 1.0), (0.2, 0.2)),
@@ -232,6 +239,8 @@ CASES = [
          {"bed.vtu": lambda p: os.mkfifo(p)}),
     Case("mesh-file-is-a-folder", 'mesh_file = "bed.vtu"\n',
          ("bed: mesh_file = 'bed.vtu' is a folder",), {"bed.vtu": lambda p: p.mkdir()}),
+    Case("mesh-file-a-loop-of-links", 'mesh_file = "bed.vtu"\n',
+         ("bed: mesh_file = 'bed.vtu': cannot read it",), {"bed.vtu": lambda p: p.symlink_to(p)}),
     Case("mesh-missing", 'mesh_file = "none.vtu"\n',
          ("bed: mesh_file = 'none.vtu'", "cannot read it")),
     # mesh files that are not a shell
