@@ -239,6 +239,8 @@ CASES = [
          {"bed.vtu": lambda p: os.mkfifo(p)}),
     Case("mesh-file-is-a-folder", 'mesh_file = "bed.vtu"\n',
          ("bed: mesh_file = 'bed.vtu' is a folder",), {"bed.vtu": lambda p: p.mkdir()}),
+    Case("correction-modes-past-the-mesh", "static_correction = true\ncorrection_modes = 10000\n",
+         ("bed: correction_modes = 10000", "has only")),
     Case("mesh-file-a-loop-of-links", 'mesh_file = "bed.vtu"\n',
          ("bed: mesh_file = 'bed.vtu': cannot read it",), {"bed.vtu": lambda p: p.symlink_to(p)}),
     Case("mesh-missing", 'mesh_file = "none.vtu"\n',

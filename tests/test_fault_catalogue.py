@@ -429,6 +429,10 @@ _SHOCK_OPTIONS = {   # session 35: extreme floats and outputs checked before the
                                     ("--fmax 0.5", "at least 1 Hz")),
     "transmitted-fmax-1e-50": (["transmitted", "--fmax", "1e-50"], ("--fmax 1e-50",)),
     "transmitted-plot-a-folder": (["transmitted", "--plot", "{d}"], ("is a directory",)),
+    "srs-modes-file-of-a-rigid-run": (["srs", "--modes-file", "{d}/taken"],
+                                      ("--modes-file", "bed is rigid")),
+    "post-modes-file-of-a-rigid-run": (["post", "--modes-file", "{d}/taken", "--mounts"],
+                                       ("--modes-file", "bed is rigid")),
 }
 
 

@@ -7,7 +7,10 @@ parsed, so that ``--fmin 5e-324`` or ``--t-end 1e308`` is refused in one
 line before any work instead of overflowing later. ``nan`` and ``inf`` pass
 as floats: each command's own check names them with its rule
 (``--tol = inf must be finite``). :func:`count` is the type of the options
-that size a cluster or a batch, with the limits the API has.
+that size a cluster or a batch, with the limits the API has;
+:func:`file_name` that of ``-o`` (never empty). :func:`output_folder` and
+:func:`unused_modes_file` check, before any work, an output folder option
+and a ``--modes-file`` that a rigid run would ignore.
 """
 
 from __future__ import annotations
@@ -15,7 +18,8 @@ from __future__ import annotations
 import argparse
 import math
 
-__all__ = ["add_scene_arg", "number", "count", "file_name", "output_folder"]
+__all__ = ["add_scene_arg", "number", "count", "file_name", "output_folder",
+           "unused_modes_file"]
 
 
 def add_scene_arg(parser: argparse.ArgumentParser) -> None:
@@ -81,3 +85,12 @@ def output_folder(option: str, value: str | None):
         raise InputError(f"{option} {value}: is not a folder (it names an existing file or "
                          f"device); give a folder for the output files")
     return path
+
+
+def unused_modes_file(run, modes_file: str | None) -> None:
+    """``--modes-file`` given for a run whose bed is rigid: refused (the
+    file would be ignored without a word)."""
+    from flexbed.errors import InputError
+    if modes_file is not None and run.bed_model != "flexible":
+        raise InputError(f"--modes-file {modes_file}: {run.path}'s bed is rigid: no modes file "
+                         f"is read (leave the option out)")

@@ -15,7 +15,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from flexbed.commands.arguments import output_folder
+from flexbed.commands.arguments import output_folder, unused_modes_file
 from flexbed.analyses.points import (Run, motion_csv, motion_table, mount_csv, mount_table,
                                      parse_point)
 from flexbed.files.destination import write_text
@@ -49,6 +49,7 @@ def run(args: argparse.Namespace) -> int:
     output_folder("--plot", args.plot)
     points = [parse_point(text) for text in args.point]
     r = Run(args.results, modes_file=args.modes_file)
+    unused_modes_file(r, args.modes_file)
     if r.incomplete:
         print(f"note: {r.path} holds an incomplete run ({r.incomplete})", file=sys.stderr)
     points = list(r.scene_points) + points

@@ -15,7 +15,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from flexbed.commands.arguments import number, output_folder
+from flexbed.commands.arguments import number, output_folder, unused_modes_file
 from flexbed.analyses.points import Run, parse_point
 from flexbed.analyses.shock import G, SCHEMA, VERSION, spectra, spectra_datasets, \
     spectrum_csv, summary
@@ -65,6 +65,7 @@ def run(args: argparse.Namespace) -> int:
         check_destination(Path(args.hdf5))
     points = [parse_point(text) for text in args.point]
     r = Run(args.results, modes_file=args.modes_file)
+    unused_modes_file(r, args.modes_file)
     if r.incomplete:
         print(f"note: {r.path} holds an incomplete run ({r.incomplete})", file=sys.stderr)
     if not points:
