@@ -87,6 +87,24 @@ WRONG = [
     ("sweep", lambda sc: flexbed.sweep("s.toml", workers=0), ("workers", "0")),
     ("sweep", lambda sc: flexbed.sweep("s.toml", batch=True), ("batch", "True")),
     ("sweep", lambda sc: flexbed.sweep("s.toml", progress="no"), ("progress", "'no'")),
+    # session 35: the argument's type, and its meaning, at every exported function
+    ("load_scene", lambda sc: flexbed.load_scene(123), ("path = 123", "load_scene")),
+    ("load_scene", lambda sc: flexbed.load_scene(b"s.toml"), ("path = b's.toml'",)),
+    ("load_scene", lambda sc: flexbed.load_scene(["s.toml"]), ("path",)),
+    ("vary", lambda sc: flexbed.vary(None, {}), ("scene = None",)),
+    ("vary", lambda sc: flexbed.vary(sc, "bed.thickness=0.1"), ("changes", "mapping")),
+    ("vary", lambda sc: flexbed.vary(sc, None), ("changes = None",)),
+    ("vary", lambda sc: flexbed.vary(sc, {1: 2}), ("changes", "not 1")),
+    ("vary", lambda sc: flexbed.vary(sc, {"bed.thickness": 0.1}, name=5), ("name = 5",)),
+    ("frf", lambda sc: flexbed.frf(sc, input="force z"), ("force_at = None", "'force z'")),
+    ("frf", lambda sc: flexbed.frf(sc, input="base z", force_at=("bed", [0, 0, 0])),
+     ("force_at", "None with input = 'base z'")),
+    ("frf", lambda sc: flexbed.frf(sc, input="sideways"), ("input = 'sideways'",)),
+    ("transmitted", lambda sc: flexbed.transmitted(5), ("results = 5",)),
+    ("optimize", lambda sc: flexbed.optimize("o.toml", workers=10 ** 6), ("workers", "1,024")),
+    ("sweep", lambda sc: flexbed.sweep("s.toml", batch=10 ** 6), ("batch", "10,000")),
+    ("synthesise", lambda sc: flexbed.synthesise("sp.toml", seed=-1), ("seed = -1",)),
+    ("random_vibration", lambda sc: flexbed.random_vibration(sc, psd=3), ("psd = 3",)),
 ]
 
 
@@ -103,6 +121,12 @@ def test_wrong_call_is_one_line(rigid, function, call, words):
     ({"per_octave": 2.5}, ("per_octave", "2.5")),
     ({"point": "c=bed:0,0,0"}, ("point", "'c=bed:0,0,0'", "(name, body")),
     ({"point": ("c", "nobody", [0, 0, 0])}, ("point body", "'nobody'")),
+    ({"fmin": 5e-324}, ("fmin = 5e-324", "out of range")),
+    ({"fmin": 1e-9}, ("fmin = 1e-09", "at least 1e-06 Hz")),
+    ({"q": 0.3}, ("q = 0.3", "above 0.5")),
+    ({"fmin": 100.0, "fmax": 10.0}, ("fmax = 10.0", "at or above fmin = 100 Hz")),
+    ({"point": ("c", "bed", [0, 0, 0], "equipment A")},
+     ("point relative_to", "'equipment A'", "absolute")),
 ])
 def test_srs_arguments(short_run, kwargs, words):
     refused(lambda: flexbed.srs(short_run, **kwargs), "srs", *words)
@@ -118,6 +142,30 @@ def test_srs_arguments(short_run, kwargs, words):
 ])
 def test_results_point_arguments(short_run, args, kwargs, words):
     refused(lambda: short_run.point(*args, **kwargs), "Results.point", *words)
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"start": -1.0}, ("start = -1.0", "in the run")),
+    ({"start": "0.01"}, ("start = '0.01'", "number")),
+    ({"fmax": 0.5}, ("fmax = 0.5", "at least 1 Hz")),
+    ({"fmax": 5e-324}, ("fmax = 5e-324", "out of range")),
+])
+def test_transmitted_arguments(short_run, kwargs, words):
+    refused(lambda: flexbed.transmitted(short_run, **kwargs), "transmitted", *words)
+
+
+@pytest.mark.parametrize("psd, words", [
+    ({"z": [[5.0, 1e308], [100.0, 0.01]]}, ("level 1e+308", "out of range")),
+    ({"z": [[5e-324, 0.01], [100.0, 0.01]]}, ("frequency 4.94066e-324 Hz", "1e-06")),
+    ({"z": [[5.0, 0.01], [1e308, 0.01]]}, ("frequency 1e+308 Hz", "1e+07")),
+])
+def test_psd_values_are_checked_as_the_file_is(rigid, psd, words):
+    """A PSD given as a dict meets the PSD file's rules: frequencies where
+    responses are computed, levels within the scene's range."""
+    with pytest.raises(InputError) as info:
+        flexbed.random_vibration(rigid, psd=psd)
+    for w in words:
+        assert w in str(info.value), (w, str(info.value))
 
 
 def test_points_have_one_form(short_run):
@@ -194,3 +242,18 @@ def test_fuzz_api_arguments(function, data, value):
         assert isinstance(value, int) and 2 <= value <= 100_000
     if name in ("sag",):
         assert isinstance(value, bool)
+
+
+@settings(max_examples=60, deadline=None)
+@given(value=VALUES)
+def test_fuzz_load_scene_and_vary(value):
+    """load_scene(value) and vary(scene, value): a scene, or InputError in
+    one line; nothing else escapes (no TypeError, AttributeError)."""
+    scene = flexbed.load_scene()
+    for call in (lambda: flexbed.load_scene(value),
+                 lambda: flexbed.vary(scene, value),
+                 lambda: flexbed.vary(value, {})):
+        try:
+            call()
+        except InputError as exc:
+            assert "\n" not in str(exc), exc

@@ -140,7 +140,7 @@ def test_point_in_a_cut_out_is_refused_by_name(tmp_path):
                                                         "point_j = [-0.50, -2.40, 0.00]"}))
     with pytest.raises(InputError, match=r"geo.toml: bed: cutout 1: radius = 0"):
         flexbed.load_scene(_scene(tmp_path, "", '[[bed.cutout]]\nshape = "circle"\n'
-                                                'radius = 0\n'))
+                                                'centre = [0, 0]\nradius = 0\n'))
 
 
 def test_asymmetric_bed_frame_at_its_centre_of_mass(tmp_path):

@@ -38,6 +38,10 @@ direction = "z"
 """
 
 
+_SPECTRUM = ('damping = 0.05\nunits = "g"\n[z]\ndisplacement = 0.05\nvelocity = 1.5\n'
+             'acceleration = 50.0\nband = [3.0, 300.0]\n')
+
+
 @dataclass(frozen=True)
 class Case:
     """One fault: ``setup(folder)`` makes the inputs in ``folder`` and
@@ -223,6 +227,78 @@ CASES = [
          _with_files({"s.toml": scene(), "taken": "keep"},
                      lambda d: ["compare", str(d / "s.toml"), "-o", str(d / "taken")]), 2,
          ("-o", "taken", "not a folder")),
+    # session 35: every numeric option under the scene's range rule, names never empty,
+    # counts bounded, options that do nothing refused, side files checked as files
+    Case("option-subnormal", _static(scene(), "--tol", "5e-324"), 2,
+         ("--tol", "5e-324", "out of range")),
+    Case("option-1e308", _with_files({"s.toml": scene()},
+                                     lambda d: ["simulate", str(d / "s.toml"), "-o",
+                                                str(d / "r.h5"), "--t-end", "1e308"]), 2,
+         ("--t-end", "1e308", "out of range")),
+    Case("output-empty-name", _with_files({"s.toml": scene()},
+                                          lambda d: ["frf", str(d / "s.toml"), "-o", "",
+                                                     "--no-plots"]), 2,
+         ("-o", "empty name")),
+    Case("frf-force-at-with-a-base-input",
+         _with_files({"s.toml": scene()},
+                     lambda d: ["frf", str(d / "s.toml"), "-o", str(d / "o/f"), "--no-plots",
+                                "--force-at", "mass:0,0,0"]), 2,
+         ("--force-at", "applies to --input force only")),
+    Case("sweep-workers-1e6", _with_files({"st.toml": "[study]\n"},
+                                          lambda d: ["sweep", str(d / "st.toml"), "--workers",
+                                                     "1000000"]), 2,
+         ("--workers", "from 1 to 1,024")),
+    Case("sweep-batch-0", _with_files({"st.toml": "[study]\n"},
+                                      lambda d: ["sweep", str(d / "st.toml"), "--batch", "0"]),
+         2, ("--batch", "from 1 to 10,000")),
+    Case("optimize-workers-5000", _with_files({"o.toml": "[optimize]\n"},
+                                              lambda d: ["optimize", str(d / "o.toml"),
+                                                         "--workers", "5000"]), 2,
+         ("--workers", "from 1 to 1,024")),
+    Case("bench-t-end-0", lambda d: ["bench", "--quick", "-o", str(d / "b"), "--t-end", "0"], 2,
+         ("--t-end 0", "from 0.02 s")),
+    Case("bench-t-end-nan", lambda d: ["bench", "--quick", "-o", str(d / "b"), "--t-end", "nan"],
+         2, ("--t-end nan",)),
+    Case("bench-t-end-1e9", lambda d: ["bench", "--quick", "-o", str(d / "b"), "--t-end", "1e9"],
+         2, ("--t-end 1e+09", "100000 s")),
+    Case("psd-file-is-a-fifo",
+         _with_files({"s.toml": scene()},
+                     lambda d: os.mkfifo(d / "p.toml") or ["random", str(d / "s.toml"), "--psd",
+                                                           str(d / "p.toml"), "-o",
+                                                           str(d / "o/r"), "--no-plots"]), 2,
+         ("p.toml", "cannot read the PSD file", "FIFO")),
+    Case("psd-level-1e308",
+         _with_files({"s.toml": scene(), "p.toml": "[z]\ntable = [[5, 1e308], [10, 1]]\n"},
+                     lambda d: ["random", str(d / "s.toml"), "--psd", str(d / "p.toml"), "-o",
+                                str(d / "o/r"), "--no-plots"]), 2,
+         ("p.toml", "[z] table row 1", "level 1e+308", "out of range")),
+    Case("psd-frequency-past-10-MHz",
+         _with_files({"s.toml": scene(), "p.toml": "[z]\ntable = [[5, 0.01], [1e8, 0.01]]\n"},
+                     lambda d: ["random", str(d / "s.toml"), "--psd", str(d / "p.toml"), "-o",
+                                str(d / "o/r"), "--no-plots"]), 2,
+         ("p.toml", "row 2", "frequency 1e+08 Hz", "1e+07")),
+    Case("psd-coherence-one-number-list",
+         _with_files({"s.toml": scene(), "p.toml": "[z]\ntable = [[5, 0.01], [100, 0.01]]\n"
+                      "[x]\ntable = [[5, 0.01], [100, 0.01]]\n[coherence]\nxz = [0.5]\n"},
+                     lambda d: ["random", str(d / "s.toml"), "--psd", str(d / "p.toml"), "-o",
+                                str(d / "o/r"), "--no-plots"]), 2,
+         ("p.toml", "xz = [0.5]", "[re, im]")),
+    Case("spectrum-file-is-a-fifo",
+         _with_files({"s.toml": scene()},
+                     lambda d: os.mkfifo(d / "sp.toml") or ["rsa", str(d / "s.toml"),
+                                                            "--spectrum", str(d / "sp.toml"),
+                                                            "-o", str(d / "o/r")]), 2,
+         ("sp.toml", "cannot read the spectrum file", "FIFO")),
+    Case("rsa-damping-nan",
+         _with_files({"s.toml": scene(), "sp.toml": _SPECTRUM},
+                     lambda d: ["rsa", str(d / "s.toml"), "--spectrum", str(d / "sp.toml"),
+                                "-o", str(d / "o/r"), "--damping", "nan"]), 2,
+         ("sp.toml", "damping = nan")),
+    Case("synthesise-seed-negative",
+         _with_files({"sp.toml": _SPECTRUM},
+                     lambda d: ["synthesise", str(d / "sp.toml"), "-o", str(d / "o/s"),
+                                "--seed", "-1"]), 2,
+         ("--seed -1", "from 0")),
     # accepted, with what the README promises
     Case("scene-out-missing-folder", lambda d: ["scene", "-o", str(d / "new" / "dir" / "x.toml")],
          0, (), writes=("new/dir/x.toml",)),
@@ -338,6 +414,43 @@ def test_post_refuses_a_damaged_results_file(fault, results_file, tmp_path, caps
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2
     assert len(err) == 1 and "bad.h5" in err[0], err
+    for w in words:
+        assert w in err[0], (w, err[0])
+    _check_folder(tmp_path, before, ())
+
+
+_SHOCK_OPTIONS = {   # session 35: extreme floats and outputs checked before the work
+    "srs-fmin-subnormal": (["srs", "--fmin", "5e-324"], ("--fmin", "out of range")),
+    "srs-fmin-below-1e-6": (["srs", "--fmin", "1e-9"], ("--fmin", "1e-06 Hz")),
+    "srs-q-overdamped": (["srs", "--q", "0.4"], ("--q 0.4", "above 0.5")),
+    "srs-hdf5-a-folder": (["srs", "--hdf5", "{d}"], ("is a directory",)),
+    "srs-csv-a-file": (["srs", "--csv", "{d}/taken"], ("--csv", "taken", "not a folder")),
+    "transmitted-fmax-half-hertz": (["transmitted", "--fmax", "0.5"],
+                                    ("--fmax 0.5", "at least 1 Hz")),
+    "transmitted-fmax-1e-50": (["transmitted", "--fmax", "1e-50"], ("--fmax 1e-50",)),
+    "transmitted-plot-a-folder": (["transmitted", "--plot", "{d}"], ("is a directory",)),
+    "srs-modes-file-of-a-rigid-run": (["srs", "--modes-file", "{d}/taken"],
+                                      ("--modes-file", "bed is rigid")),
+    "post-modes-file-of-a-rigid-run": (["post", "--modes-file", "{d}/taken", "--mounts"],
+                                       ("--modes-file", "bed is rigid")),
+}
+
+
+@pytest.mark.parametrize("fault", list(_SHOCK_OPTIONS))
+def test_shock_commands_refuse_before_the_work(fault, results_file, tmp_path, capsys):
+    """One line, no warning before it (the spectrum was not computed), nothing written."""
+    argv, words = _SHOCK_OPTIONS[fault]
+    (tmp_path / "taken").write_text("keep")
+    before = _snapshot(tmp_path)
+    more = [a.replace("{d}", str(tmp_path)) for a in argv[1:]]
+    more += ["--point", "top=mass:0,0,0.1"] if argv[0] == "srs" else []
+    try:
+        code = main([argv[0], str(results_file), *more])
+    except SystemExit as exc:            # argparse's own refusals
+        code = exc.code
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert len(err) == 1, err
     for w in words:
         assert w in err[0], (w, err[0])
     _check_folder(tmp_path, before, ())

@@ -22,6 +22,7 @@ from flexbed.analyses.linear_points import PointJacobians
 from flexbed.analyses.elastomer import force_map
 from flexbed.analyses.modal import Mounted
 from flexbed.analyses.points import Point
+from flexbed.files.table_reader import FREQUENCY_LIMITS
 from flexbed.dynamics.frequency import frf as dfrf
 from flexbed.errors import InputError
 
@@ -33,11 +34,9 @@ __all__ = ["FRF", "frequency_response", "parse_input", "frf_csv", "default_band"
 #: solve of the dynamic stiffness and a row of outputs, so 10^5 is minutes
 #: of work and hundreds of MB on a large scene; beyond it a request is a slip
 MAX_GRID = 100_000
-#: [Hz] the band a response may be asked over: below 1 µHz a period is
-#: 11 days, above 10 MHz no mount model means anything, and outside these
-#: the dynamic stiffness's terms (ω² M against K) differ by more than the
-#: doubles can hold
-BAND_LIMITS = (1e-6, 1e7)
+#: [Hz] the band a response may be asked over (the files' rule, for PSD
+#: tables too: :data:`flexbed.files.table_reader.FREQUENCY_LIMITS`)
+BAND_LIMITS = FREQUENCY_LIMITS
 
 _AXES = "xyz"
 

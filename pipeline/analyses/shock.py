@@ -130,6 +130,9 @@ def _uniform(t: np.ndarray, where: Path) -> tuple[float, int]:
 MAX_PER_OCTAVE = 1000
 #: the most oscillators of one spectrum (each a pass over the record)
 MAX_FREQUENCIES = 20_000
+#: the smallest quality factor: Q = 1/(2ζ) > 0.5, oscillators below critical
+#: damping (the ramp-invariant filter is that of a ringing oscillator)
+Q_MIN = 0.5
 
 
 def spectra(run: Run, points: list[Point], *, q: float = 10.0, fmin: float = 1.0,
@@ -150,10 +153,15 @@ def spectra(run: Run, points: list[Point], *, q: float = 10.0, fmin: float = 1.0
     fs = 1.0 / dt
     if fmax is None:
         fmax = FMAX_DEFAULT_SHARE * fs
-    if not (q > 0 and math.isfinite(q)):
-        raise InputError(f"--q {q!r}: the quality factor must be a positive number")
+    if not (q > Q_MIN and math.isfinite(q)):
+        raise InputError(f"--q {q!r}: the quality factor must be a number above {Q_MIN:g} "
+                         f"(damping ratio below 1: the oscillators ring)")
     if not (fmin > 0 and math.isfinite(fmin)):
         raise InputError(f"--fmin {fmin!r}: must be a positive frequency [Hz]")
+    from flexbed.analyses.frf import BAND_LIMITS      # one band rule for every spectrum
+    if fmin < BAND_LIMITS[0]:
+        raise InputError(f"--fmin {fmin!r}: below {BAND_LIMITS[0]:g} Hz, the lowest frequency "
+                         f"a response is computed at")
     if not (math.isfinite(fmax) and fmax >= fmin):
         raise InputError(f"--fmax {fmax!r}: must be a frequency at or above fmin = {fmin:g} Hz")
     if fmax > FMAX_SHARE * fs * (1 + 1e-12):

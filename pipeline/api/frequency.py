@@ -28,6 +28,7 @@ from flexbed.api import bed_modes
 from flexbed.api.arguments import Arguments
 from flexbed.api.equilibrium import Statics
 from flexbed.files.destination import check_destination, write_text
+from flexbed.errors import InputError
 from flexbed.files.frequency import frf_contents, modal_contents, write_frf_contents, \
     write_modal_contents
 from flexbed.files.modes import ModesData
@@ -236,6 +237,17 @@ def frf(scene: SceneFile, *, input: str = "base z",
         frf_loads.scene_load(scene, load, f"flexbed.frf: input = {input!r}")
     pts = check.points(points, "points")
     at = None
+    kind = "load"
+    if load is None:
+        try:
+            kind, _ = afrf.parse_input(input)
+        except InputError:
+            check.bad("input", input, "'base x|y|z', 'force x|y|z' or 'load NAME'")
+    if kind == "base" and force_at is not None:
+        check.bad("force_at", force_at, f"None with input = {input!r} (it moves the base)")
+    if kind == "force" and force_at is None:
+        check.bad("force_at", force_at, f"(body, [x, y, z]) with input = {input!r}: the point "
+                                        f"the force acts at")
     if force_at is not None:
         if isinstance(force_at, (str, bytes)) or not isinstance(force_at, (tuple, list)) \
                 or len(force_at) != 2:

@@ -58,6 +58,7 @@ def optimize(file, scheduler=None, *, output: str | Path | None = None,
         before anything runs.
     """
     from flexbed.api.arguments import Arguments
+    from flexbed.files.table_reader import MAX_WORKERS
     from flexbed.optimization.driver import optimize_problem
     from flexbed.optimization.problem import make_problem
     from flexbed.optimization.report import write_report
@@ -70,7 +71,7 @@ def optimize(file, scheduler=None, *, output: str | Path | None = None,
     if not (scheduler is None or isinstance(scheduler, str) or hasattr(scheduler, "submit")):
         check.bad("scheduler", scheduler, "'tcp://HOST:PORT', a distributed.Client, or None")
     output = check.path(output, "output")
-    workers = check.integer(workers, "workers", minimum=1, maximum=1024, optional=True)
+    workers = check.integer(workers, "workers", minimum=1, maximum=MAX_WORKERS, optional=True)
     plots = check.flag(plots, "plots")
     spec = file if isinstance(file, OptimizeSpec) else read_optimize(path)
     problem = make_problem(spec)

@@ -94,8 +94,8 @@ class Results:
         """Index of a body by name (InputError naming the bodies if unknown)."""
         names = self.body_names
         if name not in names:
-            raise InputError(f"body {name!r} is not a body of this run (bodies: "
-                             f"{', '.join(names)})")
+            raise InputError(f"flexbed.Results.body: name = {name!r} is not a body of this run "
+                             f"(bodies: {', '.join(names)})")
         return names.index(name)
 
     # points of interest
@@ -171,9 +171,12 @@ class Results:
 
     def save(self, path: str | Path) -> Path:
         """Write the results file (as ``flexbed simulate -o``)."""
+        from flexbed.api.arguments import Arguments
+        path = Arguments("Results.save").path(path, "path", optional=False)
         if self._datasets is None:
-            raise InputError("these results were read from a file: copy the file instead")
-        return write_results_contents(Path(path), *self._datasets)
+            raise InputError("flexbed.Results.save: these results were read from a file: copy "
+                             "the file instead")
+        return write_results_contents(path, *self._datasets)
 
 
 def open_results(path: str | Path, *, modes: ModesData | str | Path | None = None) -> Results:
@@ -215,19 +218,31 @@ def srs(results: Results | str | Path, *,
         (n, 3) [m/s], columns X, Y, Z; ``input``: the same for a driven
         base's acceleration, else None.
     """
-    from flexbed.analyses.shock import MAX_PER_OCTAVE, spectra
+    from flexbed.analyses.frf import BAND_LIMITS
+    from flexbed.analyses.shock import MAX_PER_OCTAVE, Q_MIN, spectra
     from flexbed.api.arguments import POINT_FORM, Arguments
 
     check = Arguments("srs")
     if not isinstance(results, (Results, str, Path)):
         check.bad("results", results, "a Results from flexbed.simulate, or a results file")
     q = check.real(q, "q", positive=True, optional=False)
+    if not q > Q_MIN:
+        check.bad("q", q, f"above {Q_MIN:g} (damping ratio below 1)")
     fmin = check.real(fmin, "fmin", positive=True, optional=False)
+    if fmin < BAND_LIMITS[0]:
+        check.bad("fmin", fmin, f"at least {BAND_LIMITS[0]:g} Hz")
     fmax = check.real(fmax, "fmax", positive=True)
+    if fmax is not None and not fmax >= fmin:
+        check.bad("fmax", fmax, f"at or above fmin = {fmin:g} Hz")
     per_octave = check.integer(per_octave, "per_octave", minimum=1, maximum=MAX_PER_OCTAVE)
     r = open_results(results) if isinstance(results, (str, Path)) else results
     run = r._run()
-    points = [p for p, _ in check.points(point, "point") or []]
+    given = check.points(point, "point") or []
+    for i, (_, rel) in enumerate(given):
+        if rel is not None:
+            check.bad("point relative_to" if len(given) == 1 else f"point[{i}] relative_to",
+                      rel, "None: a shock spectrum is of the absolute acceleration")
+    points = [p for p, _ in given]
     for i, p in enumerate(points):
         if p.body not in r.body_names:
             check.bad("point body" if len(points) == 1 else f"point[{i}] body", p.body,

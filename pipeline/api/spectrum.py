@@ -21,6 +21,7 @@ from flexbed.files.destination import check_destination, write_text
 from flexbed.files.modes import ModesData
 from flexbed.files.scene import SceneFile
 from flexbed.files.spectrum import SpectrumFile, read_spectrum
+from flexbed.files.table_reader import MAX_SEED
 from flexbed.threads import limited
 
 __all__ = ["response_spectrum", "synthesise", "SpectrumResponse", "Motion"]
@@ -155,11 +156,11 @@ def synthesise(spectrum, *, axis: str = "z", band: tuple[float, float] | None = 
     from flexbed.errors import NumericalError
 
     check = Arguments("synthesise")
-    spec = _spectrum(check, spectrum)
     axis = check.string("", "axis", axis, ("x", "y", "z"))
     band = check.band(band)
     tol = check.real(tolerance_db, "tolerance_db", positive=True, optional=False)
-    seed = check.integer(seed, "seed", minimum=0, maximum=2 ** 63 - 1)
+    seed = check.integer(seed, "seed", minimum=0, maximum=MAX_SEED)
+    spec = _spectrum(check, spectrum)
     design, lo, hi = check_request(spec, axis, band, tol)
     syn = dsynth(design, lo, hi, tolerance_db=tol, goal_db=min(1.0, 2.0 * tol / 3.0), seed=seed)
     if not syn.converged:

@@ -58,6 +58,7 @@ def sweep(study, scheduler=None, *, output: str | Path | None = None, workers: i
     from flexbed.study.table import check_folder
 
     from flexbed.api.arguments import Arguments
+    from flexbed.files.table_reader import MAX_BATCH, MAX_WORKERS
 
     check = Arguments("sweep")
     if not isinstance(study, Study):
@@ -65,12 +66,12 @@ def sweep(study, scheduler=None, *, output: str | Path | None = None, workers: i
     if not (scheduler is None or isinstance(scheduler, str) or hasattr(scheduler, "submit")):
         check.bad("scheduler", scheduler, "'tcp://HOST:PORT', a distributed.Client, or None")
     output = check.path(output, "output")
-    workers = check.integer(workers, "workers", minimum=1, maximum=1024, optional=True)
+    workers = check.integer(workers, "workers", minimum=1, maximum=MAX_WORKERS, optional=True)
     keep_results, retry_failed, progress, plots = (
         check.flag(v, k) for k, v in (("keep_results", keep_results),
                                       ("retry_failed", retry_failed), ("progress", progress),
                                       ("plots", plots)))
-    batch = check.integer(batch, "batch", minimum=1, maximum=10_000, optional=True)
+    batch = check.integer(batch, "batch", minimum=1, maximum=MAX_BATCH, optional=True)
     if not isinstance(study, Study):
         study = read_study(path)
     plan = make_plan(study, PlanProgress(progress))

@@ -13,7 +13,6 @@ the insertion loss of one design against another
 from __future__ import annotations
 
 import dataclasses
-import math
 from pathlib import Path
 
 import numpy as np
@@ -50,8 +49,8 @@ class Transmitted:
         """L_reference − L_this per third-octave band and axis (nb, 3) [dB]:
         positive where this design transmits less."""
         if not isinstance(reference, Transmitted):
-            raise InputError(f"insertion_loss: reference = {reference!r} is not the result "
-                             f"of flexbed.transmitted")
+            raise InputError(f"flexbed.Transmitted.insertion_loss: reference = {reference!r} "
+                             f"is not the result of flexbed.transmitted")
         return insertion_loss(reference.bands, self.bands)
 
 
@@ -69,22 +68,23 @@ def transmitted(results, *, start: float | None = None, fmax: float | None = Non
     fmax : float, optional
         Highest third-octave band [Hz] (default: the Nyquist frequency).
     """
+    from flexbed.api.arguments import Arguments
+
+    check = Arguments("transmitted")
     if isinstance(results, Results):
         contents = results.contents
     elif isinstance(results, (str, Path)):
         contents = read_results(results)
     else:
-        raise InputError(f"transmitted: results = {results!r} must be a run "
-                         f"(flexbed.simulate) or a results file's path")
+        check.bad("results", results, "a run (flexbed.simulate) or a results file's path")
+    start = check.real(start, "start")
+    fmax = check.real(fmax, "fmax", positive=True)
     force = transmitted_force(contents)
     t = force.time
     start = 0.5 * (t[0] + t[-1]) if start is None else start
-    if not (isinstance(start, (int, float)) and math.isfinite(start)
-            and t[0] <= start < t[-1]):
-        raise InputError(f"transmitted: start = {start!r} must lie in the run, {t[0]:g} to "
-                         f"{t[-1]:g} s")
-    if fmax is not None and not (isinstance(fmax, (int, float)) and math.isfinite(fmax)
-                                 and fmax > 0):
-        raise InputError(f"transmitted: fmax = {fmax!r} must be > 0 Hz")
+    if not t[0] <= start < t[-1]:
+        check.bad("start", start, f"in the run, {t[0]:g} to {t[-1]:g} s")
+    if fmax is not None and not fmax >= 1.0:
+        check.bad("fmax", fmax, "at least 1 Hz (the lowest third-octave band's)")
     sp = spectrum(t, force.total, float(start))
     return Transmitted(force, sp, third_octaves(sp, 1.0, fmax))

@@ -31,9 +31,11 @@ The report is also printed on stdout; progress goes to stderr.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from pathlib import Path
 
+from flexbed.commands.arguments import number, file_name
 from flexbed.errors import InputError
 from flexbed.words import count
 
@@ -70,10 +72,10 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                         help="scene file (default: the built-in reference scene)")
     parser.add_argument("--quick", action="store_true",
                         help="cheaper cases, fewer settings and repeats")
-    parser.add_argument("-o", "--output", default=DEFAULT_OUTPUT, metavar="DIR",
+    parser.add_argument("-o", "--output", type=file_name, default=DEFAULT_OUTPUT, metavar="DIR",
                         help=f"folder of the report and its PNGs (default: ./{DEFAULT_OUTPUT}; "
                              f"'-o docs' regenerates the project's own report)")
-    parser.add_argument("--t-end", type=float, default=None, metavar="T",
+    parser.add_argument("--t-end", type=number, default=None, metavar="T",
                         help="end every run at T seconds (default: the scene's; the aims "
                              "are stated for 0-3 s)")
 
@@ -88,6 +90,19 @@ def target_and_scene(target: str, scene: str | None) -> tuple[str, str | None]:
     raise InputError(f"target {target!r} is not one of {', '.join(TARGETS)}")
 
 
+def check_t_end(t_end: float) -> None:
+    """``--t-end``, refused before any work: the report measures errors on
+    a grid of ``BenchContext.output_dt`` (0.01 s), so a run needs two of
+    its samples, and at most the output samples a run may store."""
+    from flexbed.bench.context import BenchContext
+    from flexbed.dynamics.integrate import MAX_OUTPUT_SAMPLES
+
+    dt = BenchContext.output_dt
+    if not (math.isfinite(t_end) and 2 * dt <= t_end <= dt * MAX_OUTPUT_SAMPLES):
+        raise InputError(f"--t-end {t_end:g}: from {2 * dt:g} s (two of the report's "
+                         f"{dt:g} s samples) to {dt * MAX_OUTPUT_SAMPLES:g} s")
+
+
 def run(args: argparse.Namespace) -> int:
     from flexbed.bench.report import write_report   # NumPy, SciPy, numba, matplotlib
 
@@ -95,6 +110,8 @@ def run(args: argparse.Namespace) -> int:
         print(m, file=sys.stderr, flush=True)
 
     args.target, args.scene = target_and_scene(args.target, args.scene)
+    if args.t_end is not None:
+        check_t_end(args.t_end)
     sections, cases = TARGETS[args.target]
     filename = "benchmarks.md" if args.target == "all" else f"benchmarks-{args.target}.md"
     words = ["flexbed bench"] + ([] if args.target == "all" else [args.target])

@@ -14,7 +14,7 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from flexbed.commands.arguments import add_scene_arg
+from flexbed.commands.arguments import add_scene_arg, number, file_name
 from flexbed.analyses.compare import (CASES, LABELS, comparison_rows, csv_table, markdown_table,
                                       relative_vertical, run_case)
 from flexbed.analyses.compare_verdict import verdict_csv, verdict_markdown, verdict_rows
@@ -32,7 +32,7 @@ def add_solver_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--integrator", choices=METHODS, default=None,
                         help="time integrator of every run (default: the scene's [solver] "
                              "integrator)")
-    parser.add_argument("--t-end", type=float, default=None, metavar="T",
+    parser.add_argument("--t-end", type=number, default=None, metavar="T",
                         help="end time of every run [s] (default: the scene's [solver] t_end)")
 
 
@@ -56,7 +56,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Run the scene with a rigid, a flexible and a damped flexible bed "
                           "and compare the equipment's motion.")
     add_scene_arg(parser)
-    parser.add_argument("-o", "--output", default="flexbed-compare", metavar="DIR",
+    parser.add_argument("-o", "--output", type=file_name, default="flexbed-compare", metavar="DIR",
                         help="output folder (default: ./flexbed-compare)")
     add_solver_args(parser)
     parser.add_argument("--force", action="store_true", help="recompute the modes file")

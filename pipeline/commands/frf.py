@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.commands.arguments import add_scene_arg
+from flexbed.commands.arguments import add_scene_arg, file_name
 from flexbed.commands.modal import load_mounted
 from flexbed.commands.static import add_modes_file_arg
 from flexbed.errors import InputError
@@ -34,7 +34,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "base acceleration or a force to points, mount forces and the force "
                           "on the base, with every resonance in the band resolved.")
     add_scene_arg(parser)
-    parser.add_argument("-o", "--output", default=None, metavar="PREFIX",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="PREFIX",
                         help="prefix of the files written (default: <scene stem>-frf)")
     parser.add_argument("--input", default="base z", metavar="WHAT",
                         help="'base x|y|z': unit base acceleration (default 'base z'); "
@@ -101,6 +101,9 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--force-at {args.force_at!r}: applies to --input force only "
                              f"(a load acts where the scene puts it)")
         axis = load.directions[0]
+    if kind == "base" and args.force_at is not None:
+        raise InputError(f"--force-at {args.force_at!r}: applies to --input force only "
+                         f"(--input {args.input!r} moves the base)")
     if kind == "force":
         if args.force_at is None:
             raise InputError("--input force needs --force-at BODY:x,y,z")

@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from flexbed.commands.arguments import add_scene_arg
+from flexbed.commands.arguments import add_scene_arg, file_name
 from flexbed.analyses.modal import effective_mass_text, energy_text, modes_text
 from flexbed.commands.static import add_modes_file_arg
 from flexbed.files.destination import check_destination
@@ -29,7 +29,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "held): frequencies, damping ratios, kinetic energy decoupling "
                           "table, strain energy per mount, effective masses.")
     add_scene_arg(parser)
-    parser.add_argument("-o", "--output", default=None, metavar="PREFIX",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="PREFIX",
                         help="prefix of the files written (default: <scene stem>-modal)")
     parser.add_argument("--equilibrium", default=None, metavar="FILE",
                         help="equilibrium file from 'flexbed static' (default: solve it here)")

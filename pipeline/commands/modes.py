@@ -13,7 +13,7 @@ import time
 import warnings
 from pathlib import Path
 
-from flexbed.commands.arguments import add_scene_arg
+from flexbed.commands.arguments import add_scene_arg, number, file_name
 from flexbed.files.bed_section import AUTO_TOLERANCE
 from flexbed.files.destination import check_destination, refuse_inputs
 from flexbed.errors import FlexbedWarning, InputError
@@ -27,13 +27,13 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Free-free modes and modal invariants of the common bed "
                           "(scikit-fem Kirchhoff plate), written to the modes file.")
     add_scene_arg(parser)
-    parser.add_argument("-o", "--output", default=None, metavar="FILE",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="FILE",
                         help="modes file to write (default: the scene's modes_file, "
                              "else <scene file stem>-modes.h5 in the current folder)")
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--modes", type=int, default=None, metavar="N",
                        help="number of elastic modes to keep (default: the scene's)")
-    group.add_argument("--fmax", type=float, default=None, metavar="HZ",
+    group.add_argument("--fmax", type=number, default=None, metavar="HZ",
                        help="keep every elastic mode below this frequency [Hz]")
     parser.add_argument("--vtu", default=None, metavar="DIR",
                         help="also write the mode shapes as DIR/<name>-modes.vtu for ParaView")

@@ -13,6 +13,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from flexbed.commands.arguments import count, file_name
+from flexbed.files.table_reader import MAX_WORKERS
 from flexbed.errors import InputError, NumericalError
 
 __all__ = ["add_args", "run"]
@@ -26,13 +28,13 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "evaluation, a convergence plot and the initial design against the "
                           "optimum.")
     parser.add_argument("file", help="optimisation file (TOML)")
-    parser.add_argument("-o", "--output", default=None, metavar="DIR",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="DIR",
                         help="output folder (default: <file stem>-optimize); a re-run into "
                              "the same folder reuses the evaluations logged there")
     parser.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
                         help="run on this existing Dask cluster (default: a local cluster of "
                              "processes, started and stopped here)")
-    parser.add_argument("--workers", type=int, default=None, metavar="N",
+    parser.add_argument("--workers", type=count(MAX_WORKERS), default=None, metavar="N",
                         help="workers of the local cluster (default: one per core)")
     parser.add_argument("--no-plots", action="store_true", help="write no plots")
 
@@ -45,8 +47,6 @@ def run(args: argparse.Namespace) -> int:
     from flexbed.optimization.spec import read_optimize
     from flexbed.study.engine import cluster_client
 
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers = {args.workers} must be >= 1")
     if args.workers is not None and args.scheduler is not None:
         raise InputError("--workers sizes the local cluster; with --scheduler the cluster's "
                          "own workers run the optimisation")

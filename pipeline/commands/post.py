@@ -15,6 +15,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from flexbed.commands.arguments import output_folder, unused_modes_file
 from flexbed.analyses.points import (Run, motion_csv, motion_table, mount_csv, mount_table,
                                      parse_point)
 from flexbed.files.destination import write_text
@@ -43,22 +44,12 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                              "results file, else where the run recorded it)")
 
 
-def _folder(option: str, value: str | None) -> Path | None:
-    """An output folder option: absent or a directory, else InputError."""
-    if value is None:
-        return None
-    path = Path(value)
-    if path.exists() and not path.is_dir():
-        raise InputError(f"{option} {value}: is not a folder (it names an existing file or "
-                         f"device); give a folder for the output files")
-    return path
-
-
 def run(args: argparse.Namespace) -> int:
-    _folder("--csv", args.csv)
-    _folder("--plot", args.plot)
+    output_folder("--csv", args.csv)
+    output_folder("--plot", args.plot)
     points = [parse_point(text) for text in args.point]
     r = Run(args.results, modes_file=args.modes_file)
+    unused_modes_file(r, args.modes_file)
     if r.incomplete:
         print(f"note: {r.path} holds an incomplete run ({r.incomplete})", file=sys.stderr)
     points = list(r.scene_points) + points

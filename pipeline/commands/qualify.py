@@ -16,7 +16,7 @@ import math
 import time
 from pathlib import Path
 
-from flexbed.commands.arguments import add_scene_arg
+from flexbed.commands.arguments import add_scene_arg, number, file_name
 from flexbed.commands.compare import add_solver_args
 from flexbed.commands.static import add_modes_file_arg
 from flexbed.errors import EXIT_FAIL, EXIT_OK, InputError
@@ -33,10 +33,10 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "point of interest and clearance judged against the scene's limits. "
                           "Exit status 0 PASS, 3 FAIL.")
     add_scene_arg(parser)
-    parser.add_argument("-o", "--output", default=None, metavar="PREFIX",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="PREFIX",
                         help="prefix of the files written (default: <scene stem>-verdict)")
     add_solver_args(parser)
-    parser.add_argument("--output-dt", type=float, default=None, metavar="DT",
+    parser.add_argument("--output-dt", type=number, default=None, metavar="DT",
                         help="spacing of the samples the extremes are found from [s] "
                              "(default: the scene's [solver] output_dt)")
     parser.add_argument("--results", default=None, metavar="FILE",

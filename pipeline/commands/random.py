@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.commands.arguments import add_scene_arg
+from flexbed.commands.arguments import add_scene_arg, number, file_name
 from flexbed.commands.modal import load_mounted
 from flexbed.commands.static import add_modes_file_arg
 from flexbed.errors import InputError
@@ -52,7 +52,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--psd", required=True, metavar="FILE",
                         help="base acceleration PSD: TOML ([x]/[y]/[z] table = [[Hz, g^2/Hz], "
                              "...], optional [coherence]) or CSV (frequency_Hz,x,y,z)")
-    parser.add_argument("-o", "--output", default=None, metavar="PREFIX",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="PREFIX",
                         help="prefix of the files written (default: <scene stem>-random)")
     parser.add_argument("--point", action="append", default=[], metavar="NAME=BODY:x,y,z",
                         help="a point of interest (repeatable; default: the scene's [[point]] "
@@ -62,7 +62,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-n", type=int, default=2000, metavar="N",
                         help="log-spaced frequencies of the base grid (default 2000); each "
                              "damped mode in the band adds its own about its resonance")
-    parser.add_argument("--peak-factor", type=float, default=3.0, metavar="K",
+    parser.add_argument("--peak-factor", type=number, default=3.0, metavar="K",
                         help="the peak reported besides 3 sigma is K sigma (default 3)")
     parser.add_argument("--equilibrium", default=None, metavar="FILE",
                         help="equilibrium file from 'flexbed static' (default: solve it here)")

@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from flexbed.commands.arguments import add_scene_arg
+from flexbed.commands.arguments import add_scene_arg, number, file_name
 from flexbed.commands.static import add_modes_file_arg
 
 __all__ = ["add_args", "run"]
@@ -29,14 +29,14 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--spectrum", required=True, metavar="FILE",
                         help="design spectrum file (TOML: damping, units, [x]/[y]/[z] tables "
                              "or tripartite levels)")
-    parser.add_argument("--damping", type=float, default=None, metavar="ZETA",
+    parser.add_argument("--damping", type=number, default=None, metavar="ZETA",
                         help="damping ratio of the modes (must be the spectrum's; default: it)")
     parser.add_argument("--rule", default=None, metavar="RULE",
                         help="print only this combination: nrl, srss, cqc or abs "
                              "(all are written)")
-    parser.add_argument("--max-frequency", type=float, default=None, metavar="HZ",
+    parser.add_argument("--max-frequency", type=number, default=None, metavar="HZ",
                         help="leave out the modes above this frequency [Hz]")
-    parser.add_argument("-o", "--output", default=None, metavar="PREFIX",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="PREFIX",
                         help="prefix of the files written (default: <scene stem>-rsa)")
     parser.add_argument("--equilibrium", default=None, metavar="FILE",
                         help="equilibrium file from 'flexbed static' (default: solve it here)")

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.commands.arguments import add_scene_arg
+from flexbed.commands.arguments import add_scene_arg, file_name
 from flexbed.analyses.compare import LABELS
 from flexbed.analyses.points import Run, bed_motion, motion_csv, motion_table, mount_peaks_csv
 from flexbed.analyses.summary import modes_csv, summary_markdown
@@ -49,7 +49,7 @@ FRAME_DT = 0.01        # s between frames of the bed's motion for ParaView
 def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = "Run the pipeline on a scene and write everything into one folder."
     add_scene_arg(parser)
-    parser.add_argument("-o", "--output", default="flexbed-out", metavar="DIR",
+    parser.add_argument("-o", "--output", type=file_name, default="flexbed-out", metavar="DIR",
                         help="output folder (default: ./flexbed-out)")
     add_solver_args(parser)
     parser.add_argument("--force", action="store_true", help="recompute the modes file")

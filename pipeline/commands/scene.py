@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from flexbed.commands.arguments import file_name
 from flexbed.files.destination import write_text
 from flexbed.errors import InputError
 from flexbed.files.builtin import builtin_scene_text
@@ -13,7 +14,7 @@ from flexbed.files.builtin import builtin_scene_text
 
 def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = "Print the built-in reference scene (Lee, Kim & Jeong 1999) as TOML."
-    parser.add_argument("-o", "--output", default=None, metavar="FILE",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="FILE",
                         help="write it to FILE, with [scene] name = FILE's stem, instead of "
                              "printing it (refuses to overwrite)")
 

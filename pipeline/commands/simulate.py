@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.commands.arguments import add_scene_arg
+from flexbed.commands.arguments import add_scene_arg, number, file_name
 from flexbed.dynamics.integrate import METHODS
 from flexbed.dynamics.statics import Equilibrium
 
@@ -34,22 +34,22 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Simulate the mount system from its static equilibrium (default) or "
                           "its initial positions, and write the results file (HDF5).")
     add_scene_arg(parser)
-    parser.add_argument("-o", "--output", default=None, metavar="FILE",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="FILE",
                         help="results file (default: <scene file stem>-results.h5)")
     parser.add_argument("--integrator", choices=METHODS, default=None,
                         help="time integrator; auto: radau where dop853 would be "
                              "stability-bound, else dop853 (default: the scene's)")
-    parser.add_argument("--dt", type=float, default=None, metavar="DT", help="rk4 step [s]")
-    parser.add_argument("--rtol", type=float, default=None, metavar="R",
+    parser.add_argument("--dt", type=number, default=None, metavar="DT", help="rk4 step [s]")
+    parser.add_argument("--rtol", type=number, default=None, metavar="R",
                         help="relative tolerance (adaptive methods)")
-    parser.add_argument("--atol", type=float, default=None, metavar="A",
+    parser.add_argument("--atol", type=number, default=None, metavar="A",
                         help="absolute tolerance (adaptive methods)")
     parser.add_argument("--from", dest="start", choices=("equilibrium", "initial"), default=None,
                         help="start from the static equilibrium or the scene's positions, "
                              "with the scene's velocities either way")
-    parser.add_argument("--t-end", type=float, default=None, metavar="T",
+    parser.add_argument("--t-end", type=number, default=None, metavar="T",
                         help="end time [s] (default: the scene's [solver] t_end)")
-    parser.add_argument("--output-dt", type=float, default=None, metavar="DT",
+    parser.add_argument("--output-dt", type=number, default=None, metavar="DT",
                         help="spacing of stored samples [s] (default: the scene's [solver] "
                              "output_dt)")
     parser.add_argument("--equilibrium", default=None, metavar="FILE",
@@ -58,7 +58,7 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                         help="nonlinear integration, the linear fast path about the static "
                              "equilibrium, or auto: linear when its estimated error is below "
                              "--linear-tol (default: the scene's [solver] model)")
-    parser.add_argument("--linear-tol", type=float, default=None, metavar="M",
+    parser.add_argument("--linear-tol", type=number, default=None, metavar="M",
                         help="position error [m] below which --model auto keeps the linear "
                              "model (default: the scene's [solver] linear_tol)")
     parser.add_argument("--no-progress", action="store_true", help="no progress line on stderr")

@@ -15,11 +15,12 @@ import argparse
 import sys
 from pathlib import Path
 
+from flexbed.commands.arguments import number, output_folder, unused_modes_file
 from flexbed.analyses.points import Run, parse_point
 from flexbed.analyses.shock import G, SCHEMA, VERSION, spectra, spectra_datasets, \
     spectrum_csv, summary
 from flexbed.errors import InputError
-from flexbed.files.destination import write_text
+from flexbed.files.destination import check_destination, write_text
 
 
 def add_args(parser: argparse.ArgumentParser) -> None:
@@ -31,11 +32,11 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--point", action="append", default=[], metavar="NAME=BODY:x,y,z",
                         help="a point in a body's frame [m] (repeatable); default: the "
                              "scene's [[point]] tables")
-    parser.add_argument("--q", type=float, default=10.0,
+    parser.add_argument("--q", type=number, default=10.0,
                         help="quality factor Q = 1/(2 zeta) of the oscillators (default 10)")
-    parser.add_argument("--fmin", type=float, default=1.0,
+    parser.add_argument("--fmin", type=number, default=1.0,
                         help="lowest natural frequency [Hz] (default 1)")
-    parser.add_argument("--fmax", type=float, default=None,
+    parser.add_argument("--fmax", type=number, default=None,
                         help="highest natural frequency [Hz] (default a tenth of the sampling "
                              "rate; at most a quarter)")
     parser.add_argument("--per-octave", type=int, default=12,
@@ -58,8 +59,13 @@ def _file_name(name: str) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    output_folder("--csv", args.csv)
+    output_folder("--plot", args.plot)
+    if args.hdf5:
+        check_destination(Path(args.hdf5))
     points = [parse_point(text) for text in args.point]
     r = Run(args.results, modes_file=args.modes_file)
+    unused_modes_file(r, args.modes_file)
     if r.incomplete:
         print(f"note: {r.path} holds an incomplete run ({r.incomplete})", file=sys.stderr)
     if not points:

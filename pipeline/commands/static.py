@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbed.commands.arguments import add_scene_arg
+from flexbed.commands.arguments import add_scene_arg, number, file_name
 from flexbed.dynamics.rotation import angles_from_p
 from flexbed.dynamics.statics import solve_statics
 from flexbed.dynamics.system import System
@@ -38,10 +38,10 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.description = ("Static equilibrium of the mount system by Newton–Raphson "
                           "(base held), printed as the paper's Table 2 and written to a file.")
     add_scene_arg(parser)
-    parser.add_argument("-o", "--output", default=None, metavar="FILE",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="FILE",
                         help="equilibrium file to write "
                              "(default: <scene file stem>-equilibrium.h5)")
-    parser.add_argument("--tol", type=float, default=None, metavar="TOL",
+    parser.add_argument("--tol", type=number, default=None, metavar="TOL",
                         help="Newton–Raphson tolerance (default: the scene's static_tol)")
     add_modes_file_arg(parser)
     parser.add_argument("--allow-unstable", action="store_true",

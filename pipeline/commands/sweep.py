@@ -10,6 +10,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from flexbed.commands.arguments import count, file_name
+from flexbed.files.table_reader import MAX_BATCH, MAX_WORKERS
 from flexbed.errors import InputError
 
 __all__ = ["add_args", "run"]
@@ -20,15 +22,15 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "path in the scene, sampling, analyses, metrics) on a Dask cluster "
                           "and write one table with a row per point, and plots.")
     parser.add_argument("study", help="study file (TOML)")
-    parser.add_argument("-o", "--output", default=None, metavar="DIR",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="DIR",
                         help="output folder (default: <study file stem>-study); a re-run "
                              "into the same folder skips the points done")
     parser.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
                         help="run on this existing Dask cluster (default: a local cluster of "
                              "processes, started and stopped here)")
-    parser.add_argument("--workers", type=int, default=None, metavar="N",
+    parser.add_argument("--workers", type=count(MAX_WORKERS), default=None, metavar="N",
                         help="workers of the local cluster (default: one per core)")
-    parser.add_argument("--batch", type=int, default=None, metavar="N",
+    parser.add_argument("--batch", type=count(MAX_BATCH), default=None, metavar="N",
                         help="points per Dask task (default: the study's [study] batch, else "
                              "chosen from the numbers of points and workers: large batches "
                              "first, at most 16, single points last)")
@@ -46,10 +48,6 @@ def run(args: argparse.Namespace) -> int:
     from flexbed.study.spec import read_study
     from flexbed.study.table import check_folder
 
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers = {args.workers} must be >= 1")
-    if args.batch is not None and args.batch < 1:
-        raise InputError(f"--batch = {args.batch} must be >= 1")
     if args.workers is not None and args.scheduler is not None:
         raise InputError("--workers sizes the local cluster; with --scheduler the cluster's "
                          "own workers run the study")

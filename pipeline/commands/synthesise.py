@@ -16,6 +16,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from flexbed.commands.arguments import number, file_name
+
 __all__ = ["add_args", "run", "MAX_SAMPLES"]
 
 #: the longest record written (samples): 1/f_lo of residual at 20 samples per
@@ -28,13 +30,13 @@ def add_args(parser: argparse.ArgumentParser) -> None:
                           "iterated), written as curve data usable as a drive.")
     parser.add_argument("spectrum", metavar="SPECTRUM", help="design spectrum file (TOML)")
     parser.add_argument("--axis", default="z", help="the spectrum's axis: x, y or z (default z)")
-    parser.add_argument("--band", type=float, nargs=2, default=None, metavar=("LO", "HI"),
+    parser.add_argument("--band", type=number, nargs=2, default=None, metavar=("LO", "HI"),
                         help="frequencies to match [Hz] (default: the axis's first and last "
                              "breakpoints)")
-    parser.add_argument("--tolerance", type=float, default=1.5, metavar="DB",
+    parser.add_argument("--tolerance", type=number, default=1.5, metavar="DB",
                         help="match required at every check frequency [dB] (default 1.5)")
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    parser.add_argument("-o", "--output", default=None, metavar="PREFIX",
+    parser.add_argument("-o", "--output", type=file_name, default=None, metavar="PREFIX",
                         help="prefix of the files written (default: <spectrum stem>-<axis>)")
     parser.add_argument("--no-plots", action="store_true", help="write no PNG")
 
@@ -71,10 +73,13 @@ def run(args: argparse.Namespace) -> int:
 
     from flexbed.dynamics.pulses import STANDARD_GRAVITY
     from flexbed.dynamics.spectrum_synthesis import synthesise
-    from flexbed.errors import NumericalError
+    from flexbed.errors import InputError, NumericalError
     from flexbed.files.destination import check_destination, write_text
     from flexbed.files.spectrum import read_spectrum
+    from flexbed.files.table_reader import MAX_SEED
 
+    if not 0 <= args.seed <= MAX_SEED:
+        raise InputError(f"--seed {args.seed}: from 0 to {MAX_SEED:,}")
     spectrum = read_spectrum(args.spectrum)
     spec, lo, hi = check_request(spectrum, args.axis, args.band, args.tolerance)
     prefix = args.output or f"{spectrum.source.stem}-{args.axis}"

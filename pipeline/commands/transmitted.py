@@ -13,10 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbed.commands.arguments import number, output_folder
 from flexbed.analyses.transmitted import (db, insertion_loss, spectrum, third_octaves,
                                           transmitted_force)
 from flexbed.errors import InputError
-from flexbed.files.destination import write_text
+from flexbed.files.destination import check_destination, write_text
 from flexbed.files.results import read_results
 
 
@@ -28,10 +29,10 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--reference", default=None, metavar="RESULTS",
                         help="the reference design's results file (rigid bed, machinery "
                              "mounted directly): insertion loss = its level − this one's")
-    parser.add_argument("--from", dest="start", type=float, default=None, metavar="T",
+    parser.add_argument("--from", dest="start", type=number, default=None, metavar="T",
                         help="analyse from T [s] on (skip the transient; default: the "
                              "second half of the run)")
-    parser.add_argument("--fmax", type=float, default=None, metavar="F",
+    parser.add_argument("--fmax", type=number, default=None, metavar="F",
                         help="highest third-octave band [Hz] (default: the Nyquist "
                              "frequency)")
     parser.add_argument("--csv", default=None, metavar="DIR",
@@ -47,13 +48,17 @@ def _analyse(path: str, start: float | None, fmax: float | None):
     start = 0.5 * (t[0] + t[-1]) if start is None else start
     if not (math.isfinite(start) and t[0] <= start < t[-1]):
         raise InputError(f"--from {start:g}: must lie in the run, {t[0]:g} to {t[-1]:g} s")
-    if fmax is not None and not (math.isfinite(fmax) and fmax > 0):
-        raise InputError(f"--fmax {fmax:g}: must be > 0 Hz")
+    if fmax is not None and not (math.isfinite(fmax) and fmax >= 1.0):
+        raise InputError(f"--fmax {fmax:g}: must be at least 1 Hz (the lowest third-octave "
+                         f"band's)")
     sp = spectrum(t, tf.total, start)
     return tf, sp, third_octaves(sp, 1.0, fmax), start
 
 
 def run(args: argparse.Namespace) -> int:
+    output_folder("--csv", args.csv)
+    if args.plot:
+        check_destination(Path(args.plot))
     tf, sp, bands, start = _analyse(args.results, args.start, args.fmax)
     ref = None
     if args.reference is not None:

@@ -28,6 +28,10 @@ _STIFFENER_KEYS = ("name", "start", "end", "section", "side", "offset", "height"
                    "flange_width", "flange", "area", "Iy", "Iz", "J", "model", "shear_area")
 _MASS_KEYS = ("name", "position", "mass", "inertia")
 _REGION_KEYS = ("shape", "centre", "size", "radius", "points")
+#: the keys each shape of a cut-out or zone takes, all required (a centre is
+#: never defaulted to the origin, a key of another shape never ignored)
+_SHAPE_KEYS = {"rectangle": ("centre", "size"), "circle": ("centre", "radius"),
+               "polygon": ("points",)}
 
 
 def _in_range(value, where: str, key: str) -> None:
@@ -62,6 +66,15 @@ def _region(t, where: str) -> Region:
     if "shape" not in t:
         raise InputError(f"{where}: 'shape' is required (\"rectangle\", \"circle\" or "
                          f"\"polygon\")")
+    keys = _SHAPE_KEYS.get(t["shape"]) if isinstance(t["shape"], str) else None
+    for key in keys or ():
+        if key not in t:
+            raise InputError(f"{where}: '{key}' is required for a {t['shape']} (its keys: "
+                             f"{', '.join(keys)})")
+    for key in t:
+        if keys is not None and key not in keys + ("shape", "thickness"):
+            raise InputError(f"{where}: '{key}' does not apply to a {t['shape']} (its keys: "
+                             f"{', '.join(keys)})")
     args = {k: t[k] for k in _REGION_KEYS if k in t}
     for k in ("centre", "size"):
         if k in args and isinstance(args[k], list):
@@ -209,7 +222,11 @@ def read_geometry(table: dict, where: str, folder: Path | None) -> BedGeometry |
         path = Path(mesh_file)
         if folder is not None and not path.is_absolute():
             path = folder / path
-        mesh_file = str(path.resolve())
+        try:
+            mesh_file = str(path.resolve())
+        except (OSError, RuntimeError) as exc:        # a loop of symbolic links
+            raise InputError(f"{where}: mesh_file = {table['mesh_file']!r}: cannot read it "
+                             f"({getattr(exc, 'strerror', None) or exc})") from None
     try:
         return BedGeometry(outline=table.get("outline"), cutouts=cutouts, zones=tuple(zs),
                            element_size=table.get("element_size"), mesh_file=mesh_file)

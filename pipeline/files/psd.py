@@ -29,6 +29,8 @@ import numpy as np
 
 from flexbed.dynamics.frequency.random import loglog_interpolate
 from flexbed.errors import InputError
+from flexbed.files.destination import check_source
+from flexbed.files.table_reader import FREQUENCY_LIMITS, LARGEST, SMALLEST, out_of_range
 
 __all__ = ["BasePSD", "load_psd", "psd_from_tables", "G0"]
 
@@ -114,9 +116,16 @@ def _table(rows, where: str) -> tuple[np.ndarray, np.ndarray]:
         if not (np.isfinite(f[i]) and f[i] > 0.0):
             raise InputError(f"{where} row {i + 1}: frequency {f[i]:g} Hz must be finite "
                              f"and > 0")
+        if not FREQUENCY_LIMITS[0] <= f[i] <= FREQUENCY_LIMITS[1]:
+            raise InputError(f"{where} row {i + 1}: frequency {f[i]:g} Hz is outside "
+                             f"{FREQUENCY_LIMITS[0]:g} – {FREQUENCY_LIMITS[1]:g} Hz, where "
+                             f"responses are computed")
         if not (np.isfinite(w[i]) and w[i] >= 0.0):
             raise InputError(f"{where} row {i + 1}: level {w[i]:g} g²/Hz must be finite and "
                              f">= 0")
+        if out_of_range(w[i]):
+            raise InputError(f"{where} row {i + 1}: level {w[i]:g} g²/Hz is out of range "
+                             f"(magnitudes from {SMALLEST:g} to {LARGEST:g}, or 0)")
         if i and not f[i] > f[i - 1]:
             raise InputError(f"{where} row {i + 1}: frequency {f[i]:g} Hz must be above the "
                              f"previous row's {f[i - 1]:g} Hz (increasing frequencies)")
@@ -145,6 +154,8 @@ def psd_from_tables(tables: dict, coherence: dict | None = None, source: str = "
             raise InputError(f"{source}: [coherence] {key!r}: expected a pair of different "
                              f"axes such as 'xz'")
         try:
+            if isinstance(value, (list, tuple)) and len(value) != 2:
+                raise ValueError(value)
             g = complex(*value) if isinstance(value, (list, tuple)) else complex(value)
         except (TypeError, ValueError):
             raise InputError(f"{source}: [coherence] {key} = {value!r} must be a number or "
@@ -165,11 +176,11 @@ def psd_from_tables(tables: dict, coherence: dict | None = None, source: str = "
 def load_psd(path: str | Path) -> BasePSD:
     """Read a PSD file (TOML or CSV, module docstring); InputError naming
     the file, the entry and the value when it cannot be used."""
-    path = Path(path)
+    path = check_source(path, "PSD file")
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"--psd {path}: cannot read it ({exc.__class__.__name__}: "
+        raise InputError(f"{path}: cannot read the PSD file ({exc.__class__.__name__}: "
                          f"{getattr(exc, 'strerror', None) or exc})") from None
     if path.suffix.lower() == ".csv":
         return _csv(text, path.name)

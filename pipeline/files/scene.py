@@ -42,6 +42,7 @@ from flexbed.files.elastomer import ELASTOMER_KEYS, read_elastomer, report_fits
 from flexbed.files.limits import (BODY_LIMIT_KEYS, JUDGED_ONLY_KEYS, MOUNT_LIMIT_KEYS, Limits,
                                   read_limits)
 from flexbed.files.sanity import warn_far_points
+from flexbed.files.table_reader import short_repr
 
 __all__ = ["SceneFile", "SolverSection", "PointOfInterest", "load_scene", "parse_scene",
            "scene_data", "read_solver", "builtin_scene_path", "builtin_scene_text", "BUILTIN"]
@@ -141,6 +142,9 @@ class SceneFile:
 
 def load_scene(path: str | Path | None = None) -> SceneFile:
     """Read and check a scene file (the built-in reference scene if path is None)."""
+    if not (path is None or isinstance(path, (str, Path))) or path == "":
+        raise InputError(f"flexbed.load_scene: path = {short_repr(path)} must be a scene "
+                         f"file's name (str or pathlib.Path), or None for the built-in scene")
     path = builtin_scene_path() if path is None else check_source(path, "scene file")
     try:
         raw = path.read_bytes()

@@ -35,6 +35,7 @@ import numpy as np
 from flexbed.dynamics.design_spectrum import DesignSpectrum, tripartite
 from flexbed.dynamics.pulses import STANDARD_GRAVITY
 from flexbed.errors import InputError
+from flexbed.files.destination import check_source
 from flexbed.files.table_reader import TableReader
 
 __all__ = ["SpectrumFile", "read_spectrum", "parse_spectrum", "AXES", "SPECTRUM_UNITS"]
@@ -71,7 +72,7 @@ class SpectrumFile:
 
 def read_spectrum(path: str | Path) -> SpectrumFile:
     """Read and check a design spectrum file (InputError on any fault)."""
-    p = Path(path)
+    p = check_source(path, "spectrum file")
     try:
         text = p.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
@@ -155,7 +156,7 @@ def check_damping(spectrum: SpectrumFile, damping) -> float:
     must be the spectrum's (to 1e-9), else InputError."""
     if damping is None:
         return spectrum.damping
-    if abs(float(damping) - spectrum.damping) > 1e-9 * max(1.0, spectrum.damping):
+    if not abs(float(damping) - spectrum.damping) <= 1e-9 * max(1.0, spectrum.damping):
         raise InputError(f"{spectrum.source.name}: damping = {damping!r} asked, but the "
                          f"spectrum is given for damping = {spectrum.damping!r}: give a "
                          f"spectrum for that damping")

@@ -12,7 +12,8 @@ from typing import Any, NoReturn
 from flexbed.errors import InputError
 
 __all__ = ["TableReader", "is_number", "is_finite_number", "LARGEST", "SMALLEST", "out_of_range",
-           "short_repr"]
+           "short_repr", "MAX_WORKERS", "MAX_BATCH", "FREQUENCY_LIMITS",
+           "MAX_SEED"]
 
 #: the largest magnitude a number in a scene may have: products of three
 #: such numbers (a mass, an acceleration, a length) stay inside double
@@ -22,6 +23,20 @@ LARGEST = 1e100
 #: the smallest non-zero magnitude: its reciprocal stays below LARGEST, and
 #: subnormal numbers (5e-324) are refused instead of vanishing in a product
 SMALLEST = 1e-100
+#: [Hz] the frequencies a response may be asked at, and a PSD given at:
+#: below 1 µHz a period is 11 days, above 10 MHz no mount model means
+#: anything, and outside these the dynamic stiffness's terms (ω² M against
+#: K) differ by more than the doubles can hold
+FREQUENCY_LIMITS = (1e-6, 1e7)
+#: the most workers a local Dask cluster is started with (``--workers``,
+#: ``workers=``): far past any machine's cores, short of the thousands of
+#: processes that would hang the start
+MAX_WORKERS = 1024
+#: the most points one Dask task takes (``--batch``, ``batch=``)
+MAX_BATCH = 10_000
+#: the largest random seed (``--seed``, ``seed=``; NumPy's take non-negative
+#: integers)
+MAX_SEED = 2 ** 63 - 1
 
 
 def out_of_range(v: float) -> bool:

@@ -17,6 +17,7 @@ from typing import Any, Mapping
 
 from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile, parse_scene, scene_data
+from flexbed.files.table_reader import short_repr
 from flexbed.files.toml_text import dumps
 
 __all__ = ["vary", "split_path"]
@@ -116,6 +117,7 @@ def vary(scene: SceneFile, changes: Mapping[str, Any], *, name: str | None = Non
         A path that names nothing, or a value the scene file refuses; the
         message names the path and the entry.
     """
+    _check_call(scene, changes, name)
     data = scene_data(scene.text)
     for path, value in changes.items():
         _set(data, path, _plain(value))
@@ -124,3 +126,21 @@ def vary(scene: SceneFile, changes: Mapping[str, Any], *, name: str | None = Non
     elif "name" not in data.get("scene", {}):
         data.setdefault("scene", {})["name"] = scene.scene.name
     return parse_scene(dumps(data), scene.source, data=data)
+
+
+def _check_call(scene: Any, changes: Any, name: Any) -> None:
+    """The arguments' types, refused in the API's one line (as
+    :class:`flexbed.api.arguments.Arguments` words them)."""
+    def bad(key: str, value: Any, expected: str):
+        raise InputError(f"flexbed.vary: {key} = {short_repr(value)} must be {expected}")
+    if not isinstance(scene, SceneFile):
+        bad("scene", scene, "a scene from flexbed.load_scene or flexbed.vary")
+    if not isinstance(changes, Mapping):
+        bad("changes", changes, "a mapping of scene paths to values, "
+                                "e.g. {'bed.thickness': 0.12}")
+    for path in changes:
+        if not isinstance(path, str):
+            bad("changes", changes, "keyed by scene paths (strings such as 'bed.thickness'), "
+                                    f"not {short_repr(path)}")
+    if name is not None and not isinstance(name, str):
+        bad("name", name, "a string, or None")

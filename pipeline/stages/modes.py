@@ -110,7 +110,10 @@ def compute_modes(sf: SceneFile, *, n_modes: int | None = None,
         if bed.modes.omega.size < extra:
             bed = compute_bed_modes(spec, n_modes=extra)
     except ModesError as exc:
-        raise InputError(f"{sf.source.name}: bed: {exc}") from None
+        text = str(exc)
+        if extra and extra != n_modes and text.startswith(f"modes = {extra}:"):
+            text = "correction_modes" + text[len("modes"):]     # the entry that asked for them
+        raise InputError(f"{sf.source.name}: bed: {text}") from None
     if bed.accuracy is None:
         bed = replace(bed, accuracy=given_mesh_accuracy(bed))
     return bed
