@@ -172,3 +172,32 @@ def test_ctrl_c_on_the_local_cluster_is_one_line(tmp_path):
     assert lines and lines[-1].startswith("flexbed sweep: interrupted"), err
     for bad in ("Traceback", "KeyboardInterrupt", "WARNING", "distributed."):
         assert bad not in err, err
+
+
+@pytest.mark.slow
+def test_ctrl_c_while_the_local_cluster_starts_is_one_line(tmp_path):
+    """SIGINT to the whole process group while the local cluster is still
+    starting: exit 130 and flexbed's one line, the cluster closed (no
+    "Exception ignored in atexit callback", no failed start's traceback
+    from this process). Workers whose interpreters are themselves still
+    starting may print Python's own KeyboardInterrupt: they are separate
+    programs, not yet flexbed's."""
+    path = tmp_path / "st.toml"
+    path.write_text('[study]\nname = "start"\nsampling = "list"\n[[point]]\n'
+                    '"bed.thickness" = 0.1\n[[metric]]\nkind = "max_static_deflection"\n',
+                    encoding="utf-8")
+    p = subprocess.Popen([sys.executable, "-m", "flexbed.cli", "sweep", str(path), "-o",
+                          str(tmp_path / "out"), "--no-plots", "--workers", "2",
+                          "--no-progress"],
+                         cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         start_new_session=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    first = p.stdout.readline()                   # the plan is said, then the cluster starts
+    assert first.startswith("study 'start'"), first
+    time.sleep(0.3)
+    os.killpg(p.pid, signal.SIGINT)
+    _, err = p.communicate(timeout=120)
+    assert p.returncode == 130, err
+    assert err.splitlines()[-1] == "flexbed sweep: interrupted (SIGINT)", err
+    for bad in ("Exception ignored", "AssertionError", "RuntimeError", "failed to start",
+                "/flexbed/", "/pipeline/"):
+        assert bad not in err, err

@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import logging
 import os
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from typing import Iterator
 
 from flexbed.errors import InputError
 from flexbed.files.scene import SceneFile
+from flexbed.interrupts import Interrupted, held
 from flexbed.threads import thread_count
 
 __all__ = ["cluster_client", "worker_environment", "LOCAL_CONFIG"]
@@ -104,10 +105,24 @@ def cluster_client(scheduler=None, workers: int | None = None,
     n = workers or os.cpu_count() or 1
     if n < 1:
         raise InputError(f"--workers = {n!r} must be >= 1")
-    with dask.config.set(LOCAL_CONFIG), \
-            LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                         dashboard_address=":0", env=worker_environment(),
-                         silence_logs=logging.CRITICAL) as cluster, \
-            Client(cluster) as client:
+    with dask.config.set(LOCAL_CONFIG), ExitStack() as stack:
+        # a cluster interrupted half-started cannot be closed (distributed's
+        # exit hook then fails on it with a traceback): a SIGINT or SIGTERM
+        # waits for the start, then closes the cluster as any interrupt does
+        # (a Ctrl-C at a terminal also reaches the workers starting: a start
+        # that then fails was interrupted)
+        pending: list = []
+        try:
+            with held() as pending:
+                cluster = stack.enter_context(
+                    LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                 dashboard_address=":0", env=worker_environment(),
+                                 silence_logs=logging.CRITICAL))
+                client = stack.enter_context(Client(cluster))
+        except Exception:
+            if not pending:
+                raise
+        if pending:
+            raise Interrupted(pending[0])
         client.register_plugin(Quiet())
         yield ready(client)
