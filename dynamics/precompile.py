@@ -19,11 +19,14 @@ into place (``numba.core.caching``), so a reader sees a whole file or none;
 a child that fails or is stopped leaves at worst a function this process
 compiles itself later, as it would have anyway.
 
-Signals: the child leaves quietly on SIGINT or SIGTERM (exit 130 or 143,
-nothing printed; numba removes a cache file it was writing). If this
-process is interrupted while it compiles or waits, it stops the child
-(SIGTERM, then SIGKILL after :data:`STOP_WAIT` seconds) and waits for it
-before the interrupt goes on, so no process is left behind.
+Signals: the child ends at once on SIGINT or SIGTERM (their default
+action: nothing printed; a cache file it was writing stays a temporary
+one that numba never reads). If this process is interrupted while it
+compiles or waits, it stops the child (SIGTERM, then SIGKILL after
+:data:`STOP_WAIT` seconds) and waits for it before the interrupt goes
+on, so no process is left behind. Python acts on a signal between two
+bytecodes: inside numba's LLVM stage that can be seconds later, for this
+process as for any first run.
 
 Run as ``python -m flexbed.dynamics.precompile`` it is the child: it
 compiles the right-hand side and exits (0, or 1 if compiling failed).
@@ -161,13 +164,12 @@ def compile_in_parallel(methods=tuple(STEPPERS), log=lambda m: None) -> float:
     return time.perf_counter() - t0
 
 
-def _leave(signum, frame):
-    raise SystemExit(128 + signum)
-
-
 def _child() -> int:
+    # stopped at once, even inside LLVM (where a Python handler would wait):
+    # nothing of the child's is worth finishing, and numba's files are only
+    # ever whole (renamed into place) or absent
     for s in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(s, _leave)
+        signal.signal(s, signal.SIG_DFL)
     try:
         rhs_function()
     except Exception:   # noqa: BLE001 - the parent compiles it then
