@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 import numba
+import numpy as np
 import pytest
 from numba.core.ccallback import CFunc
 from numba.core.dispatcher import Dispatcher
@@ -188,3 +189,22 @@ def test_a_first_run_stopped_while_it_compiles_leaves_nothing_behind(tmp_path, s
         with open(index, "rb") as f:
             pickle.load(f)
             pickle.loads(f.read())
+
+
+def test_few_distinct_ranks_as_numpys_unique():
+    """The linear path's few_distinct ranks its values by counting (numba's
+    sort is not compiled for it): the same ranks, first indices and count as
+    np.unique, and −1 past ``most``."""
+    from flexbed.dynamics.linear.sweep import few_distinct
+    rng = np.random.default_rng(7)
+    for _ in range(100):
+        pool = rng.random(int(rng.integers(1, 40))) * 10.0 ** rng.integers(-6, 1)
+        keys = rng.choice(pool, int(rng.integers(1, 80)))
+        which, first = np.empty(keys.size, dtype=np.int64), np.empty(32, dtype=np.int64)
+        m = few_distinct(keys, which, first, 32)
+        values, index, inverse = np.unique(keys, return_index=True, return_inverse=True)
+        if values.size > 32:
+            assert m == -1
+            continue
+        assert m == values.size
+        assert np.array_equal(which, inverse) and np.array_equal(first[:m], index)
