@@ -208,3 +208,25 @@ def test_few_distinct_ranks_as_numpys_unique():
             continue
         assert m == values.size
         assert np.array_equal(which, inverse) and np.array_equal(first[:m], index)
+
+
+def test_the_quick_report_leaves_out_the_linear_path_and_says_so(tmp_path, monkeypatch):
+    """A first quick report compiles no linear path: ``bench --quick`` runs
+    every section but "linear" (its header names the command that runs it);
+    the target ``linear`` still runs it quick."""
+    from flexbed.bench import report
+
+    ran = []
+    monkeypatch.setattr(report, "SECTIONS", [
+        report.Section(name, lambda ctx, name=name: ran.append(name) or f"## {name}\n")
+        for name in ("rhs", "linear", "verdict")])
+    text = report.write_report(tmp_path, quick=True).path.read_text()
+    assert ran == ["rhs", "verdict"]
+    assert "- sections: rhs, verdict (left out of the quick report: linear; " \
+           "`flexbed bench linear --quick`)" in text
+    ran.clear()
+    report.write_report(tmp_path, quick=True, sections=["linear"])
+    assert ran == ["linear"]
+    ran.clear()
+    report.write_report(tmp_path, quick=False)
+    assert ran == ["rhs", "linear", "verdict"]

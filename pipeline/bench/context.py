@@ -39,8 +39,11 @@ class Profile:
 
 FULL = Profile("full", ("rigid", "flexible", "damped"), reference_dt=5e-5, budget=15.0,
                rhs_seconds=0.5)
+#: the quick report leaves out the linear fast path (``flexbed bench linear
+#: --quick`` runs it): compiling it would double a fresh install's first
+#: quick report (docs/first-run.md)
 QUICK = Profile("quick", ("rigid", "flexible"), reference_dt=1.25e-4, budget=3.0,
-                rhs_seconds=0.05)
+                rhs_seconds=0.05, left_out=("linear",))
 
 
 @dataclass
