@@ -3,12 +3,17 @@
 and a changed stamp flushes the cache of all of them."""
 
 import importlib
+import os
+import pickle
 import pkgutil
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numba
+import numpy as np
 import pytest
 from numba.core.ccallback import CFunc
 from numba.core.dispatcher import Dispatcher
@@ -93,7 +98,9 @@ import flexbed
 from flexbed.bench.cases import CASES, ModesStore, build_case
 from flexbed.dynamics.integrate import Settings
 from flexbed.dynamics.linear.run import run_linear
+from flexbed.dynamics.precompile import compile_callers
 
+compile_callers()              # the first run's steppers, compiled without the right-hand side
 sf = flexbed.load_scene()
 store = ModesStore(sf, Path(tempfile.mkdtemp()))
 for key in ("rigid", "damped"):
@@ -118,8 +125,11 @@ print("checked")
 
 @pytest.mark.slow
 def test_each_compiled_function_is_compiled_for_one_signature(tmp_path):
-    """The rigid and the damped flexible reference cases, every stepper, the
-    flexible bed's Python side and the linear path, in a fresh interpreter:
+    """The steppers compiled as a first run compiles them beside the
+    right-hand side (flexbed.dynamics.precompile, with a stand-in for its
+    pointer), then the rigid and the damped flexible reference cases, every
+    stepper, the flexible bed's Python side and the linear path, in a fresh
+    interpreter:
     each compiled function of flexbed.dynamics ends with one signature (a
     second one — a read-only array, a literal int, another layout — is a
     second compilation of the same code on a first run)."""
@@ -128,3 +138,95 @@ def test_each_compiled_function_is_compiled_for_one_signature(tmp_path):
     assert out.returncode == 0, out.stderr[-2000:]
     lines = out.stdout.strip().splitlines()
     assert lines[-1] == "checked" and lines[:-1] == [], lines
+
+
+def _children(pid: int) -> list[int]:
+    found = []
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        found += [int(c) for c in (task / "children").read_text().split()]
+    return found
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="reads /proc")
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_first_run_stopped_while_it_compiles_leaves_nothing_behind(tmp_path, signum):
+    """On an empty cache ``flexbed bench`` compiles the right-hand side in a
+    child process (flexbed.dynamics.precompile). Ctrl-C (SIGINT to the whole
+    process group) or a SIGTERM to flexbed alone while both compile: exit
+    128 + signal, one line, no traceback, the child gone, every cache index
+    whole."""
+    cache = tmp_path / "cache"
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    proc = subprocess.Popen(
+        [sys.executable, "-c", "import sys; from flexbed.cli import main; sys.exit(main())",
+         "bench", "rigid", "--quick", "-o", str(tmp_path / "out")],
+        cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        start_new_session=True)
+    try:
+        children, t0 = [], time.monotonic()
+        while not children and time.monotonic() - t0 < 120 and proc.poll() is None:
+            time.sleep(0.2)
+            children = _children(proc.pid)
+        assert children, "no child process was started"
+        time.sleep(1.0)                                  # both compiling
+        if signum == signal.SIGINT:
+            os.killpg(proc.pid, signum)                  # as the terminal's Ctrl-C does
+        else:
+            proc.send_signal(signum)
+        _, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    assert proc.returncode == 128 + signum, err
+    assert "Traceback" not in err, err
+    assert err.strip().splitlines()[-1] == \
+        f"flexbed bench: interrupted ({signal.Signals(signum).name})", err
+    for child in children:
+        assert not Path(f"/proc/{child}").exists(), f"process {child} left running"
+    for index in cache.rglob("*.nbi"):               # numba's indexes: whole, never torn
+        with open(index, "rb") as f:
+            pickle.load(f)
+            pickle.loads(f.read())
+
+
+def test_few_distinct_ranks_as_numpys_unique():
+    """The linear path's few_distinct ranks its values by counting (numba's
+    sort is not compiled for it): the same ranks, first indices and count as
+    np.unique, and −1 past ``most``."""
+    from flexbed.dynamics.linear.sweep import few_distinct
+    rng = np.random.default_rng(7)
+    for _ in range(100):
+        pool = rng.random(int(rng.integers(1, 40))) * 10.0 ** rng.integers(-6, 1)
+        keys = rng.choice(pool, int(rng.integers(1, 80)))
+        which, first = np.empty(keys.size, dtype=np.int64), np.empty(32, dtype=np.int64)
+        m = few_distinct(keys, which, first, 32)
+        values, index, inverse = np.unique(keys, return_index=True, return_inverse=True)
+        if values.size > 32:
+            assert m == -1
+            continue
+        assert m == values.size
+        assert np.array_equal(which, inverse) and np.array_equal(first[:m], index)
+
+
+def test_the_quick_report_leaves_out_the_linear_path_and_says_so(tmp_path, monkeypatch):
+    """A first quick report compiles no linear path: ``bench --quick`` runs
+    every section but "linear" (its header names the command that runs it);
+    the target ``linear`` still runs it quick."""
+    from flexbed.bench import report
+
+    ran = []
+    monkeypatch.setattr(report, "SECTIONS", [
+        report.Section(name, lambda ctx, name=name: ran.append(name) or f"## {name}\n")
+        for name in ("rhs", "linear", "verdict")])
+    text = report.write_report(tmp_path, quick=True).path.read_text()
+    assert ran == ["rhs", "verdict"]
+    assert "- sections: rhs, verdict (left out of the quick report: linear; " \
+           "`flexbed bench linear --quick`)" in text
+    ran.clear()
+    report.write_report(tmp_path, quick=True, sections=["linear"])
+    assert ran == ["linear"]
+    ran.clear()
+    report.write_report(tmp_path, quick=False)
+    assert ran == ["rhs", "linear", "verdict"]

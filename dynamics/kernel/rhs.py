@@ -41,7 +41,7 @@ from .inputs import input_value
 from .mount_laws import law_force
 from .storage import HEADER, view1 as _v1, view2 as _v2, view3 as _v3, view4 as _v4, view5 as _v5
 
-__all__ = ["evaluate", "rhs_function", "PROTOTYPE", "evaluate_many"]
+__all__ = ["evaluate", "rhs_function", "rhs_loaded", "PROTOTYPE", "evaluate_many"]
 
 #: ctypes prototype of the compiled right-hand side:
 #: (t [s], seg_end [s], y, dy, F, I) → None, arrays by address.
@@ -881,6 +881,12 @@ def rhs_function():
         c = cfunc(_SIGNATURE, cache=True, error_model="numpy")(evaluate)
         _compiled.append((c, PROTOTYPE(c.address)))
     return _compiled[0][1]
+
+
+def rhs_loaded() -> bool:
+    """Whether this process holds the compiled right-hand side already
+    (:func:`rhs_function` was called)."""
+    return bool(_compiled)
 
 
 @njit(cache=True)

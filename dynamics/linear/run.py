@@ -21,6 +21,7 @@ from ..integrate import Run, Settings, Stats
 from ..system import System
 from .estimate import ErrorEstimate, estimate_error
 from .model import Linearisation, linearise
+from .phi import doubling_tables, phi_double
 from .propagation import propagate_pieces
 
 __all__ = ["LinearRun", "run_linear", "unstable_rate"]
@@ -70,6 +71,8 @@ def _load_compiled(system: System, lin: Linearisation, z0: np.ndarray,
     if h > 0.0:
         tp, Zp, samples = propagate_pieces(lin, z0, h, settings.output_dt)
         estimate_error(system, lin, tp, Zp, samples)
+        # the doublings, which one output step may not need but longer pieces do
+        phi_double(np.eye(1), np.zeros((1, 1, 1)), *doubling_tables(0))
 
 
 def run_linear(system: System, y_eq: np.ndarray, y0: np.ndarray,

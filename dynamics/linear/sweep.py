@@ -201,7 +201,7 @@ def few_distinct(keys, which, first, most):
     which[i] the rank of keys[i] among them (ascending), first[r] the first
     i of rank r; returns how many, or −1 when there are more (a linear scan
     over the few seen so far: the usual case of one or two piece lengths,
-    without sorting k values).
+    without sorting k values). keys are finite.
 
     Parameters
     ----------
@@ -227,11 +227,16 @@ def few_distinct(keys, which, first, most):
             seen[m] = i
             m += 1
         which[i] = j
-    order = np.argsort(vals[:m])
+    # ranks by counting (m ≤ most, a few): the values are distinct, so the
+    # order is argsort's, without compiling numba's sort (4 s on a first run)
     rank = np.empty(m, dtype=np.int64)
-    for r in range(m):
-        rank[order[r]] = r
-        first[r] = seen[order[r]]
+    for a in range(m):
+        r = 0
+        for b in range(m):
+            if vals[b] < vals[a]:
+                r += 1
+        rank[a] = r
+        first[r] = seen[a]
     for i in range(keys.size):
         which[i] = rank[which[i]]
     return m

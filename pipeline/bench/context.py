@@ -8,6 +8,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
+from flexbed.dynamics.precompile import compile_in_parallel
+
 from flexbed.bench.cases import CASES, Case, ModesStore, build_case
 from flexbed.bench.reference import Reference, compute_reference
 from flexbed.files.scene import SceneFile
@@ -22,7 +24,9 @@ class Profile:
     cases : integrator cases (keys of :data:`flexbed.bench.cases.CASES`);
     reference_dt : the reference's largest RK4 step [s]; budget : the
     longest predicted wall time of one setting that is still run [s];
-    rhs_seconds : length of one timing of the right-hand side [s].
+    rhs_seconds : length of one timing of the right-hand side [s];
+    left_out : names of the report's sections it leaves out when no
+    section is asked for.
     """
 
     name: str
@@ -30,12 +34,16 @@ class Profile:
     reference_dt: float
     budget: float
     rhs_seconds: float
+    left_out: tuple = ()
 
 
 FULL = Profile("full", ("rigid", "flexible", "damped"), reference_dt=5e-5, budget=15.0,
                rhs_seconds=0.5)
+#: the quick report leaves out the linear fast path (``flexbed bench linear
+#: --quick`` runs it): compiling it would double a fresh install's first
+#: quick report (docs/first-run.md)
 QUICK = Profile("quick", ("rigid", "flexible"), reference_dt=1.25e-4, budget=3.0,
-                rhs_seconds=0.05)
+                rhs_seconds=0.05, left_out=("linear",))
 
 
 @dataclass
@@ -92,6 +100,11 @@ class BenchContext:
     def case(self, key: str) -> Case:
         """One of :data:`flexbed.bench.cases.CASES`, compiled at its equilibrium."""
         if key not in self._cases:
+            if not self._cases:
+                # a first run: the right-hand side compiles in a second
+                # process while this one compiles the steppers, before
+                # anything is timed (flexbed.dynamics.precompile)
+                compile_in_parallel(log=self.log)
             self._cases[key] = build_case(self.scene, CASES[key], self.modes, self.t_end)
         return self._cases[key]
 

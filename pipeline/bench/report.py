@@ -379,7 +379,14 @@ def _header(ctx: BenchContext, names: list[str], elapsed: float, load: str,
         f"- software: {versions}",
         f"- BLAS: {_blas()}",
         f"- report: {ctx.profile.name}, took {fmt_time(elapsed)} in all",
-        f"- sections: {', '.join(names)}", ""])
+        f"- sections: {', '.join(names)}" + _left_out(ctx, names), ""])
+
+
+def _left_out(ctx: BenchContext, names: list[str]) -> str:
+    gone = [n for n in ctx.profile.left_out if n not in names]
+    return ("" if not gone else
+            f" (left out of the {ctx.profile.name} report: {', '.join(gone)}; "
+            + ", ".join(f"`flexbed bench {n} --{ctx.profile.name}`" for n in gone) + ")")
 
 
 def write_report(out_dir: str | Path, *, scene: str | Path | None = None, quick: bool = False,
@@ -413,7 +420,8 @@ def write_report(out_dir: str | Path, *, scene: str | Path | None = None, quick:
         if unknown:
             raise ValueError(f"unknown case(s) {unknown}; known: {', '.join(CASES)}")
         profile = replace(profile, cases=tuple(cases))
-    chosen = SECTIONS if sections is None else [s for s in SECTIONS if s.name in sections]
+    chosen = ([s for s in SECTIONS if s.name not in profile.left_out] if sections is None else
+              [s for s in SECTIONS if s.name in sections])
     if sections is not None and len(chosen) != len(set(sections)):
         known = ", ".join(s.name for s in SECTIONS)
         raise ValueError(f"unknown section(s) in {sections}; known: {known}")

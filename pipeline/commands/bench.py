@@ -8,7 +8,10 @@ with ``-o docs``. Only the report and the PNGs of this run are written; no
 other file is touched or deleted (a ``bench-*.png`` of an earlier report
 that this one no longer draws is named on stderr and left alone).
 ``--quick``: the cheaper cases, one or two settings per integrator, fewer
-repeats. A target writes a part only, as
+repeats, and without the linear fast path's section (``flexbed bench linear
+--quick`` runs it alone: compiling the linear path would double a fresh
+install's first quick report, docs/first-run.md). A target writes a part
+only, as
 ``DIR/benchmarks-<target>.md``:
 
 - ``modes``: mesh density of the bed-modes stage;
@@ -71,7 +74,8 @@ def add_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scene", nargs="?", default=None,
                         help="scene file (default: the built-in reference scene)")
     parser.add_argument("--quick", action="store_true",
-                        help="cheaper cases, fewer settings and repeats")
+                        help="cheaper cases, fewer settings and repeats; the linear fast "
+                             "path only as the target 'linear'")
     parser.add_argument("-o", "--output", type=file_name, default=DEFAULT_OUTPUT, metavar="DIR",
                         help=f"folder of the report and its PNGs (default: ./{DEFAULT_OUTPUT}; "
                              f"'-o docs' regenerates the project's own report)")

@@ -26,6 +26,7 @@ from flexbed.analyses.summary import modes_csv, summary_markdown
 from flexbed.commands.compare import add_solver_args, compare_scene, with_solver_options
 from flexbed.commands.modes import auto_line, modes_table
 from flexbed.commands.static import equilibrium_csv, equilibrium_table
+from flexbed.dynamics.precompile import compile_in_parallel, likely_steppers
 from flexbed.dynamics.statics import solve_statics
 from flexbed.files.destination import make_folder, write_text
 from flexbed.errors import NumericalError
@@ -79,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     rigid_sf = replace(sf, bed=replace(sf.bed, model="rigid"))
     system = compile_scene(rigid_sf)
+    compile_in_parallel(likely_steppers(sf.solver.integrator))   # a first run (docs/first-run.md)
     eq = solve_statics(system, tol=sf.solver.static_tol)
     if not eq.success:
         raise NumericalError(f"{sf.source.name}: {eq.message}")

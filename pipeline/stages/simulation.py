@@ -10,6 +10,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from flexbed.dynamics.integrate import Settings, output_samples, too_many_steps
+from flexbed.dynamics.precompile import compile_in_parallel, likely_steppers
 from flexbed.dynamics.stability import instability
 from flexbed.dynamics.statics import Equilibrium, solve_statics
 from flexbed.dynamics.system import System
@@ -135,6 +136,8 @@ def simulate_system(sf: SceneFile, system: System, settings: Settings, *, start:
         raise InputError(f"{sf.source.name}: model = 'linear' does not take an elastomer "
                          f"mount's Maxwell states (mount {system.scene.maxwell[0].mount!r}): "
                          f"use 'nonlinear' or 'auto'")
+    # a first run: the right-hand side compiles in a second process beside the stepper
+    compile_in_parallel(likely_steppers(settings.method) if model != "linear" else ())
     if (start == "equilibrium" or model != "nonlinear") and eq is None:
         eq = equilibrium(sf, system, sag=sag)
     y0 = system.initial_state(eq.y if start == "equilibrium" else None)   # + the velocities
