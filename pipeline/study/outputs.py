@@ -8,7 +8,10 @@ displacement needs the bodies' poses, a mount's peak force the mount
 forces. :class:`PointRun` holds the solved motion and evaluates, on first
 use, the right-hand side at the samples once (:meth:`System.rhs_batch`,
 keeping only the bodies' accelerations and the mounts' deflections and
-forces) and the motion of the bodies the asked points need. The numbers
+forces) and the motion of the bodies the asked points need; asked for
+the mount forces and the bodies' poses alone (peaks of mount forces and of
+displacements), the right-hand side only as far as the mount forces
+(:meth:`System.rhs_batch` ``mounts_only``). The numbers
 are those of the results file (the same compiled evaluations, the same
 formulas: :func:`flexbed.dynamics.history.body_motion` and
 :class:`flexbed.analyses.points.Run`'s kinematics).
@@ -38,6 +41,10 @@ __all__ = ["PointRun"]
 #: the kernel's work arrays a point's run keeps: the bodies' motion, and
 #: the mounts' deflections and forces along their axes
 _CAPTURED = MOTION_CAPTURED + ("w_dx", "w_f")
+#: those the right-hand side gives as far as the mount forces
+#: (:meth:`System.rhs_batch` ``mounts_only``): the base's motion, which the
+#: bodies' poses need, and the mounts'
+_MOUNTS = ("w_base", "w_dx", "w_f")
 
 
 class _Frames:
@@ -134,24 +141,37 @@ class PointRun:
     def __getitem__(self, name: str):
         return self._results[name]
 
+    @property
+    def _Y(self) -> np.ndarray:
+        return np.ascontiguousarray(self._run.y, dtype=float).reshape(self.t.size, self.system.ny)
+
     @cached_property
     def _captured(self) -> dict:
-        Y = np.ascontiguousarray(self._run.y, dtype=float).reshape(self.t.size, self.system.ny)
-        return self.system.rhs_batch(self.t, Y, _CAPTURED)[1]
+        """The whole right-hand side at the samples: :data:`_CAPTURED`."""
+        return self.system.rhs_batch(self.t, self._Y, _CAPTURED)[1]
+
+    @cached_property
+    def _mounts(self) -> dict:
+        """:data:`_MOUNTS` at the samples: from :attr:`_captured` if it was
+        evaluated, else from the right-hand side as far as the mount forces
+        (the same numbers, bit for bit; the bodies' equations of motion,
+        which only the accelerations need, not evaluated)."""
+        if "_captured" in self.__dict__:
+            return self._captured
+        return self.system.rhs_batch(self.t, self._Y, _MOUNTS, mounts_only=True)[1]
 
     @property
     def mount_force(self) -> np.ndarray:
-        return self._captured["w_f"]
+        return self._mounts["w_f"]
 
     @property
     def mount_deflection(self) -> np.ndarray:
-        return self._captured["w_dx"]
+        return self._mounts["w_dx"]
 
     @cached_property
     def _kinematics(self) -> _Kinematics:
-        Y = np.ascontiguousarray(self._run.y, dtype=float).reshape(self.t.size, self.system.ny)
         return _Kinematics(self.t, [b.name for b in self.system.scene.bodies],
-                           body_motion(self.system, Y, self._captured))
+                           body_motion(self.system, self._Y, self._captured))
 
     def _in_memory(self, body: str, relative_to: str | None) -> bool:
         """Whether a point on ``body`` (relative to ``relative_to``) is
@@ -190,6 +210,5 @@ class PointRun:
         """The bodies' poses alone (:func:`body_poses`) for :meth:`point_position`."""
         if "_kinematics" in self.__dict__:
             return self._kinematics
-        Y = np.ascontiguousarray(self._run.y, dtype=float).reshape(self.t.size, self.system.ny)
         return _Kinematics(self.t, [b.name for b in self.system.scene.bodies],
-                           body_poses(self.system, Y, self._captured))
+                           body_poses(self.system, self._Y, self._mounts))
