@@ -254,7 +254,7 @@ def kernel_storage(system) -> tuple[tuple[np.ndarray, np.ndarray], Compiled]:
     mode = {"fixed": 0, "driven": 1, "free": 2}[system.base_motion]
     ints = np.array([nb, M, nf, mode, lay.q_rigid.start, lay.v_rigid.start,
                      lay.q_base.start, lay.v_base.start, lay.work.start,
-                     lay.q_modal.start, lay.v_modal.start], dtype=np.int64)
+                     lay.q_modal.start, lay.v_modal.start, 0], dtype=np.int64)
     J = np.zeros((nb, 3, 3))
     J[1:] = system.J
     Jinv = np.zeros((nb, 3, 3))

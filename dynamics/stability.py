@@ -15,7 +15,12 @@ Two paths, the same criterion (an eigenvalue below −RELATIVE_TOL · max|λ|)
 and the same steps of the central differences
 (:func:`flexbed.dynamics.linear.model.difference_steps`):
 
-- up to :data:`DENSE_LIMIT` free coordinates, M⁻¹K from the linearisation
+- up to :data:`DENSE_LIMIT` free coordinates of rigid bodies, when the
+  statics hand over their exact tangent stiffness at rest (the last
+  Newton Jacobian, :attr:`flexbed.dynamics.statics.Equilibrium.jacobian`),
+  M⁻¹K from it (M: m I₃ and J per body) and every eigenvalue (dense): no
+  second linearisation;
+- otherwise up to :data:`DENSE_LIMIT` free coordinates, M⁻¹K from the linearisation
   of the linear model (:func:`flexbed.dynamics.linear.model.linearise`, one
   column at a time) and every eigenvalue (dense);
 - above, M⁻¹K = −M⁻¹Kq from the block linearisation
@@ -81,16 +86,25 @@ class Instability:
                 f"body {self.body!r} in {self.direction}")
 
 
-def instability(system: System, y_eq: np.ndarray,
-                dense_limit: int = DENSE_LIMIT) -> Instability | None:
+def instability(system: System, y_eq: np.ndarray, dense_limit: int = DENSE_LIMIT,
+                jacobian=None) -> Instability | None:
     """The unstable direction of the equilibrium ``y_eq`` (ny,), or None when
     every eigenvalue of M⁻¹K is ≥ 0 (to the linearisation's accuracy).
 
     ``dense_limit``: the most free coordinates answered by the dense path
-    (above it, the sparse path of the module docstring). Elastomer mounts'
-    Maxwell terms are relaxed (the static stiffness k∞ = k:
+    (above it, the sparse path of the module docstring). ``jacobian``: the
+    statics' exact tangent stiffness at ``y_eq``
+    (:attr:`flexbed.dynamics.statics.Equilibrium.jacobian`), which the
+    dense path of a scene of rigid bodies takes as K (−∂(M v̇)/∂q: the
+    same matrix as the linearisation's, to its central differences'
+    accuracy) instead of linearising again. Elastomer mounts' Maxwell
+    terms are relaxed (the static stiffness k∞ = k:
     :mod:`flexbed.dynamics.maxwell_terms`)."""
     y_eq = np.asarray(y_eq, dtype=float)
+    n_free = 6 * system.n_rigid
+    if (jacobian is not None and not system.layout.n_modal and 0 < n_free <= dense_limit
+            and jacobian.shape == (n_free, n_free)):
+        return _from_tangent(system, jacobian)
     with relaxed(system):
         if mount_graph(system, True).n > dense_limit:
             found = _sparse(system, y_eq)
@@ -107,6 +121,26 @@ def _dense(system: System, y_eq: np.ndarray) -> Instability | None:
     if free.size == 0:
         return None
     K = -lin.A[c.n_pos:, :c.n_pos][np.ix_(free, free)]        # M⁻¹K (n_free, n_free)
+    return _decide(system, K)
+
+
+def _from_tangent(system: System, jacobian) -> Instability | None:
+    """Every eigenvalue of M⁻¹K with K = −``jacobian`` (6 n_rigid, 6
+    n_rigid), the tangent stiffness at rest of rigid bodies, whose M is
+    m I₃ and the body-frame inertia J per body (n_free³)."""
+    Kq = jacobian.toarray() if hasattr(jacobian, "toarray") else np.asarray(jacobian)
+    n = system.n_rigid
+    Jinv = np.einsum("bij,bj,bkj->bik", system.J_vec, 1.0 / system.J_eig, system.J_vec)
+    K = np.empty_like(Kq)
+    for b in range(n):
+        t, r = slice(6 * b, 6 * b + 3), slice(6 * b + 3, 6 * b + 6)
+        K[t] = -Kq[t] / system.m_r[b, 0]
+        K[r] = -Jinv[b] @ Kq[r]
+    return _decide(system, K)
+
+
+def _decide(system: System, K: np.ndarray) -> Instability | None:
+    """The criterion of the module docstring on M⁻¹K (n_free, n_free)."""
     vals, vecs = np.linalg.eig(K)
     lam = vals.real
     scale = float(np.max(np.abs(lam))) if lam.size else 0.0

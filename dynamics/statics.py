@@ -66,7 +66,13 @@ class Equilibrium:
     tol : float; stability : "stable", "unstable" or "not checked" (set by
     whoever checks it, with :func:`flexbed.dynamics.stability.instability`);
     instability : :class:`~flexbed.dynamics.stability.Instability` when
-    unstable, else None.
+    unstable, else None; jacobian : (n, n) array or CSR, or None — the last
+    Newton Jacobian when it was the exact tangent stiffness
+    (:func:`flexbed.dynamics.tangent.tangent`: ∂(M v̇)/∂q in the unknowns,
+    6 per rigid body then the modal coordinates with ``sag``
+    [N/m, N/rad, N m/m, N m/rad, …]), at the iterate before the polishing
+    steps (which move the state by less than ``tol``); None when it was by
+    differences or the solve failed. The stability check reuses it.
     """
 
     success: bool
@@ -83,6 +89,7 @@ class Equilibrium:
     history: tuple = field(default=())
     stability: str = "not checked"
     instability: object = None
+    jacobian: object = field(default=None, repr=False, compare=False)
 
 
 def _residual(system: System, y: np.ndarray, sag: bool = True) -> np.ndarray:
@@ -231,10 +238,10 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
     if max_move is None:
         max_move = 100.0 * (1.0 + float(np.max(np.abs(system.initial_r))))
 
-    def result(success, message, it, res, step, rf, njev, history):
+    def result(success, message, it, res, step, rf, njev, history, jacobian=None):
         return Equilibrium(success, message, y, it, res, step, rf[:6 * n].reshape(n, 6), njev,
                            system.nfev - nfev0, time.perf_counter() - t_start, tol,
-                           tuple(history))
+                           tuple(history), jacobian=jacobian)
 
     def name_of(c: int, verb: str = "in") -> str:
         if c < 6 * n:
@@ -257,7 +264,7 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
         # factors: its change over a step at round-off level is below what the
         # step can resolve
         if converged_at is None or solve is None:
-            jac = _jacobian(system, y, residual_rows, steps, modal, use_sparse)
+            jac, exact = _jacobian(system, y, residual_rows, steps, modal, use_sparse)
             njev += 1
             values = jac.data if use_sparse else jac
             if not (np.all(np.isfinite(values)) and np.all(np.isfinite(R))):
@@ -321,7 +328,7 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
                           f"({float(np.abs(R)[worst]):.3g}); step {step:.3g}", max_iter, res,
                           step, R, njev, history)
     return result(True, f"converged in {len(history)} iterations", len(history), res, step, R,
-                  njev, history)
+                  njev, history, jac if exact else None)
 
 
 def _jacobian(system: System, y: np.ndarray, residual_rows, steps: np.ndarray, modal: bool,
@@ -330,13 +337,14 @@ def _jacobian(system: System, y: np.ndarray, residual_rows, steps: np.ndarray, m
     (:func:`flexbed.dynamics.tangent.tangent`) where it applies, else
     central differences by colour classes of the mount graph
     (:func:`flexbed.dynamics.jacobian.force_jacobian`, steps (n,)). A CSR
-    matrix when ``sparse``, else an array (n, n)."""
+    matrix when ``sparse``, else an array (n, n); and whether it is the
+    exact tangent."""
     tg = tangent(system, y, modal=modal, dense=not sparse)
     if tg is not None:
-        return tg.Kq
+        return tg.Kq, True
     fj = force_jacobian(system, y, residual_rows, functools.partial(perturbed_positions, system, y),
                         steps, modal=modal, capture=())
-    return fj.R if sparse else fj.R.toarray()
+    return (fj.R if sparse else fj.R.toarray()), False
 
 
 def _singular_direction(Jac: np.ndarray) -> int | None:

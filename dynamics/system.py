@@ -257,7 +257,7 @@ class System:
                        self._I_addr)
 
     def rhs_batch(self, t: np.ndarray, Y: np.ndarray, capture: tuple = (),
-                  seg_end: float = math.inf):
+                  seg_end: float = math.inf, mounts_only: bool = False):
         """dy/dt at many states in one compiled call
         (:func:`flexbed.dynamics.kernel.evaluate_batch`).
 
@@ -272,10 +272,18 @@ class System:
             evaluation left them.
         seg_end : float [s]
             As for :meth:`rhs` (inf: right-continuous inputs).
+        mounts_only : bool
+            Evaluate the right-hand side only as far as the mount forces
+            (the base's motion, the bodies' rotations, the mount ends,
+            deflections and forces: sections 1-4 of
+            :mod:`flexbed.dynamics.kernel`), for a capture of ``w_base``,
+            ``w_A``, ``w_P``, ``w_Pd``, ``w_dx``, ``w_dxd``, ``w_f`` or
+            ``w_F`` alone: the same values, without the bodies' equations
+            of motion; dY is then not computed (returned None).
 
         Returns
         -------
-        dY : (k, ny) array
+        dY : (k, ny) array, or None with ``mounts_only``
         captured : dict
             name → (k,) + the field's shape.
         """
@@ -288,7 +296,17 @@ class System:
         idx = np.concatenate(index).astype(np.int64) if index else np.zeros(0, np.int64)
         dY = np.empty_like(Y)
         C = np.empty((t.size, idx.size))
-        evaluate_batch(self.kernel, float(seg_end), t, Y, dY, idx, C)
+        if mounts_only:
+            I = self._packed[1]
+            through = (self.data.ints.ctypes.data - I.ctypes.data) // I.itemsize + 11
+            I[through] = 1
+            try:
+                evaluate_batch(self.kernel, float(seg_end), t, Y, dY, idx, C)
+            finally:
+                I[through] = 0
+            dY = None
+        else:
+            evaluate_batch(self.kernel, float(seg_end), t, Y, dY, idx, C)
         self._count[0] += t.size
         captured, o = {}, 0
         for name, v in zip(capture, views):

@@ -85,3 +85,62 @@ def test_the_flexible_bed_s_sag_is_the_differences_one(monkeypatch):
     a = exact.y[system.layout.q_modal]
     assert np.max(np.abs(a - differences.y[system.layout.q_modal])) < 1e-12 * max(
         1.0, float(np.max(np.abs(a))))
+
+
+def _unstable_scene(tmp_path, k_z: float):
+    """10 kg without gravity on four mounts of vertical stiffness k_z (a
+    polynomial law, so the tangent covers it), stiff sideways: at zero
+    deflection M⁻¹K has the eigenvalue 4 k_z / m in z, exactly."""
+    from scene_text import base_and_body, four_mounts
+    path = tmp_path / "unstable.toml"
+    path.write_text(base_and_body("held", gravity=0.0, mass=10.0, inertia="[1.0, 1.0, 1.0]")
+                    + four_mounts(f"""
+law = "polynomial"
+stiffness = [[0.0, 1.0e4], [0.0, 1.0e4], [0.0, {k_z}, 0.0, 1.0e8]]
+"""))
+    return flexbed.load_scene(path)
+
+
+def test_the_stability_check_takes_the_statics_tangent(tmp_path):
+    """The stability check of a rigid scene's equilibrium reuses the last
+    Newton Jacobian (the exact tangent stiffness) rather than linearising
+    again: the same M⁻¹K as the linearisation's to its central differences'
+    accuracy (1e-8 relative on the reference scene), the same verdict; on a
+    mount of negative stiffness the exact eigenvalue 4 k_z / m = −4000 1/s²
+    (to 1e-9; the linearisation's within 1e-6), the same body and
+    direction."""
+    import flexbed.dynamics.stability as stability_module
+    from flexbed.api.bed_modes import compiled
+    from flexbed.dynamics.linear.model import linearise
+    from flexbed.dynamics.stability import _from_tangent, instability
+    st = flexbed.statics(flexbed.load_scene())
+    system, eq = st.system, st.equilibrium
+    assert eq.jacobian is not None and eq.stability == "stable"
+    assert instability(system, eq.y, jacobian=eq.jacobian) is None
+    assert instability(system, eq.y) is None
+    lin = linearise(system, eq.y)
+    c = lin.coords
+    free = np.setdiff1d(np.arange(c.n_pos), c.base_index)
+    want = -lin.A[c.n_pos:, :c.n_pos][np.ix_(free, free)]
+    seen = {}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(stability_module, "_decide", lambda s, K: seen.setdefault("K", K))
+        _from_tangent(system, eq.jacobian)
+    assert np.max(np.abs(seen["K"] - want)) < 1e-8 * np.max(np.abs(want))
+
+    sf = _unstable_scene(tmp_path, -1.0e4)
+    system = compiled(sf, None)
+    eq = solve_statics(system)
+    assert eq.success and eq.jacobian is not None
+    exact = instability(system, eq.y, jacobian=eq.jacobian)
+    lin = instability(system, eq.y)
+    assert (exact.body, exact.direction) == (lin.body, lin.direction) == ("mass", "z")
+    assert exact.eigenvalue == pytest.approx(-4000.0, rel=1e-9)
+    assert lin.eigenvalue == pytest.approx(exact.eigenvalue, rel=1e-6)
+
+
+def test_differences_hand_the_stability_check_no_jacobian(monkeypatch):
+    """A Jacobian by differences is not handed on (the check linearises)."""
+    system = flexbed.statics(flexbed.load_scene()).system
+    monkeypatch.setattr(statics_module, "tangent", lambda *a, **k: None)
+    assert solve_statics(system).jacobian is None

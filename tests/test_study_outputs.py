@@ -69,6 +69,26 @@ def test_points_and_mounts_equal_the_results_bit_for_bit(rigid):
     assert lazy.complete and lazy.message == full.message
 
 
+def test_the_mounts_alone_equal_the_whole_right_hand_side_s_bit_for_bit(rigid):
+    """A run asked for its mount forces and deflections alone evaluates the
+    right-hand side only as far as the mount forces (``mounts_only``): the
+    same numbers as the results file's; the system's right-hand side after
+    it is whole again (the flag is reset)."""
+    lazy, full = rigid
+    fresh = PointRun(lazy.scene, lazy.system, lazy.sim, lazy.modes)
+    _same(fresh.mount_force, full.mount_force)
+    _same(fresh.mount_deflection, full.mount_deflection)
+    assert "_captured" not in vars(fresh)
+    system, Y = fresh.system, fresh._Y
+    dY, cap = system.rhs_batch(fresh.t, Y, ("w_f", "w_acc"))
+    for i in (0, Y.shape[0] // 2, Y.shape[0] - 1):
+        _same(dY[i], system.rhs(fresh.t[i], Y[i]))
+    none, mounts = system.rhs_batch(fresh.t, Y, ("w_f",), mounts_only=True)
+    assert none is None
+    _same(mounts["w_f"], cap["w_f"])
+    _same(system.rhs_batch(fresh.t, Y, ("w_f", "w_acc"))[0], dY)
+
+
 def test_the_peaks_are_numpy_s_norms_bit_for_bit(rigid):
     """The metrics' peaks (:func:`peak_norm`: the squares summed, one root)
     equal the largest of ``np.linalg.norm`` bit for bit: on the run's
@@ -104,6 +124,7 @@ def test_a_study_of_peaks_on_the_equipment_builds_no_results():
     # a peak displacement reads the poses alone (no velocities, no accelerations),
     # the frames of the point's body and of the one it is relative to
     assert "_kinematics" not in vars(run)
+    assert "_captured" not in vars(run)          # the right-hand side as far as the mounts
     assert sorted(run._poses.A._done) == [1, 2]
     run.point("bed", (0.0, 0.0, 0.05))
     assert "_results" in vars(run)
@@ -130,3 +151,18 @@ def test_a_flexible_bed_s_points_equal_the_results_bit_for_bit():
     scene = flexbed.vary(flexbed.load_scene(), {"bed.model": "flexible"})
     lazy, full = _pair(scene, modes=flexbed.modes(scene))
     _same_points_and_mounts(lazy, full)
+
+
+def test_the_frames_are_rotation_a_bit_for_bit():
+    """A point's frames (``outputs._rotation``, entry by entry) equal
+    :func:`flexbed.dynamics.rotation.A` bit for bit, on Euler parameters of
+    any scale, with zeros and the identity among them."""
+    from flexbed.dynamics.rotation import A
+    from flexbed.study.outputs import _rotation
+    rng = np.random.default_rng(1)
+    for scale in (1.0, 1e-3, 1e3):
+        p = rng.normal(size=(20000, 4)) * scale
+        p[::7, 1] = 0.0
+        p[::5, 0] = 0.0
+        p[::11] = (1.0, 0.0, 0.0, 0.0)
+        _same(_rotation(p), A(p))

@@ -856,6 +856,8 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
                             ((stop_gap, stop_kc, w_contact, w_hold), w_mx),
                             w_A, w_P, w_Pd, w_ub, w_dx, w_dxd, w_f, w_F, w_force, w_torque,
                             w_flexQ)                                           # 4.
+    if ints[11] == 1:                       # the mount forces alone (System.rhs_batch)
+        return
     p_load = _body_loads(t, seg_end, y, qr, vr, in_ints, in_sin, in_b, in_o, in_c, in_pt,
                          in_phi, body_flex, fx_ints, w_A, w_force, w_torque, w_flexQ)  # 4b.
     _newton_euler(y, nb, vr, gravity, mass, J, Jinv, body_flex, w_force, w_torque, w_acc)  # 5.

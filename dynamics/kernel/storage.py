@@ -18,7 +18,8 @@ __all__ = ["Compiled", "FIELDS", "KINDS", "HEADER", "pack",
 #: flexbed.dynamics.kernel_tables.kernel_storage).
 FIELDS = (
     # sizes and layout: [nb, M, nf, base_mode (0 fixed, 1 driven, 2 free), qr, vr, qb, vb,
-    #                    w0, qm, vm]
+    #                    w0, qm, vm, through (0 the whole right-hand side; 1 up to the
+    #                    mount forces, sections 1-4: dy is then not written in full)]
     "ints",
     "gravity",          # (3,) [m/s²]
     "mass",             # (nb,) [kg]

@@ -58,8 +58,9 @@ def equilibrium(sf: SceneFile, system: System, *, tol: float | None = None,
 def checked(system: System, eq: Equilibrium) -> Equilibrium:
     """``eq`` with its stability checked (``instability`` set when the
     stiffness at rest has a negative eigenvalue; see
-    :mod:`flexbed.dynamics.stability`)."""
-    found = instability(system, eq.y)
+    :mod:`flexbed.dynamics.stability`; from the statics' own tangent
+    stiffness where it has one)."""
+    found = instability(system, eq.y, jacobian=eq.jacobian)
     return replace(eq, stability="unstable" if found else "stable", instability=found)
 
 
