@@ -115,7 +115,10 @@ def _env() -> dict:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("page", RUNNABLE, ids=_id)
-def test_every_command_line_runs(page, tmp_path):
+def test_every_command_line_runs(page, tmp_path, shared_command):
+    """A line that other tests check too (conftest's ``SHARED_COMMANDS``:
+    the tour's ``flexbed run``) is run once per pytest run, the same way, in
+    a folder of its own; its outputs are copied here for the lines after."""
     text = page.read_text()
     for name, body in named_files(text).items():
         (tmp_path / name).write_text(body)
@@ -125,8 +128,14 @@ def test_every_command_line_runs(page, tmp_path):
     for cmd, expected in commands(text):
         if cmd.startswith(CHECKED_BY_THEIR_OWN_TEST):
             continue
-        cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=tmp_path, env=env,
-                            capture_output=True, text=True, timeout=600)
+        cp = shared_command(cmd)
+        if cp is not None:
+            for made in cp.cwd.iterdir():
+                copy = shutil.copytree if made.is_dir() else shutil.copy2
+                copy(made, tmp_path / made.name)
+        else:
+            cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=tmp_path,
+                                env=env, capture_output=True, text=True, timeout=600)
         assert cp.returncode == expected, (
             f"{_id(page)}: `{cmd}` exited {cp.returncode}, not {expected}:\n{cp.stderr[-2000:]}")
 
