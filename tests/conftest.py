@@ -34,7 +34,9 @@ of the built-in scene (about 20 s of CPU), which the tour page's command
 lines and ``tests/test_cli_modes.py`` both check. The first worker to ask
 runs it, in a subprocess as a reader would, under a lock in the run's
 common temporary folder; the others wait for it and read what it left.
-A test copies its folder before running more commands in it.
+A test copies its folder before running more commands in it. The other
+command lines of the documentation run forked from a server that has
+imported flexbed once (``forked_flexbed``, :mod:`command_server`).
 
 Builders of scenes, functions of what a test chooses, are plain modules
 beside this file, not fixtures, since test modules call them at import time
@@ -198,3 +200,23 @@ def shared_command(tmp_path_factory):
         name = SHARED_COMMANDS.get(cmd)
         return None if name is None else run_once(tmp_path_factory, name, cmd)
     return get
+
+
+@pytest.fixture(scope="session")
+def forked_flexbed():
+    """The environment of :func:`command_env` with a ``flexbed`` first on
+    the PATH that runs each command line forked from a server that has
+    imported flexbed once (``command_server``): the documentation's many
+    command lines skip the second of imports each would pay."""
+    import tempfile
+
+    import command_server
+
+    folder = Path(tempfile.mkdtemp(prefix="flexbed-"))
+    server = command_server.start(folder)
+    env = command_env()
+    env["PATH"] = f"{folder}{os.pathsep}{env['PATH']}"
+    yield env
+    server.terminate()
+    server.wait()
+    shutil.rmtree(folder, ignore_errors=True)
