@@ -141,8 +141,8 @@ def start(folder: Path) -> subprocess.Popen:
     socket's is at most 107 bytes) and write ``folder/flexbed``; returns the
     server's process (terminate it when done)."""
     address = str(folder / "server.sock")
-    server = subprocess.Popen([sys.executable, __file__, address], stdout=subprocess.PIPE,
-                              text=True)
+    server = subprocess.Popen([sys.executable, __file__, address], stdin=subprocess.DEVNULL,
+                              stdout=subprocess.PIPE, text=True)
     if server.stdout.readline().strip() != "ready":
         server.kill()
         raise RuntimeError("the flexbed command server did not start")

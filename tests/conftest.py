@@ -33,7 +33,8 @@ One command is shared across the pytest-xdist workers too: ``flexbed run``
 of the built-in scene (about 20 s of CPU), which the tour page's command
 lines and ``tests/test_cli_modes.py`` both check. The first worker to ask
 runs it, in a subprocess as a reader would, under a lock in the run's
-common temporary folder; the others wait for it and read what it left.
+common temporary folder; later ones read what it left (one that comes while
+it runs runs its own rather than wait).
 A test copies its folder before running more commands in it. The other
 command lines of the documentation run forked from a server that has
 imported flexbed once (``forked_flexbed``, :mod:`command_server`).
@@ -166,21 +167,30 @@ def _shared_root(tmp_path_factory) -> Path:
     return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
 
 
+def _run_in(folder: Path, cmd: str) -> CommandRun:
+    cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=folder,
+                        env=command_env(), capture_output=True, text=True, timeout=600)
+    return CommandRun(folder, cp.returncode, cp.stdout, cp.stderr)
+
+
 def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
     """``cmd`` run by bash in the folder ``name`` of the shared temporary
     folder, once per pytest run: the first caller runs it, later callers (in
-    any worker) read its exit code and output."""
+    any worker) read its exit code and output. A caller that comes while
+    another worker is running it runs its own rather than leave its worker
+    idle."""
     folder = _shared_root(tmp_path_factory) / f"shared-{name}"
     record = folder.with_suffix(".json")
     with open(folder.with_suffix(".lock"), "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)            # released when the file closes
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)    # released when the file closes
+        except BlockingIOError:
+            return _run_in(tmp_path_factory.mktemp(name), cmd)
         if not record.exists():
             shutil.rmtree(folder, ignore_errors=True)     # an attempt that timed out
             folder.mkdir()
-            cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=folder,
-                                env=command_env(), capture_output=True, text=True,
-                                timeout=600)
-            record.write_text(json.dumps([cp.returncode, cp.stdout, cp.stderr]))
+            run = _run_in(folder, cmd)
+            record.write_text(json.dumps([run.returncode, run.stdout, run.stderr]))
     code, out, err = json.loads(record.read_text())
     return CommandRun(folder, code, out, err)
 
