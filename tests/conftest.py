@@ -29,6 +29,16 @@ the 20-mode β-damped flexible bed of ``scenes/hard_beta20.toml``. They are
 shared: a test must not change them (their state arrays are read-only;
 copy one to perturb it).
 
+One command is shared across the pytest-xdist workers too: ``flexbed run``
+of the built-in scene (about 20 s of CPU), which the tour page's command
+lines and ``tests/test_cli_modes.py`` both check. The first worker to ask
+runs it, in a subprocess as a reader would, under a lock in the run's
+common temporary folder; later ones read what it left (one that comes while
+it runs runs its own rather than wait).
+A test copies its folder before running more commands in it. The other
+command lines of the documentation run forked from a server that has
+imported flexbed once (``forked_flexbed``, :mod:`command_server`).
+
 Builders of scenes, functions of what a test chooses, are plain modules
 beside this file, not fixtures, since test modules call them at import time
 too (module constants, parametrisations, Hypothesis strategies):
@@ -39,12 +49,34 @@ import by their plain names; no test edits ``sys.path`` and no test module
 imports another.
 """
 
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 SCENES = Path(__file__).parent / "scenes"
+
+
+def _keep_bytecode() -> None:
+    """Let this process and its subprocesses keep the bytecode they compile
+    (``__pycache__``, beside numba's cache, ignored by git), as Python does by
+    default: with ``PYTHONDONTWRITEBYTECODE`` set, every ``flexbed`` command
+    a test starts compiled flexbed's modules again (about 0.6 s of CPU each,
+    a third of its start-up) and each pytest worker its test modules."""
+    os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
+    sys.dont_write_bytecode = False
+
+
+_keep_bytecode()
 
 
 def _read_only(a: np.ndarray) -> np.ndarray:
@@ -100,3 +132,101 @@ def beta20(tmp_path_factory):
     eq = solve_statics(system, tol=sf.solver.static_tol, sag=sf.bed.static_sag)
     assert eq.success, eq.message
     return sf, modes, system, _read_only(eq.y)
+
+
+@dataclass(frozen=True)
+class CommandRun:
+    """A command line run once in a subprocess, in its own folder.
+
+    Attributes
+    ----------
+    cwd : Path
+        The folder it ran in (its outputs inside; do not write there).
+    returncode : int
+    stdout, stderr : str
+    """
+
+    cwd: Path
+    returncode: int
+    stdout: str
+    stderr: str
+
+
+def command_env() -> dict:
+    """The environment the documentation's command lines run in: this
+    interpreter's ``flexbed`` first on the PATH."""
+    env = dict(os.environ)
+    env["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
+    return env
+
+
+def _shared_root(tmp_path_factory) -> Path:
+    """The temporary folder every worker of this pytest run shares (the
+    parent of the workers' own under pytest-xdist; the run's own without)."""
+    base = tmp_path_factory.getbasetemp()
+    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+
+
+def _run_in(folder: Path, cmd: str) -> CommandRun:
+    cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=folder,
+                        env=command_env(), capture_output=True, text=True, timeout=600)
+    return CommandRun(folder, cp.returncode, cp.stdout, cp.stderr)
+
+
+def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
+    """``cmd`` run by bash in the folder ``name`` of the shared temporary
+    folder, once per pytest run: the first caller runs it, later callers (in
+    any worker) read its exit code and output. A caller that comes while
+    another worker is running it runs its own rather than leave its worker
+    idle."""
+    folder = _shared_root(tmp_path_factory) / f"shared-{name}"
+    record = folder.with_suffix(".json")
+    with open(folder.with_suffix(".lock"), "w") as lock:
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)    # released when the file closes
+        except BlockingIOError:
+            return _run_in(tmp_path_factory.mktemp(name), cmd)
+        if not record.exists():
+            shutil.rmtree(folder, ignore_errors=True)     # an attempt that timed out
+            folder.mkdir()
+            run = _run_in(folder, cmd)
+            record.write_text(json.dumps([run.returncode, run.stdout, run.stderr]))
+    code, out, err = json.loads(record.read_text())
+    return CommandRun(folder, code, out, err)
+
+
+#: command lines that several tests check, run once per pytest run
+#: (:func:`shared_command`): the tour's ``flexbed run``, also checked by
+#: tests/test_cli_modes.py
+SHARED_COMMANDS = {"flexbed run": "reference-run"}
+
+
+@pytest.fixture(scope="session")
+def shared_command(tmp_path_factory):
+    """``shared_command(cmd)``: the :class:`CommandRun` of the command line
+    ``cmd`` if it is one of :data:`SHARED_COMMANDS` (run on first use in
+    this pytest run), else None."""
+    def get(cmd: str) -> CommandRun | None:
+        name = SHARED_COMMANDS.get(cmd)
+        return None if name is None else run_once(tmp_path_factory, name, cmd)
+    return get
+
+
+@pytest.fixture(scope="session")
+def forked_flexbed():
+    """The environment of :func:`command_env` with a ``flexbed`` first on
+    the PATH that runs each command line forked from a server that has
+    imported flexbed once (``command_server``): the documentation's many
+    command lines skip the second of imports each would pay."""
+    import tempfile
+
+    import command_server
+
+    folder = Path(tempfile.mkdtemp(prefix="flexbed-"))
+    server = command_server.start(folder)
+    env = command_env()
+    env["PATH"] = f"{folder}{os.pathsep}{env['PATH']}"
+    yield env
+    server.terminate()
+    server.wait()
+    shutil.rmtree(folder, ignore_errors=True)

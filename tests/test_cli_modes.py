@@ -1,7 +1,10 @@
 """``flexbed modes`` and ``flexbed run`` through ``main([...])``: outputs,
-caching, and one-line failures with exit code 2 and no file left behind."""
+caching, and one-line failures with exit code 2 and no file left behind.
+The whole ``flexbed run`` of the built-in scene is the tour page's, run once
+per pytest run in a subprocess (conftest's ``shared_command``)."""
 
 import re
+import shutil
 
 import pytest
 
@@ -131,9 +134,12 @@ def test_missing_scene_file(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_run_writes_every_stage_into_the_folder(tmp_path, capsys):
-    code, out, err = run(capsys, "run", "-o", str(tmp_path / "out"))
+def test_run_writes_every_stage_into_the_folder(tmp_path, capsys, shared_command):
+    # the tour's `flexbed run` (docs/tour.md), run once per pytest run for both
+    first = shared_command("flexbed run")
+    code, out, err = first.returncode, first.stdout, first.stderr
     assert code == 0, err
+    shutil.copytree(first.cwd / "flexbed-out", tmp_path / "out")
     for stage in ("[1/5] modes", "[2/5] static", "[3/5] simulations", "[4/5] points",
                   "[5/5] summary"):
         assert stage in out

@@ -13,6 +13,12 @@ the scratch folder first, as the reader would save it. The project's
 page may name a scene or an input shipped with flexbed by its path in the
 repository (``pipeline/scenes/skid.toml``, ``docs/response-spectrum-deck.toml``);
 a page writes its outputs into the scratch folder, never under ``docs/``.
+Each ``flexbed`` of those lines runs whole, in a process of its own, but
+forked from a server that has imported flexbed once (``command_server``,
+conftest's ``forked_flexbed``): its arguments, folder, environment, streams
+and exit status are its own; the second of imports is not paid again. The
+tour's ``flexbed run``, which tests/test_cli_modes.py checks too, runs once
+per pytest run (conftest's ``shared_command``), by the installed script.
 Every ```python block runs, in a folder holding the page's named files too.
 The quick start
 is exactly two commands, and ``.ci/run`` runs the second.
@@ -115,18 +121,27 @@ def _env() -> dict:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("page", RUNNABLE, ids=_id)
-def test_every_command_line_runs(page, tmp_path):
+def test_every_command_line_runs(page, tmp_path, shared_command, forked_flexbed):
+    """A line that other tests check too (conftest's ``SHARED_COMMANDS``:
+    the tour's ``flexbed run``) is run once per pytest run, the same way, in
+    a folder of its own; its outputs are copied here for the lines after."""
     text = page.read_text()
     for name, body in named_files(text).items():
         (tmp_path / name).write_text(body)
     for shipped in ("pipeline", "docs"):
         (tmp_path / shipped).symlink_to(ROOT / shipped)
-    env = _env()
+    env = forked_flexbed
     for cmd, expected in commands(text):
         if cmd.startswith(CHECKED_BY_THEIR_OWN_TEST):
             continue
-        cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=tmp_path, env=env,
-                            capture_output=True, text=True, timeout=600)
+        cp = shared_command(cmd)
+        if cp is not None:
+            for made in cp.cwd.iterdir():
+                copy = shutil.copytree if made.is_dir() else shutil.copy2
+                copy(made, tmp_path / made.name)
+        else:
+            cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=tmp_path,
+                                env=env, capture_output=True, text=True, timeout=600)
         assert cp.returncode == expected, (
             f"{_id(page)}: `{cmd}` exited {cp.returncode}, not {expected}:\n{cp.stderr[-2000:]}")
 

@@ -8,13 +8,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_docs import _env, commands
+from test_docs import commands
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "machinery_loads.py"
 
 
 @pytest.mark.slow
-def test_the_machinery_example_gives_the_documented_levels(tmp_path, capsys):
+def test_the_machinery_example_gives_the_documented_levels(tmp_path, capsys, forked_flexbed):
     spec = importlib.util.spec_from_file_location("machinery_loads", EXAMPLE)
     example = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(example)
@@ -34,6 +34,6 @@ def test_the_machinery_example_gives_the_documented_levels(tmp_path, capsys):
     assert len(lines) >= 4
     for cmd, expected in lines:
         cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=tmp_path,
-                            env=_env(), capture_output=True, text=True, timeout=600)
+                            env=forked_flexbed, capture_output=True, text=True, timeout=600)
         assert cp.returncode == expected, f"`{cmd}` exited {cp.returncode}:\n{cp.stderr[-2000:]}"
     assert 'model = "rigid"' in (tmp_path / "machinery-rigid.toml").read_text()

@@ -1,0 +1,156 @@
+"""A fork server for the ``flexbed`` command lines the documentation tests
+run: the command still runs whole, in a process of its own, through
+:func:`flexbed.cli.main` with its own arguments, folder, environment,
+standard streams and exit status, but forked from a process that has
+imported NumPy, SciPy, numba, h5py and flexbed's commands once, instead of
+importing them again (about a second of CPU per command line).
+
+``start(folder)`` starts the server and writes into ``folder`` an executable
+``flexbed`` that forwards its arguments to it: put ``folder`` first on the
+PATH of the shell that runs the page's lines. Each request is served by a
+child of the server which forks the command and waits for it, so the exit
+status the shell sees is the command's own, after its interpreter has shut
+down (a signal that ends it gives 128 + its number, as the shell reports).
+
+Run as a script, ``python command_server.py SOCKET`` is the server.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+from pathlib import Path
+
+#: what every command imports anyway, imported once by the server
+PRELOAD = ("numpy", "scipy.linalg", "scipy.sparse", "h5py", "numba", "flexbed.cli",
+           "flexbed.commands.modes", "flexbed.commands.static", "flexbed.commands.simulate",
+           "flexbed.commands.post", "flexbed.commands.modal", "flexbed.commands.frf",
+           "flexbed.stages.simulation", "flexbed.dynamics.statics")
+
+#: the ``flexbed`` a page's lines call: sends its arguments, folder,
+#: environment and standard streams to the server, exits with the status
+#: the server reports (no site import: it starts in milliseconds)
+CLIENT = '''#!{python} -S
+import json, os, socket, sys
+s = socket.socket(socket.AF_UNIX)
+s.connect({address!r})
+socket.send_fds(s, [b"r"], [0, 1, 2])
+msg = json.dumps([sys.argv[1:], os.getcwd(), dict(os.environ)]).encode()
+s.sendall(len(msg).to_bytes(8, "big") + msg)
+reply = b""
+while chunk := s.recv(64):
+    reply += chunk
+sys.exit(int(reply) if reply else 1)
+'''
+
+
+def _recv_exactly(conn: socket.socket, n: int) -> bytes:
+    data = b""
+    while len(data) < n:
+        chunk = conn.recv(n - len(data))
+        if not chunk:
+            raise ConnectionError("the client went away")
+        data += chunk
+    return data
+
+
+def _run_command(fds: list[int], argv: list[str], cwd: str, env: dict) -> None:
+    """In the forked command process: take the client's streams, folder and
+    environment, run the command line as the ``flexbed`` script does, exit."""
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    for target, fd in enumerate(fds):
+        os.dup2(fd, target)
+        os.close(fd)
+    os.chdir(cwd)
+    os.environ.clear()
+    os.environ.update(env)
+    sys.argv = ["flexbed", *argv]
+    from flexbed.cli import main
+    sys.exit(main(argv))
+
+
+def _serve_one(conn: socket.socket) -> None:
+    """In the child serving one request: fork the command, wait for it, send
+    its exit status."""
+    _, fds, _, _ = socket.recv_fds(conn, 1, 3)
+    size = int.from_bytes(_recv_exactly(conn, 8), "big")
+    argv, cwd, env = json.loads(_recv_exactly(conn, size))
+    pid = os.fork()
+    if pid == 0:
+        conn.close()
+        _run_command(fds, argv, cwd, env)
+    for fd in fds:
+        os.close(fd)
+    _, status = os.waitpid(pid, 0)
+    code = os.waitstatus_to_exitcode(status)
+    conn.sendall(str(code if code >= 0 else 128 - code).encode())
+
+
+def _reap(block: bool = False) -> None:
+    """Wait for the serving children that have finished (all, if ``block``):
+    their CPU time, the commands' included, counts in the server's and so in
+    the test run's."""
+    while True:
+        try:
+            pid, _ = os.waitpid(-1, 0 if block else os.WNOHANG)
+        except ChildProcessError:
+            return
+        if pid == 0:
+            return
+
+
+def _stop(signum, frame) -> None:
+    """SIGTERM: wait for the serving children, then stop."""
+    _reap(block=True)
+    sys.exit(0)
+
+
+def serve(address: str) -> None:
+    """Import :data:`PRELOAD`, listen on the Unix socket ``address``, say
+    "ready" on stdout, and serve each connection in a forked child."""
+    import gc
+    import importlib
+    for name in PRELOAD:
+        importlib.import_module(name)
+    # what the imports made, out of the collector's sight: a forked command
+    # neither scans nor (at its exit) copies those pages, 0.3 s of CPU each
+    gc.freeze()
+    signal.signal(signal.SIGTERM, _stop)
+    listener = socket.socket(socket.AF_UNIX)
+    listener.bind(address)
+    listener.listen(16)
+    print("ready", flush=True)
+    while True:
+        _reap()
+        conn, _ = listener.accept()
+        if os.fork() == 0:
+            listener.close()
+            # the command's process leaves _serve_one as the script would,
+            # by SystemExit or an exception, through the interpreter's exit
+            _serve_one(conn)
+            os._exit(0)
+        conn.close()
+
+
+def start(folder: Path) -> subprocess.Popen:
+    """Start the server on a socket in ``folder`` (a short path: a Unix
+    socket's is at most 107 bytes) and write ``folder/flexbed``; returns the
+    server's process (terminate it when done)."""
+    address = str(folder / "server.sock")
+    server = subprocess.Popen([sys.executable, __file__, address], stdin=subprocess.DEVNULL,
+                              stdout=subprocess.PIPE, text=True)
+    if server.stdout.readline().strip() != "ready":
+        server.kill()
+        raise RuntimeError("the flexbed command server did not start")
+    client = folder / "flexbed"
+    client.write_text(CLIENT.format(python=sys.executable, address=address))
+    client.chmod(0o755)
+    return server
+
+
+if __name__ == "__main__":
+    serve(sys.argv[1])
