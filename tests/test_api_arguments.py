@@ -257,3 +257,15 @@ def test_fuzz_load_scene_and_vary(value):
             call()
         except InputError as exc:
             assert "\n" not in str(exc), exc
+
+
+@pytest.mark.parametrize("name", ["\x00", "scene\x00.toml"])
+def test_a_file_name_with_a_nul_character_is_one_line(name, tmp_path):
+    """The operating system refuses such a name with a ValueError: flexbed
+    says so as input, for a file read and for one written."""
+    with pytest.raises(InputError, match="a file name cannot hold a NUL character") as err:
+        flexbed.load_scene(name)
+    assert "\n" not in str(err.value)
+    from flexbed.files.destination import check_destination
+    with pytest.raises(InputError, match="cannot write here: a file name cannot hold a NUL"):
+        check_destination(tmp_path / name)

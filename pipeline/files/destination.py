@@ -35,11 +35,20 @@ _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISSOCK, "a socket"))
 
 
+def _no_nul(path: str | os.PathLike, doing: str) -> None:
+    """InputError for a name holding a NUL character, which no file name
+    can (the operating system's calls refuse it with a ValueError)."""
+    if "\x00" in os.fsdecode(path):
+        raise InputError(f"{os.fsdecode(path)!r}: {doing}: a file name cannot hold a NUL "
+                         f"character")
+
+
 def check_source(path: str | os.PathLike, what: str) -> Path:
     """``path`` as a Path if flexbed may read it as ``what`` ("scene file",
     "results file", …): it exists and is a regular file (or a link to one).
     A FIFO would block the read for ever and a device would be read without
     end, so anything else is InputError naming what it is."""
+    _no_nul(path, f"cannot read the {what}")
     path = Path(path)
     try:
         st = os.stat(path)
@@ -56,6 +65,7 @@ def check_source(path: str | os.PathLike, what: str) -> Path:
 def check_destination(path: str | os.PathLike) -> Path:
     """``path`` as a Path if flexbed may write it (absent, or a regular file);
     else InputError naming what it is."""
+    _no_nul(path, "cannot write here")
     path = Path(path)
     try:
         st = os.lstat(path)
