@@ -10,7 +10,9 @@ the right-hand side into the cache while this one compiles the steppers
 (and the batch evaluations) for the argument types every run passes them,
 with a stand-in for the pointer (:func:`stand_in_kernel`, never called);
 it then waits for the child, and the first call of the right-hand side
-loads it from the cache. On two cores that saves wall time, not CPU time:
+loads it from the cache. A linear run (``--model linear``) compiles the
+linear path's functions here instead (:func:`compile_linear_path`: by
+their argument types, without calling them). On two cores that saves wall time, not CPU time:
 the same functions are compiled, once each, the two halves side by side.
 
 The two processes write different cache files (numba keeps an index and
@@ -49,7 +51,8 @@ from .kernel import evaluate_batch, evaluate_many, rhs_function
 from .kernel.rhs import PROTOTYPE, rhs_loaded
 from .steppers import N_COUNTS, dop853_segment, radau_segment, radau_workspace, rk4_segment
 
-__all__ = ["rhs_cached", "stand_in_kernel", "compile_callers", "compile_in_parallel",
+__all__ = ["rhs_cached", "stand_in_kernel", "compile_callers", "compile_linear_path",
+           "compile_in_parallel",
            "likely_steppers", "STEPPERS", "STOP_WAIT", "SWITCH"]
 
 #: the compiled steppers by method name
@@ -113,6 +116,59 @@ def compile_callers(methods=tuple(STEPPERS), ny: int = 13) -> None:
     evaluate_many(0, 0.0, math.inf, z, np.empty_like(z), kernel)
 
 
+def _linear_signatures() -> dict:
+    """The linear path's compiled functions (:mod:`flexbed.dynamics.linear`)
+    and the one signature each is called with (``tests/test_jitcache.py``
+    checks that a real linear run adds none): name → argument types."""
+    from numba import typeof, types
+
+    def arr(dtype, ndim, readonly=False):
+        return types.Array(dtype, ndim, "C", readonly=readonly)
+
+    f8, i8 = types.float64, types.int64
+    F1, F2, F3 = arr(f8, 1), arr(f8, 2), arr(f8, 3)
+    I1, I2 = arr(i8, 1), arr(i8, 2)
+    I1r, I2r = arr(i8, 1, True), arr(i8, 2, True)
+    F1r, F2r = arr(f8, 1, True), arr(f8, 2, True)
+    kernel = typeof(stand_in_kernel(1))
+    coords = types.Tuple((F1, I2r, I2r, I2r, I2r, F2, I2r, F2))
+    return {
+        "defect.cubic_misses": (F1, F2, F1, F2, F1, F1),
+        "defect.cubic_pieces": (F1, F2, F3),
+        "defect.defect_rows": (kernel, f8, F1, F2, I1, coords, F1, F2, F2, i8, F2),
+        "defect.defect_sweep": (F3, F3, I1, F3, F1, F1, F2),
+        "defect.error_peaks": (F1, I1, F2, F2, F2, F2, I1r),
+        "defect.hermite_peak": (F1, I1, F2, F2),
+        "defect.largest_motion": (F2, I1, F2),
+        "defect.pieces_at": (F1, F1, F3, F2),
+        "defect.pieces_integral_at": (F1, F1, F3, F2),
+        "defect.point_rows": (I1, F2, F2, I2r, I2r, F3),
+        "defect.refine_nodes": (kernel, f8, F1, F2, F2, coords, F1, F2, F2, i8, I1, f8, f8, F2),
+        "defect._group_peak": (F1, I1, I1, I2, F3, f8),
+        "phi.exp_and_phi_columns": (F2, F2, f8, F2, F3),
+        "phi.phi_double": (F2, F3, F2, F1),
+        "phi.phi_functions": (F2, F3),
+        "sweep.deviations_to_states": (F2, F1, I2r, I2r, I2r, I2r, F2, F2),
+        "sweep.few_distinct": (F1, I1, I1, i8),
+        "sweep.linear_sweep": (F3, I1, F2, F1, F2),
+        "sweep.merge_cuts": (F1, F1, f8, F1),
+        "sweep.poly_derivatives": (F2r, F1r, I1, F1, F1, F2),
+        "sweep.rates_of_states": (F2, I2r, I2r, I2r, F2, F2),
+        "sweep.states_to_deviations": (F2, F1, I2r, I2r, I2r, I2r, F2, F2),
+    }
+
+
+def compile_linear_path() -> None:
+    """Compile (or load) the linear fast path's functions for the argument
+    types a linear run passes them, without calling them (numba's
+    ``Dispatcher.compile``): nothing of the right-hand side is needed."""
+    import importlib
+    for key, argtypes in _linear_signatures().items():
+        module, name = key.split(".")
+        fn = getattr(importlib.import_module(f"{__package__}.linear.{module}"), name)
+        fn.compile(argtypes)
+
+
 def likely_steppers(integrator: str) -> tuple:
     """The compiled steppers a run with ``integrator`` will most likely
     need: itself, dop853 for "auto" (its usual choice,
@@ -133,9 +189,11 @@ def _stop(child: subprocess.Popen) -> None:
             child.wait()
 
 
-def compile_in_parallel(methods=tuple(STEPPERS), log=lambda m: None) -> float:
+def compile_in_parallel(methods=tuple(STEPPERS), log=lambda m: None,
+                        linear: bool = False) -> float:
     """On a first run, compile the right-hand side in a child process and
-    the steppers ``methods`` here, at the same time; else nothing.
+    the steppers ``methods`` (and the linear path, if ``linear``) here, at
+    the same time; else nothing.
 
     Parameters
     ----------
@@ -149,14 +207,17 @@ def compile_in_parallel(methods=tuple(STEPPERS), log=lambda m: None) -> float:
         Wall time spent [s] (0 when nothing was done: the right-hand side
         cached, no stepper asked for, or :data:`SWITCH` set to "0").
     """
-    if not methods or os.environ.get(SWITCH, "1") == "0" or rhs_cached():
+    if not (methods or linear) or os.environ.get(SWITCH, "1") == "0" or rhs_cached():
         return 0.0
     t0 = time.perf_counter()
     log("compiling the right-hand side and the integrators (first run; cached afterwards) ...")
     child = subprocess.Popen([sys.executable, "-m", __name__], stdin=subprocess.DEVNULL,
                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
-        compile_callers(methods)
+        if methods:
+            compile_callers(methods)
+        if linear:
+            compile_linear_path()
         child.wait()
     finally:
         _stop(child)

@@ -98,9 +98,10 @@ import flexbed
 from flexbed.bench.cases import CASES, ModesStore, build_case
 from flexbed.dynamics.integrate import Settings
 from flexbed.dynamics.linear.run import run_linear
-from flexbed.dynamics.precompile import compile_callers
+from flexbed.dynamics.precompile import compile_callers, compile_linear_path
 
 compile_callers()              # the first run's steppers, compiled without the right-hand side
+compile_linear_path()          # and the linear path's functions, by their signatures
 sf = flexbed.load_scene()
 store = ModesStore(sf, Path(tempfile.mkdtemp()))
 for key in ("rigid", "damped"):

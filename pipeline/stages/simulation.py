@@ -138,7 +138,8 @@ def simulate_system(sf: SceneFile, system: System, settings: Settings, *, start:
                          f"mount's Maxwell states (mount {system.scene.maxwell[0].mount!r}): "
                          f"use 'nonlinear' or 'auto'")
     # a first run: the right-hand side compiles in a second process beside the stepper
-    compile_in_parallel(likely_steppers(settings.method) if model != "linear" else ())
+    compile_in_parallel(likely_steppers(settings.method) if model != "linear" else (),
+                        linear=model == "linear")
     if (start == "equilibrium" or model != "nonlinear") and eq is None:
         eq = equilibrium(sf, system, sag=sag)
     y0 = system.initial_state(eq.y if start == "equilibrium" else None)   # + the velocities
