@@ -448,12 +448,18 @@ def test_shock_commands_refuse_before_the_work(fault, results_file, tmp_path, ca
         code = main([argv[0], str(results_file), *more])
     except SystemExit as exc:            # argparse's own refusals
         code = exc.code
+    _refused_in_one_line(code, capsys, words, tmp_path, before)
+
+
+def _refused_in_one_line(code, capsys, words: tuple, folder: Path, before: dict) -> None:
+    """Exit 2, one stderr line holding every one of ``words``, and
+    ``folder`` as it was (``before``: its :func:`_snapshot`)."""
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2
     assert len(err) == 1, err
     for w in words:
         assert w in err[0], (w, err[0])
-    _check_folder(tmp_path, before, ())
+    _check_folder(folder, before, ())
 
 
 def _post_csv_on_file(d: Path) -> list:
@@ -485,12 +491,7 @@ def test_post_refuses_bad_options(fault, results_file, tmp_path, capsys):
     more = make(tmp_path)
     before = _snapshot(tmp_path)
     code = main(["post", str(results), *more])
-    err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2
-    assert len(err) == 1, err
-    for w in words:
-        assert w in err[0], (w, err[0])
-    _check_folder(tmp_path, before, ())
+    _refused_in_one_line(code, capsys, words, tmp_path, before)
 
 
 # --- faults where the process matters ---------------------------------------------------
