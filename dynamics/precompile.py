@@ -53,7 +53,7 @@ from .steppers import N_COUNTS, dop853_segment, radau_segment, radau_workspace, 
 
 __all__ = ["rhs_cached", "stand_in_kernel", "compile_callers", "compile_linear_path",
            "compile_in_parallel",
-           "likely_steppers", "STEPPERS", "STOP_WAIT", "SWITCH"]
+           "likely_steppers", "LINEAR_MAPS", "STEPPERS", "STOP_WAIT", "SWITCH"]
 
 #: the compiled steppers by method name
 STEPPERS = {"rk4": rk4_segment, "dop853": dop853_segment, "radau": radau_segment}
@@ -158,12 +158,21 @@ def _linear_signatures() -> dict:
     }
 
 
-def compile_linear_path() -> None:
+#: the linear model's maps between states and deviations
+#: (:mod:`flexbed.dynamics.linear.model`), which more than the linear runs use
+LINEAR_MAPS = ("sweep.deviations_to_states", "sweep.rates_of_states")
+
+
+def compile_linear_path(names=None) -> None:
     """Compile (or load) the linear fast path's functions for the argument
     types a linear run passes them, without calling them (numba's
-    ``Dispatcher.compile``): nothing of the right-hand side is needed."""
+    ``Dispatcher.compile``): nothing of the right-hand side is needed.
+    ``names``: ``"module.function"`` keys, e.g. :data:`LINEAR_MAPS`
+    (default: every one)."""
     import importlib
-    for key, argtypes in _linear_signatures().items():
+    table = _linear_signatures()
+    for key in table if names is None else names:
+        argtypes = table[key]
         module, name = key.split(".")
         fn = getattr(importlib.import_module(f"{__package__}.linear.{module}"), name)
         fn.compile(argtypes)
@@ -190,14 +199,17 @@ def _stop(child: subprocess.Popen) -> None:
 
 
 def compile_in_parallel(methods=tuple(STEPPERS), log=lambda m: None,
-                        linear: bool = False) -> float:
+                        linear=False) -> float:
     """On a first run, compile the right-hand side in a child process and
-    the steppers ``methods`` (and the linear path, if ``linear``) here, at
-    the same time; else nothing.
+    the steppers ``methods`` (and the linear path's functions ``linear``)
+    here, at the same time; else nothing.
 
     Parameters
     ----------
     methods : names of :data:`STEPPERS`
+    linear : bool or tuple of str
+        True: every function of the linear path; a tuple: those
+        (:func:`compile_linear_path`'s keys); False: none.
     log : callable(str)
         One progress line when it compiles.
 
@@ -217,7 +229,7 @@ def compile_in_parallel(methods=tuple(STEPPERS), log=lambda m: None,
         if methods:
             compile_callers(methods)
         if linear:
-            compile_linear_path()
+            compile_linear_path(None if linear is True else linear)
         child.wait()
     finally:
         _stop(child)

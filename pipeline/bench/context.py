@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
-from flexbed.dynamics.precompile import compile_in_parallel
+from flexbed.dynamics.precompile import LINEAR_MAPS, compile_in_parallel
 
 from flexbed.bench.cases import CASES, Case, ModesStore, build_case
 from flexbed.bench.reference import Reference, compute_reference
@@ -104,7 +104,7 @@ class BenchContext:
                 # a first run: the right-hand side compiles in a second
                 # process while this one compiles the steppers, before
                 # anything is timed (flexbed.dynamics.precompile)
-                compile_in_parallel(log=self.log)
+                compile_in_parallel(log=self.log, linear=LINEAR_MAPS)
             self._cases[key] = build_case(self.scene, CASES[key], self.modes, self.t_end)
         return self._cases[key]
 
