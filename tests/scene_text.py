@@ -1,6 +1,6 @@
 """The two-body scene most hand-written test scenes start from: a heavy
 base and one body above it, as TOML text to which a test appends its
-mounts, base motion and solver settings; and that body on four linear
+mounts, base motion (``sine_drive``) and solver settings; and that body on four linear
 mounts, the fault catalogue's scene, which the fuzzer and the sanity
 checks mutate too.
 
@@ -31,6 +31,21 @@ mass = {mass}
 inertia = {inertia}
 position = [0.0, 0.0, 0.5]
 {body_extra}"""
+
+
+def sine_drive(amplitude, frequency, direction: str = "z") -> str:
+    """``[base]`` driven by one sinusoidal acceleration: ``amplitude``
+    [m/s²] at ``frequency`` [Hz] along ``direction``."""
+    return f"""
+[base]
+motion = "driven"
+
+[[base.drive]]
+direction = "{direction}"
+shape = "sinusoid"
+amplitude = {amplitude}
+frequency = {frequency}
+"""
 
 
 #: the corners of the mounts' square under body "mass" [m]

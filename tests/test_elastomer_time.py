@@ -19,6 +19,7 @@ from scipy.linalg import expm
 
 from test_elastomer import _with_elastomer
 from test_modal import KX, KY, KZ, M1
+from scene_text import sine_drive
 
 AMP = 1.0                                   # base acceleration [m/s²]
 F_TAB = [2.0, 5.0, 10.0, 20.0, 50.0]
@@ -30,16 +31,7 @@ TABLE = (f"elastomer = {{frequency = {F_TAB}, stiffness = "
 
 
 def _drive(freq: float) -> str:
-    return f"""
-[base]
-motion = "driven"
-
-[[base.drive]]
-direction = "z"
-shape = "sinusoid"
-amplitude = {AMP}
-frequency = {freq}
-"""
+    return sine_drive(AMP, freq)
 
 
 def _system(tmp_path, text, name):

@@ -15,21 +15,12 @@ from flexbed.dynamics.linear.model import linearise
 from flexbed.dynamics.statics import solve_statics
 from flexbed.files.scene import load_scene
 from flexbed.stages.system import compile_scene
-from scene_text import base_and_body, four_mounts
+from scene_text import base_and_body, four_mounts, sine_drive
 
 K, C, M = 1.25e5, 200.0, 50.0              # per mount, vertical [N/m, N s/m]; mass [kg]
 AMP, FREQ = 3.0, 13.0                      # base acceleration [m/s²], [Hz]
 
-SINE_SDOF = base_and_body("sine-sdof") + f"""
-[base]
-motion = "driven"
-
-[[base.drive]]
-direction = "z"
-shape = "sinusoid"
-amplitude = {AMP}
-frequency = {FREQ}
-""" + four_mounts(f"""
+SINE_SDOF = base_and_body("sine-sdof") + sine_drive(AMP, FREQ) + four_mounts(f"""
 law = "linear"
 k = [5.0e4, 7.5e4, {K}]
 c = [0.0, 0.0, {C}]
