@@ -61,8 +61,11 @@ def compiled_shape(shape):
     except KeyError:
         pass
     f = shape.compile()
-    if len(_COMPILED) >= _KEEP:
-        _COMPILED.pop(next(iter(_COMPILED)))
+    while len(_COMPILED) >= _KEEP:             # the oldest out (another thread may race here)
+        try:
+            _COMPILED.pop(next(iter(_COMPILED)), None)
+        except (RuntimeError, StopIteration):
+            break
     _COMPILED[key] = f
     return f
 

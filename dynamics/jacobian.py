@@ -145,11 +145,16 @@ def by_topology(system: System, name: str, make):
     """``make()`` once per :func:`topology` of ``system`` and ``name`` (a
     few kept): what depends on the topology alone (read only)."""
     key = (name, topology(system))
-    if key not in _BY_TOPOLOGY:
-        if len(_BY_TOPOLOGY) >= _KEEP:
-            _BY_TOPOLOGY.pop(next(iter(_BY_TOPOLOGY)))
-        _BY_TOPOLOGY[key] = make()
-    return _BY_TOPOLOGY[key]
+    found = _BY_TOPOLOGY.get(key)
+    if found is None:
+        found = make()
+        while len(_BY_TOPOLOGY) >= _KEEP:       # the oldest out (another thread may race here)
+            try:
+                _BY_TOPOLOGY.pop(next(iter(_BY_TOPOLOGY)), None)
+            except (RuntimeError, StopIteration):
+                break
+        _BY_TOPOLOGY[key] = found
+    return found
 
 
 def mount_graph(system: System, modal: bool = True) -> MountGraph:
