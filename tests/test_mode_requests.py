@@ -1,7 +1,8 @@
 """What a bed's modes may be asked for, refused before any work: more
 elastic modes than its FE model has (``modes``, ``correction_modes``,
-``--modes``), counted on the mesh before any assembly (one line, exit 2,
-nothing written)."""
+``--modes``), counted on the mesh before any assembly; and the modes of a
+scene with no ``[bed]`` table, by ``flexbed modes`` and ``flexbed.modes``
+alike (one line, exit 2, nothing written)."""
 
 from dataclasses import replace
 
@@ -15,6 +16,7 @@ from flexbed.fem.layout import elastic_mode_count
 from flexbed.fem.spec import PlateSpec
 from flexbed.fem.stiffeners import Stiffener, section_of
 from flexbed.files.builtin import builtin_scene_text
+from scene_text import one_stage
 
 BAR = Stiffener("bar", (0.0, -2.4), (0.0, 2.4), section_of("flat", height=0.1, width=0.02),
                 -0.1)
@@ -96,3 +98,24 @@ def test_an_auto_mesh_is_held_to_the_mesh_limit(tmp_path):
                                          r"\"auto\" meshes the bed with at most 250,000 "):
         flexbed.load_scene(scene)
 
+
+def test_a_scene_with_no_bed_has_no_modes(tmp_path, capsys):
+    """``flexbed modes`` and ``flexbed.modes`` refuse a scene with no
+    ``[bed]`` table alike; a rigid bed's plate still has its modes (the
+    tour's ``flexbed modes --modes 4``)."""
+    scene = tmp_path / "iso.toml"
+    scene.write_text(one_stage(0.0))
+    code = main(["modes", str(scene), "-o", str(tmp_path / "m.h5")])
+    err = capsys.readouterr().err
+    words = "iso.toml: no [bed] table: the scene has no bed to compute the modes of"
+    assert code == 2 and err.strip().splitlines() == [f"flexbed modes: {words}"], err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["iso.toml"]
+    sf = flexbed.load_scene(scene)
+    with pytest.raises(InputError) as refused:
+        flexbed.modes(sf)
+    assert str(refused.value) == words
+    with pytest.raises(InputError, match="no \\[bed\\] table"):
+        flexbed.modes(sf, file=tmp_path / "m.h5")
+    assert not (tmp_path / "m.h5").exists()
+    rigid = flexbed.load_scene()
+    assert rigid.bed.model == "rigid" and flexbed.modes(rigid).n_modes == 2
