@@ -17,6 +17,7 @@ outputs).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -24,7 +25,46 @@ import numpy as np
 
 from .scene import Scene
 
-__all__ = ["BaseInputs"]
+__all__ = ["BaseInputs", "compiled_shape"]
+
+#: shapes compiled already, by content (:func:`compiled_shape`); a few kept
+_COMPILED: dict = {}
+_KEEP = 16
+
+
+def _content(obj):
+    """A hashable key equal for equal shapes: a dataclass by its type and
+    fields, an array by its dtype, shape and bytes, a float by its bits
+    (−0.0 is not 0.0), any other value by its type and itself."""
+    if isinstance(obj, float):
+        return (float, obj.hex())
+    if isinstance(obj, np.ndarray):
+        return (obj.dtype.str, obj.shape, obj.tobytes())
+    if isinstance(obj, (tuple, list)):
+        return tuple(_content(v) for v in obj)
+    if dataclasses.is_dataclass(obj):
+        return (type(obj),) + tuple(_content(getattr(obj, f.name))
+                                    for f in dataclasses.fields(obj))
+    return (type(obj), obj)
+
+
+def compiled_shape(shape):
+    """``shape.compile()`` (a :class:`~flexbed.dynamics.time_functions.TimeFunction`,
+    read only), computed once for equal shapes: the variants of a study
+    share their inputs, and a sampled curve's spline costs about a
+    millisecond to build."""
+    key = _content(shape)
+    try:
+        return _COMPILED[key]
+    except TypeError:                   # a field that cannot be hashed
+        return shape.compile()
+    except KeyError:
+        pass
+    f = shape.compile()
+    if len(_COMPILED) >= _KEEP:
+        _COMPILED.pop(next(iter(_COMPILED)))
+    _COMPILED[key] = f
+    return f
 
 
 @dataclass(frozen=True, slots=True)
@@ -73,7 +113,7 @@ class BaseInputs:
         gives a ``"static"`` support."""
         base = scene.base
         items = tuple(base.drives) + tuple(base.loads) + tuple(scene.loads)
-        compiled = tuple(d.shape.compile() for d in items)
+        compiled = tuple(compiled_shape(d.shape) for d in items)
         body_loads = compiled[len(base.drives) + len(base.loads):]
         drives = [[], [], []]
         loads = [[], [], []]

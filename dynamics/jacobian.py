@@ -118,13 +118,46 @@ def _graph(system: System, modal: bool) -> MountGraph:
 
 
 _GRAPHS: "weakref.WeakKeyDictionary[System, dict]" = weakref.WeakKeyDictionary()
+#: graphs by topology (:func:`topology`): a study's variants share theirs
+_BY_TOPOLOGY: dict = {}
+_KEEP = 8
+_TOPOLOGIES: "weakref.WeakKeyDictionary[System, tuple]" = weakref.WeakKeyDictionary()
+
+
+def topology(system: System) -> tuple:
+    """A hashable key equal for systems whose mount graph and sparsity
+    patterns are the same: the state's layout, the mounts' bodies and
+    ends, the flexible bodies' slots and modes, the inputs' table (which
+    bodies carry loads). Variants of a scene that change numbers only
+    (stiffnesses, masses, positions) share it."""
+    key = _TOPOLOGIES.get(system)
+    if key is None:
+        d = system.data
+        key = (system.layout, np.asarray(system.body_i).tobytes(),
+               np.asarray(system.body_j).tobytes(), np.asarray(d.end_flex).tobytes(),
+               tuple((fc.slot, fc.eom.n) for fc in system.flex_compiled),
+               np.asarray(d.in_ints).tobytes(), np.asarray(d.in_ints).shape)
+        _TOPOLOGIES[system] = key
+    return key
+
+
+def by_topology(system: System, name: str, make):
+    """``make()`` once per :func:`topology` of ``system`` and ``name`` (a
+    few kept): what depends on the topology alone (read only)."""
+    key = (name, topology(system))
+    if key not in _BY_TOPOLOGY:
+        if len(_BY_TOPOLOGY) >= _KEEP:
+            _BY_TOPOLOGY.pop(next(iter(_BY_TOPOLOGY)))
+        _BY_TOPOLOGY[key] = make()
+    return _BY_TOPOLOGY[key]
 
 
 def mount_graph(system: System, modal: bool = True) -> MountGraph:
-    """The :class:`MountGraph` of a system (made once per system and ``modal``)."""
+    """The :class:`MountGraph` of a system (made once per topology and
+    ``modal``: :func:`by_topology`)."""
     per = _GRAPHS.setdefault(system, {})
     if modal not in per:
-        per[modal] = _graph(system, modal)
+        per[modal] = by_topology(system, f"graph-{modal}", lambda: _graph(system, modal))
     return per[modal]
 
 

@@ -37,7 +37,7 @@ flexible body the modal blocks are empty.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -70,29 +70,48 @@ class Layout:
     rigid: tuple
     modal: tuple = ()
     n_internal: int = 0
+    # the offsets, computed once (every evaluation of the physics reads them)
+    _sizes: tuple = field(init=False, repr=False, compare=False)
+    _slices: tuple = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        nb3 = 3 * int(bool(self.base_free))
+        n = len(self.rigid)
+        nm = int(sum(k for _, k in self.modal))
+        nq = nb3 + 7 * n + nm
+        nv = nb3 + 6 * n + nm
+        n_motion = nq + nv + self.n_internal
+        object.__setattr__(self, "_sizes", (nm, nq, nv, n_motion, n_motion + N_WORK))
+        object.__setattr__(self, "_slices", (
+            slice(nb3 + 7 * n, nq),                           # q_modal
+            slice(nq + nb3 + 6 * n, nq + nv),                 # v_modal
+            slice(nq + nv, n_motion),                         # internal
+            slice(nb3, nb3 + 7 * n),                          # q_rigid
+            slice(nq + nb3, nq + nb3 + 6 * n),                # v_rigid
+            slice(0, nb3),                                    # q_base
+            slice(nq, nq + nb3),                              # v_base
+            slice(n_motion, n_motion + N_WORK)))              # work
 
     @property
     def n_modal(self) -> int:
         """Modal coordinates of all flexible bodies together."""
-        return int(sum(n for _, n in self.modal))
+        return self._sizes[0]
 
     @property
     def nq(self) -> int:
-        return 3 * self.base_free + 7 * len(self.rigid) + self.n_modal
+        return self._sizes[1]
 
     @property
     def nv(self) -> int:
-        return 3 * self.base_free + 6 * len(self.rigid) + self.n_modal
+        return self._sizes[2]
 
     @property
     def q_modal(self) -> slice:
-        a = 3 * self.base_free + 7 * len(self.rigid)
-        return slice(a, a + self.n_modal)
+        return self._slices[0]
 
     @property
     def v_modal(self) -> slice:
-        a = self.nq + 3 * self.base_free + 6 * len(self.rigid)
-        return slice(a, a + self.n_modal)
+        return self._slices[1]
 
     def modal_block(self, body: int) -> slice:
         """Offsets of a flexible body's modes within the modal blocks."""
@@ -106,38 +125,36 @@ class Layout:
     @property
     def n_motion(self) -> int:
         """The states that evolve by the physics (q, v, z): all but the work."""
-        return self.nq + self.nv + self.n_internal
+        return self._sizes[3]
 
     @property
     def internal(self) -> slice:
         """The internal states z."""
-        return slice(self.nq + self.nv, self.n_motion)
+        return self._slices[2]
 
     @property
     def ny(self) -> int:
-        return self.n_motion + N_WORK
+        return self._sizes[4]
 
     @property
     def q_rigid(self) -> slice:
-        a = 3 * self.base_free
-        return slice(a, a + 7 * len(self.rigid))
+        return self._slices[3]
 
     @property
     def v_rigid(self) -> slice:
-        a = self.nq + 3 * self.base_free
-        return slice(a, a + 6 * len(self.rigid))
+        return self._slices[4]
 
     @property
     def q_base(self) -> slice:
-        return slice(0, 3 * self.base_free)
+        return self._slices[5]
 
     @property
     def v_base(self) -> slice:
-        return slice(self.nq, self.nq + 3 * self.base_free)
+        return self._slices[6]
 
     @property
     def work(self) -> slice:
-        return slice(self.n_motion, self.ny)
+        return self._slices[7]
 
     def p_indices(self) -> np.ndarray:
         """Indices in y of all Euler parameters, shape (n_rigid, 4)."""
@@ -155,12 +172,13 @@ class Layout:
         y = np.asarray(y)
         lead = y.shape[:-1]
         n = len(self.rigid)
-        qr = y[..., self.q_rigid].reshape(lead + (n, 7))
-        vr = y[..., self.v_rigid].reshape(lead + (n, 6))
+        q_modal, v_modal, internal, q_rigid, v_rigid, q_base, v_base, work = self._slices
+        qr = y[..., q_rigid].reshape(lead + (n, 7))
+        vr = y[..., v_rigid].reshape(lead + (n, 6))
         return {
-            "r_base": y[..., self.q_base] if self.base_free else None,
-            "rd_base": y[..., self.v_base] if self.base_free else None,
+            "r_base": y[..., q_base] if self.base_free else None,
+            "rd_base": y[..., v_base] if self.base_free else None,
             "r": qr[..., :3], "p": qr[..., 3:], "rd": vr[..., :3], "w": vr[..., 3:],
-            "a": y[..., self.q_modal], "ad": y[..., self.v_modal],
-            "z": y[..., self.internal], "work": y[..., self.work],
+            "a": y[..., q_modal], "ad": y[..., v_modal],
+            "z": y[..., internal], "work": y[..., work],
         }

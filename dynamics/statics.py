@@ -339,7 +339,7 @@ def _jacobian(system: System, y: np.ndarray, residual_rows, steps: np.ndarray, m
     (:func:`flexbed.dynamics.jacobian.force_jacobian`, steps (n,)). A CSR
     matrix when ``sparse``, else an array (n, n); and whether it is the
     exact tangent."""
-    tg = tangent(system, y, modal=modal, dense=not sparse)
+    tg = tangent(system, y, modal=modal, dense=not sparse, rates=False)
     if tg is not None:
         return tg.Kq, True
     fj = force_jacobian(system, y, residual_rows, functools.partial(perturbed_positions, system, y),
@@ -351,13 +351,14 @@ def _singular_direction(Jac: np.ndarray) -> int | None:
     """Index of the free coordinate most involved in a null direction, or None."""
     d = np.sqrt(np.abs(np.diag(Jac)))
     colnorm = np.linalg.norm(Jac, axis=0)
-    for c in range(Jac.shape[1]):
-        if colnorm[c] == 0.0 or not np.isfinite(colnorm[c]):
-            return c
+    bad = np.flatnonzero(~(np.isfinite(colnorm) & (colnorm != 0.0)))
+    if bad.size:
+        return int(bad[0])
     s_col = 1.0 / np.where(d > 0, d, colnorm)
     Js = Jac * s_col[None, :] * s_col[:, None]
-    u, sv, vt = np.linalg.svd(Js)
+    sv = np.linalg.svd(Js, compute_uv=False)
     if sv[-1] <= SINGULAR_RATIO * sv[0]:
+        u, sv, vt = np.linalg.svd(Js)
         return int(np.argmax(np.abs(vt[-1])))
     return None
 

@@ -66,7 +66,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .jacobian import mount_graph
+from .jacobian import by_topology, mount_graph
 from .system import System
 
 __all__ = ["Tangent", "tangent", "uncovered", "law_slopes"]
@@ -81,7 +81,8 @@ class Tangent:
 
     Kq, Kv : (n, n) sparse CSR (or arrays) — ∂(M v̇)/∂q [N/m, N/rad, …] and
     ∂(M v̇)/∂v [N s/m, …] in the unknowns of
-    :func:`flexbed.dynamics.jacobian.mount_graph`; outputs_q, outputs_v :
+    :func:`flexbed.dynamics.jacobian.mount_graph` (Kv None when not asked
+    for: ``rates=False``); outputs_q, outputs_v :
     dict name → (3M, n) sparse CSR (or arrays), the derivatives of the
     mount fields ``w_dx`` [m], ``w_dxd`` [m/s], ``w_f`` [N], ``w_F`` [N];
     evaluations : int — right-hand sides it took (1).
@@ -194,7 +195,8 @@ def _end_maps(system: System, graph, A: np.ndarray, ub: np.ndarray):
 
 
 def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = math.inf,
-            modal: bool = True, capture: tuple = (), dense: bool = False) -> Tangent | None:
+            modal: bool = True, capture: tuple = (), dense: bool = False,
+            rates: bool = True) -> Tangent | None:
     """The exact :class:`Tangent` at the state y (ny,) at rest, or None where
     it does not apply (:func:`uncovered`, or the base moving at t).
 
@@ -211,6 +213,9 @@ def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = m
         Mount fields to differentiate too (``w_dx``, ``w_dxd``, ``w_f``, ``w_F``).
     dense : bool
         The matrices as arrays rather than CSR (cheaper for small systems).
+    rates : bool
+        Compute Kv and ``outputs_v`` too (False: the statics' Newton steps,
+        which need Kq alone; they are then None and {}).
     """
     if uncovered(system, y, modal) or (system.scene.loads and t >= seg_end):
         return None
@@ -238,9 +243,10 @@ def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = m
     df = kx * dDx
     dF = Ai @ (Ut @ df - _skew(Fbar) @ Thi)
     # rates (at rest)
-    dDv = U @ (AiT @ dl)
-    dfv = kv * dDv
-    dFv = Ai @ (Ut @ dfv)
+    if rates:
+        dDv = U @ (AiT @ dl)
+        dfv = kv * dDv
+        dFv = Ai @ (Ut @ dfv)
     # the ends' generalized forces
     sg = np.concatenate([np.ones(M), -np.ones(M)])[:, None, None]
     own = np.zeros((2 * M, 3, 2 * W))
@@ -268,10 +274,12 @@ def tangent(system: System, y: np.ndarray, *, t: float = 0.0, seg_end: float = m
     own_q, own_v = _own_terms(system, A, y, float(t))
     K, out = (pat.K.dense, pat.out.dense) if dense else (pat.K.csr, pat.out.csr)
     Kq = K(np.concatenate([end_rows(dF, True)] + own_q))
-    Kv = K(np.concatenate([end_rows(dFv, False)] + own_v))
     fields_q = {"w_dx": dDx, "w_dxd": np.zeros_like(dDx), "w_f": df, "w_F": dF}
-    fields_v = {"w_dx": np.zeros_like(dDv), "w_dxd": dDv, "w_f": dfv, "w_F": dFv}
     outputs_q = {k: out(fields_q[k][pat.mounts]) for k in capture}
+    if not rates:
+        return Tangent(Kq, None, outputs_q, {}, 1)
+    Kv = K(np.concatenate([end_rows(dFv, False)] + own_v))
+    fields_v = {"w_dx": np.zeros_like(dDv), "w_dxd": dDv, "w_f": dfv, "w_F": dFv}
     outputs_v = {k: out(fields_v[k][pat.mounts]) for k in capture}
     return Tangent(Kq, Kv, outputs_q, outputs_v, 1)
 
@@ -320,31 +328,37 @@ _PATTERNS: "weakref.WeakKeyDictionary[System, dict]" = weakref.WeakKeyDictionary
 
 
 def _pattern(system: System, modal: bool) -> _Pattern:
+    """The :class:`_Pattern` of a system (made once per topology and
+    ``modal``: :func:`flexbed.dynamics.jacobian.by_topology`)."""
     per = _PATTERNS.setdefault(system, {})
     if modal not in per:
-        g = mount_graph(system, modal)
-        M, W, n = system.M, g.width, g.n
-        table = np.full((len(g.blocks) + 1, W), -1, dtype=np.intp)    # last row: the base
-        for s, blk in enumerate(g.blocks):
-            table[s, :blk.size] = blk
-        rows = table[np.concatenate([g.end_slot[:, 0], g.end_slot[:, 1]])]        # (2M, W)
-        cols_m = np.concatenate([table[g.end_slot[:, 0]], table[g.end_slot[:, 1]]], axis=1)
-        cols = np.concatenate([cols_m, cols_m])                                   # (2M, 2W)
-        ends = (rows[:, :, None] >= 0) & (cols[:, None, :] >= 0)
-        R = [np.broadcast_to(rows[:, :, None], ends.shape)[ends]]
-        C = [np.broadcast_to(cols[:, None, :], ends.shape)[ends]]
-        for slot in _own_slots(system):
-            blk = g.blocks[slot]
-            R.append(np.repeat(blk, blk.size))
-            C.append(np.tile(blk, blk.size))
-        mounts = np.broadcast_to((cols_m >= 0)[:, None, :], (M, 3, 2 * W))
-        orow = np.broadcast_to((3 * np.arange(M)[:, None] + np.arange(3))[:, :, None],
-                               mounts.shape)[mounts]
-        ocol = np.broadcast_to(cols_m[:, None, :], mounts.shape)[mounts]
-        per[modal] = _Pattern(ends, mounts, _Scatter.of(np.concatenate(R), np.concatenate(C),
-                                                         (n, n)),
-                              _Scatter.of(orow, ocol, (3 * M, n)))
+        per[modal] = by_topology(system, f"tangent-pattern-{modal}",
+                                 lambda: _make_pattern(system, modal))
     return per[modal]
+
+
+def _make_pattern(system: System, modal: bool) -> _Pattern:
+    g = mount_graph(system, modal)
+    M, W, n = system.M, g.width, g.n
+    table = np.full((len(g.blocks) + 1, W), -1, dtype=np.intp)    # last row: the base
+    for s, blk in enumerate(g.blocks):
+        table[s, :blk.size] = blk
+    rows = table[np.concatenate([g.end_slot[:, 0], g.end_slot[:, 1]])]        # (2M, W)
+    cols_m = np.concatenate([table[g.end_slot[:, 0]], table[g.end_slot[:, 1]]], axis=1)
+    cols = np.concatenate([cols_m, cols_m])                                   # (2M, 2W)
+    ends = (rows[:, :, None] >= 0) & (cols[:, None, :] >= 0)
+    R = [np.broadcast_to(rows[:, :, None], ends.shape)[ends]]
+    C = [np.broadcast_to(cols[:, None, :], ends.shape)[ends]]
+    for slot in _own_slots(system):
+        blk = g.blocks[slot]
+        R.append(np.repeat(blk, blk.size))
+        C.append(np.tile(blk, blk.size))
+    mounts = np.broadcast_to((cols_m >= 0)[:, None, :], (M, 3, 2 * W))
+    orow = np.broadcast_to((3 * np.arange(M)[:, None] + np.arange(3))[:, :, None],
+                           mounts.shape)[mounts]
+    ocol = np.broadcast_to(cols_m[:, None, :], mounts.shape)[mounts]
+    return _Pattern(ends, mounts, _Scatter.of(np.concatenate(R), np.concatenate(C), (n, n)),
+                    _Scatter.of(orow, ocol, (3 * M, n)))
 
 
 def _own_slots(system: System) -> list:

@@ -19,7 +19,7 @@ def _horner(c, x):
     return acc
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
 def law_force(kind, row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c, x, v):
     """Force [N] of a law (``kind``, its ``row`` in that kind's table) at
     Δx [m], Δẋ [m/s]."""

@@ -51,7 +51,7 @@ _SIGNATURE = types.void(types.float64, types.float64, types.voidptr, types.voidp
                         types.voidptr, types.voidptr)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, inline="always")
 def _rotation(p, A):
     """A = Q(p)/|p|² (3, 3) for Euler parameters p (4,), scalar first."""
     e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
@@ -258,10 +258,12 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
         [m] the unstrained deflections.
     law_kind, law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c
         The mount laws, one per (mount, direction).
-    extras : tuple (stops, w_mx)
-        The bump stops and the Maxwell terms (one tuple: a call of 30
-        arguments or more is compiled as ``*args``, which numba cannot
-        inline).
+    extras : tuple (stops, w_mx, sums)
+        The bump stops, the Maxwell terms and whether to sum the forces
+        into the bodies' (False: the mount forces alone, for
+        :meth:`System.rhs_batch` ``mounts_only``; ``force``, ``torque`` and
+        ``w_flexQ`` then stay zero). One tuple: a call of 30 arguments or
+        more is compiled as ``*args``, which numba cannot inline.
     stops : tuple (stop_gap, stop_kc, w_contact, w_hold)
         The bump stops. stop_gap,
         stop_kc (3M or 0, 2): gaps [m] (inf: no stop that side), contact
@@ -306,7 +308,7 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
         for c in range(w_flexQ.shape[1]):
             w_flexQ[k, c] = 0.0
     p_mount = 0.0
-    stops, w_mx = extras
+    stops, w_mx, sums = extras
     stop_gap, stop_kc, w_contact, w_hold = stops
     for m in range(M):
         bi = body_i[m]
@@ -365,6 +367,8 @@ def _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints, 
         w_F[m, 0] = F0
         w_F[m, 1] = F1
         w_F[m, 2] = F2
+        if not sums:                    # the mount forces alone (System.rhs_batch)
+            continue
         for side in range(2):
             e = m + side * M
             b = bi if side == 0 else body_j[m]
@@ -853,7 +857,7 @@ def evaluate(t, seg_end, y_ptr, dy_ptr, F_ptr, I_ptr):
     _maxwell_sums(y, mx_ints, mx_k, w_relax, w_mx)                             # 4a.
     p_mount = _mount_forces(M, nb, nf, body_i, body_j, U, d0, end_flex, end_phi, fx_ints,
                             law_kind, law_row, lin_kc, poly_k, poly_c, crv_b, crv_o, crv_c,
-                            ((stop_gap, stop_kc, w_contact, w_hold), w_mx),
+                            ((stop_gap, stop_kc, w_contact, w_hold), w_mx, ints[11] == 0),
                             w_A, w_P, w_Pd, w_ub, w_dx, w_dxd, w_f, w_F, w_force, w_torque,
                             w_flexQ)                                           # 4.
     if ints[11] == 1:                       # the mount forces alone (System.rhs_batch)

@@ -182,30 +182,27 @@ def pack(fields: dict, ny: int):
         NumPy views of every field into F and I (writes go to the storage).
     """
     n = len(FIELDS)
-    meta = np.zeros((n, 6), dtype=np.int64)
+    rows = []
     offsets = {"f": 0, "i": HEADER + 6 * n}
-    arrays = []
-    for k, name in enumerate(FIELDS):
+    arrays = {"f": [], "i": []}
+    for name in FIELDS:
         kind, ndim = KINDS[name]
         a = np.asarray(fields[name], dtype=np.float64 if kind == "f" else np.int64)
         if a.ndim != ndim:
             raise ValueError(f"kernel field {name}: {a.ndim} dimensions, expected {ndim}")
-        meta[k, 0] = offsets[kind]
-        meta[k, 1:1 + ndim] = a.shape
-        meta[k, 1 + ndim:] = 1
+        rows.append((kind, offsets[kind], a.shape, a.size))
         offsets[kind] += a.size
-        arrays.append(a)
+        arrays[kind].append(a.reshape(-1))
     F = np.zeros(max(offsets["f"], 1))
-    I = np.zeros(offsets["i"], dtype=np.int64)
+    if arrays["f"]:
+        np.concatenate(arrays["f"], out=F[:offsets["f"]])
+    I = np.empty(offsets["i"], dtype=np.int64)
     I[:HEADER] = (ny, F.size, I.size, n)
-    I[HEADER:HEADER + 6 * n] = meta.reshape(-1)
+    I[HEADER:HEADER + 6 * n] = [v for _, o, shape, _ in rows
+                                for v in (o,) + shape + (1,) * (5 - len(shape))]
+    if arrays["i"]:
+        np.concatenate(arrays["i"], out=I[HEADER + 6 * n:])
     views = {}
-    for k, name in enumerate(FIELDS):
-        kind, ndim = KINDS[name]
-        store = F if kind == "f" else I
-        o = int(meta[k, 0])
-        shape = tuple(int(v) for v in meta[k, 1:1 + ndim])
-        v = store[o:o + int(np.prod(shape))].reshape(shape)
-        v[...] = arrays[k]
-        views[name] = v
+    for name, (kind, o, shape, size) in zip(FIELDS, rows):
+        views[name] = (F if kind == "f" else I)[o:o + size].reshape(shape)
     return (F, I), Compiled(**views)

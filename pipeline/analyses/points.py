@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbed.dynamics.frames import apply, apply_t
 from flexbed.dynamics.rotation import A as rotation_matrix
 from flexbed.fem.quad_shapes import mode_shapes
 from flexbed.fem.grid_shapes import OutsidePlateError
@@ -308,7 +309,7 @@ class Run:
             udd = self.add @ phi.T
         A = self.A[:, b]
         w, wd = self.w[:, b], self.wd[:, b]
-        R = self.r[:, b] + np.einsum("kij,kj->ki", A, u)
+        R = self.r[:, b] + apply(A, u)            # the order of flexbed.dynamics.frames
         V = self.rd[:, b] + np.einsum("kij,kj->ki", A, np.cross(w, u) + ud)
         acc_body = np.cross(wd, u) + np.cross(w, np.cross(w, u)) + 2.0 * np.cross(w, ud) + udd
         Acc = self.rdd[:, b] + np.einsum("kij,kj->ki", A, acc_body)
@@ -320,7 +321,7 @@ class Run:
         B = self.body_index(body, "--relative-to body")
         AB = self.A[:, B]
         wB, wdB = self.w[:, B], self.wd[:, B]
-        rho = np.einsum("kji,kj->ki", AB, m.position - self.r[:, B])
+        rho = apply_t(AB, m.position - self.r[:, B])
         rhod = np.einsum("kji,kj->ki", AB, m.velocity - self.rd[:, B]) - np.cross(wB, rho)
         rhodd = (np.einsum("kji,kj->ki", AB, m.acceleration - self.rdd[:, B])
                  - np.cross(wdB, rho) - 2.0 * np.cross(wB, rhod) - np.cross(wB, np.cross(wB, rho)))

@@ -9,12 +9,13 @@ forces. :class:`PointRun` holds the solved motion and evaluates, on first
 use, the right-hand side at the samples once (:meth:`System.rhs_batch`,
 keeping only the bodies' accelerations and the mounts' deflections and
 forces) and the motion of the bodies the asked points need; asked for
-the mount forces and the bodies' poses alone (peaks of mount forces and of
+the mount forces and points' positions alone (peaks of mount forces and of
 displacements), the right-hand side only as far as the mount forces
-(:meth:`System.rhs_batch` ``mounts_only``). The numbers
-are those of the results file (the same compiled evaluations, the same
-formulas: :func:`flexbed.dynamics.history.body_motion` and
-:class:`flexbed.analyses.points.Run`'s kinematics).
+(:meth:`System.rhs_batch` ``mounts_only``) and the positions from the
+states in compiled code (:func:`flexbed.dynamics.frames.point_path`). The
+numbers are those of the results file (the same compiled evaluations, the
+same formulas in the same order: :func:`flexbed.dynamics.history.body_motion`
+and :class:`flexbed.analyses.points.Run`'s kinematics).
 
 Anything else (a point on the bed, whose drawing frame or mode shapes the
 results file resolves; any other attribute of :class:`flexbed.Results`)
@@ -33,7 +34,8 @@ import numpy as np
 from flexbed.analyses.points import Point, PointMotion, Run
 from flexbed.api.arguments import Arguments
 from flexbed.api.results import Results
-from flexbed.dynamics.history import MOTION_CAPTURED, body_motion, body_poses
+from flexbed.dynamics.frames import point_path
+from flexbed.dynamics.history import MOTION_CAPTURED, body_motion
 from flexbed.dynamics.rotation import A as rotation_matrix
 
 __all__ = ["PointRun"]
@@ -67,33 +69,17 @@ class _Kinematics(Run):
     """:class:`Run`'s point kinematics over the bodies' motion in memory
     (rigid frames only: no point on the bed, whose frame the results file
     resolves). t (k,) [s]; names : list of str; motion : dict of
-    :func:`body_motion`'s arrays (k, nb, 3|4), or :func:`body_poses`' alone
-    (for :meth:`position`)."""
+    :func:`body_motion`'s arrays (k, nb, 3|4)."""
 
     def __init__(self, t: np.ndarray, names: list, motion: dict):
         self.path = Path("results")
         self.t, self.names = t, names
         self.r, self.p = motion["position"], motion["euler_parameters"]
-        # the poses alone (body_poses) leave these None
         self.rd, self.rdd = motion.get("velocity"), motion.get("acceleration")
         self.w, self.wd = motion.get("angular_velocity"), motion.get("angular_acceleration")
         self.A = _Frames(self.p)                                          # [:, b] (k, 3, 3)
         self.bed_body = self.bed_name = self.shapes = None
         self.bed_centre = np.zeros(3)
-
-    def position(self, point: Point, body: str | None) -> np.ndarray:
-        """The ``position`` (k, 3) [m] of :meth:`Run.absolute` (``body``
-        None) or :meth:`Run.relative` (in ``body``'s frame), by the same
-        operations (the same numbers, bit for bit: a test holds them
-        together) without the velocities and accelerations, which a peak
-        displacement does not read."""
-        b = self.body_index(point.body)
-        u = np.broadcast_to(np.asarray(point.position, dtype=float), (self.t.size, 3)).copy()
-        R = self.r[:, b] + np.einsum("kij,kj->ki", self.A[:, b], u)
-        if body is None:
-            return R
-        B = self.body_index(body)
-        return np.einsum("kji,kj->ki", self.A[:, B], R - self.r[:, B])
 
 
 class PointRun:
@@ -200,15 +186,25 @@ class PointRun:
         """``point(...).position`` (k, 3) [m], the same numbers, computed
         alone for a rigid body's point (its velocity and acceleration are
         not): from the states and the base's motion, without the bodies'
-        accelerations."""
+        accelerations (:func:`point_path`)."""
         if not self._in_memory(body, relative_to):
             return self.point(body, position, relative_to=relative_to, name=name).position
-        return self._poses.position(self._point(body, position, name), relative_to)
+        u = np.asarray(self._point(body, position, name).position, dtype=float)
+        r, p = self._pose(body)
+        if relative_to is None:
+            return point_path(r, p, u, r, p, False)
+        return point_path(r, p, u, *self._pose(relative_to), True)
 
-    @cached_property
-    def _poses(self) -> _Kinematics:
-        """The bodies' poses alone (:func:`body_poses`) for :meth:`point_position`."""
-        if "_kinematics" in self.__dict__:
-            return self._kinematics
-        return _Kinematics(self.t, [b.name for b in self.system.scene.bodies],
-                           body_poses(self.system, self._Y, self._mounts))
+    def _pose(self, body: str) -> tuple[np.ndarray, np.ndarray]:
+        """A body's origin (k, 3) [m] and Euler parameters (k, 4) as the
+        states hold them (the base's from the right-hand side's base motion,
+        as :func:`body_poses` takes it), for :func:`point_path`."""
+        b = [x.name for x in self.system.scene.bodies].index(body)
+        if b == 0:
+            r = self._mounts["w_base"][:, 0]
+            p = np.zeros((r.shape[0], 4))
+            p[:, 0] = 1.0
+        else:
+            parts = self.system.layout.split(self._Y)
+            r, p = parts["r"][:, b - 1], parts["p"][:, b - 1]         # views of the states
+        return r, p
