@@ -40,8 +40,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from flexbed.dynamics.sample_passes import peak_norms
 from flexbed.errors import InputError
 from flexbed.files.table_reader import short_repr
 from flexbed.files.scene import SceneFile
@@ -66,22 +66,7 @@ def peak_norm(v: np.ndarray) -> np.ndarray:
     rounded) in compiled code, one pass over the samples."""
     v = np.asarray(v, dtype=float)
     rows = v.reshape(v.shape[0], -1, 3) if v.ndim != 3 else v
-    return _peak_norm(rows).reshape(v.shape[1:-1])
-
-
-@njit(cache=True)
-def _peak_norm(v):
-    """max over k of (v0² + v1²) + v2², rooted, for v (k, m, 3): (m,)."""
-    k, m = v.shape[0], v.shape[1]
-    out = np.full(m, -np.inf)
-    for i in range(k):
-        for j in range(m):
-            s = (v[i, j, 0] * v[i, j, 0] + v[i, j, 1] * v[i, j, 1]) + v[i, j, 2] * v[i, j, 2]
-            if s > out[j] or s != s:
-                out[j] = s
-    for j in range(m):
-        out[j] = np.sqrt(out[j])
-    return out
+    return peak_norms(rows).reshape(v.shape[1:-1])
 
 
 def _mounts(scene: SceneFile, opts: dict, where: str) -> tuple:

@@ -12,7 +12,7 @@ forces) and the motion of the bodies the asked points need; asked for
 the mount forces and points' positions alone (peaks of mount forces and of
 displacements), the right-hand side only as far as the mount forces
 (:meth:`System.rhs_batch` ``mounts_only``) and the positions from the
-states in compiled code (:func:`flexbed.dynamics.frames.point_path`). The
+states in compiled code (:func:`flexbed.dynamics.sample_passes.point_path`). The
 numbers are those of the results file (the same compiled evaluations, the
 same formulas in the same order: :func:`flexbed.dynamics.history.body_motion`
 and :class:`flexbed.analyses.points.Run`'s kinematics).
@@ -34,7 +34,7 @@ import numpy as np
 from flexbed.analyses.points import Point, PointMotion, Run
 from flexbed.api.arguments import Arguments
 from flexbed.api.results import Results
-from flexbed.dynamics.frames import point_path
+from flexbed.dynamics.sample_passes import point_path
 from flexbed.dynamics.history import MOTION_CAPTURED, body_motion
 from flexbed.dynamics.rotation import A as rotation_matrix
 

@@ -124,18 +124,28 @@ def bed_modes(scene: SceneFile):
 
 def warm(scene: SceneFile) -> None:
     """Load the compiled right-hand side and steppers (numba's cache) and
-    run the statics of the scene with its bed rigid, so that the first
-    point a worker runs is timed like the others. Failures are ignored
-    (the first point then pays)."""
+    run the statics of the scene with its bed rigid, and load the
+    metrics' compiled peaks (a point's positions from a state's rows, the
+    peaks of norms), so that the first point a worker runs is timed like
+    the others. Failures are ignored (the first point then pays)."""
     import dataclasses
 
     from flexbed.api import statics
+    from flexbed.dynamics.sample_passes import point_path
     from flexbed.dynamics.integrate import warm_up
+    from flexbed.study.metrics import peak_norm
     try:
         rigid = dataclasses.replace(scene, bed=dataclasses.replace(scene.bed, model="rigid")) \
             if scene.bed.flexible else scene
         st = statics(rigid)
         warm_up(st.system, st.equilibrium.y)
+        Y = np.tile(st.equilibrium.y, (2, 1))
+        parts = st.system.layout.split(Y)
+        if st.system.n_rigid:                        # the types a point's metrics pass
+            r, p = parts["r"][:, 0], parts["p"][:, 0]
+            point_path(r, p, np.zeros(3), r, p, True)
+        peak_norm(np.zeros((2, 3)))
+        peak_norm(np.zeros((2, 4, 9))[:, :, 3:6])
     except Exception:
         pass
 
