@@ -167,3 +167,33 @@ def off_bed(spec: PlateSpec, points: np.ndarray) -> np.ndarray:
     lay = bed_layout(spec)
     return np.array([lay.locate(x - lay.centre[0], y - lay.centre[1]) is None
                      for x, y in pts])
+
+
+def elastic_mode_count(spec: PlateSpec) -> int | None:
+    """The elastic modes the spec's FE model has (its degrees of freedom
+    less its rigid-body modes), counted on its mesh before any assembly, so
+    that a request for more is refused before the work starts.
+
+    The Kirchhoff plate has 4 DOFs at each of its (nx + 1)(ny + 1) nodes and
+    3 rigid-body modes (w-translation and two tilts: :data:`flexbed.fem.modes.RIGID_MODES`);
+    the Mindlin shell 5 at each node of :func:`bed_layout`'s mesh, one more
+    at each node of a hinged stiffener's line (its section rotation), and 6
+    rigid-body modes.
+
+    Returns
+    -------
+    int or None
+        The count; None for an auto mesh (``element_size = "auto"``), which
+        is chosen only while the modes are computed.
+    """
+    if spec.auto_mesh:
+        return None
+    if spec.theory != "mindlin":
+        return 4 * (spec.nx + 1) * (spec.ny + 1) - 3
+    from .shell import DOFS_PER_NODE, ShellModel
+    lay = bed_layout(spec)
+    dofs = DOFS_PER_NODE * lay.nodes.shape[0]
+    for st in spec.stiffeners:
+        if st.model == "hinged":
+            dofs += line_nodes(st, lay.nodes, lay.cells, lay.centre[:2])[0].size
+    return dofs - ShellModel.n_rigid

@@ -2,12 +2,16 @@
 base and one body above it, as TOML text to which a test appends its
 mounts, base motion (``sine_drive``) and solver settings; and that body on four linear
 mounts, the fault catalogue's scene, which the fuzzer and the sanity
-checks mutate too.
+checks mutate too; the one-stage isolator whose closed forms the modal,
+FRF, random and elastomer tests check (``one_stage``); and the reference
+scene with its base held (``FIXED_REFERENCE``).
 
 A plain module, not fixtures: test modules build their scene texts at
 import time (module constants, parametrisations, Hypothesis strategies).
 It imports by its plain name because pytest puts this folder on
 ``sys.path`` (see ``conftest.py``)."""
+
+from flexbed.files.builtin import builtin_scene_text
 
 
 def base_and_body(name: str, *, gravity: float = -9.81, mass: float = 50.0,
@@ -89,3 +93,58 @@ def body_on_four_mounts(*, mass="50.0", gravity="-9.81", inertia="[2.0, 3.0, 4.0
                      for i, (x, y) in enumerate([(-0.2, -0.2), (0.2, -0.2), (-0.2, 0.2),
                                                  (0.2, 0.2)]))
     return base_and_body("cat", mass=mass, gravity=gravity, inertia=inertia) + mounts + extra
+
+
+# ------------------------------------------------------------ the one-stage isolator
+
+M1 = 50.0                           # the body's mass [kg]
+A, B = 0.2, 0.3                     # half-spacings of the mounts along x, y [m]
+KX, KY, KZ = 2.0e4, 3.0e4, 5.0e4    # per mount [N/m]
+J1 = (2.0, 3.0, 4.0)                # the body's principal inertias [kg m²]
+ISOLATOR_CORNERS = [(-A, -B), (A, -B), (A, B), (-A, B)]
+
+
+def isolator_mounts(prefix, body_i, body_j, z_i, k, beta, axes="", z_j=0.0) -> str:
+    """Four linear ``[[mount]]`` tables "{prefix}1".."{prefix}4" at
+    ``ISOLATOR_CORNERS`` (x, y) [m], from ``body_i`` at height ``z_i`` to
+    ``body_j`` at ``z_j`` [m]; ``k`` (3,) [N/m], dampers c = ``beta`` k
+    [s]; ``axes``: the mounts' axes as a TOML line (default upright)."""
+    return "".join(f"""
+[[mount]]
+name = "{prefix}{n}"
+body_i = "{body_i}"
+body_j = "{body_j}"
+point_i = [{x}, {y}, {z_i}]
+point_j = [{x}, {y}, {z_j}]
+{axes}law = "linear"
+k = [{k[0]}, {k[1]}, {k[2]}]
+c = [{beta * k[0]}, {beta * k[1]}, {beta * k[2]}]
+""" for n, (x, y) in enumerate(ISOLATOR_CORNERS, 1))
+
+
+def one_stage(beta, axes="", z_j=0.0) -> str:
+    """Body "mass" (M1, J1) on four mounts (KX, KY, KZ; c = ``beta`` k) at
+    its centre of mass's height (``z_j`` [m] from it): six uncoupled modes
+    with closed forms (see ``test_modal``)."""
+    return (base_and_body("isolator", mass=M1, inertia=f"[{J1[0]}, {J1[1]}, {J1[2]}]")
+            + isolator_mounts("M", "base", "mass", 0.5 + z_j, (KX, KY, KZ), beta, axes, z_j))
+
+
+def elastomer_stage(extra: str) -> str:
+    """The one-stage isolator (no viscous damping) with ``extra`` keys on every mount."""
+    return one_stage(0.0).replace('law = "linear"\n', f'law = "linear"\n{extra}\n')
+
+
+def load_text(tmp_path, text, name="scene.toml"):
+    """The scene of TOML ``text``, written to ``tmp_path / name`` and loaded."""
+    import flexbed
+    path = tmp_path / name
+    path.write_text(text)
+    return flexbed.load_scene(path)
+
+
+# ------------------------------------------------ the reference scene, its base held
+
+#: the reference scene's text without its ``[base]`` table (its base fixed)
+FIXED_REFERENCE = builtin_scene_text().split("[base]")[0] + builtin_scene_text().split(
+    "sample = 1.0e-3", 1)[1]

@@ -10,7 +10,7 @@ import pytest
 from flexbed.cli import main
 from flexbed.files.results import read_results
 
-from test_transmitted import _FIXED
+from scene_text import FIXED_REFERENCE
 
 LOAD = """
 [[load]]
@@ -26,7 +26,7 @@ frequency = 23.0             # near the bed's first bending mode
 
 @pytest.mark.slow
 def test_a_load_on_the_flexible_bed_keeps_the_energy_balance(tmp_path):
-    text = (_FIXED.replace('model = "rigid"', 'model = "flexible"')
+    text = (FIXED_REFERENCE.replace('model = "rigid"', 'model = "flexible"')
             .replace("rayleigh = [0.0, 0.01]", "rayleigh = [0.0, 0.0]")
             .replace("t_end = 3.0", "t_end = 0.5") + LOAD)
     scene = tmp_path / "shaken.toml"

@@ -35,35 +35,13 @@ from pathlib import Path
 
 import pytest
 
+from doc_pages import blocks, commands
+
 pytestmark = pytest.mark.readme
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
 PAGES = [ROOT / "README.md"] + sorted((ROOT / "docs").rglob("*.md"))
-
-
-def blocks(text: str, lang: str) -> list[str]:
-    return re.findall(rf"^```{lang}\n(.*?)^```", text, flags=re.S | re.M)
-
-
-def commands(text: str) -> list[tuple[str, int]]:
-    """The page's ``$ `` lines (continued lines joined) with their expected
-    exit codes."""
-    cmds = []
-    for block in blocks(text, "console"):
-        lines = block.splitlines()
-        i = 0
-        while i < len(lines):
-            line = lines[i]
-            if line.startswith("$ "):
-                cmd = line[2:]
-                while cmd.endswith("\\") and i + 1 < len(lines):      # continued lines
-                    i += 1
-                    cmd = cmd[:-1] + " " + lines[i].strip()
-                m = re.search(r"#\s*exit (\d+)\b", cmd)
-                cmds.append((cmd, int(m.group(1)) if m else 0))
-            i += 1
-    return cmds
 
 
 def named_files(text: str) -> dict[str, str]:

@@ -37,6 +37,31 @@ def test_euler_parameters_roll_pitch_yaw_round_trip():
     assert np.allclose(A(p_from_angles(math.pi / 2, 0, 0)) @ [0, 1, 0], [0, 0, 1], atol=1e-15)
 
 
+def test_rotation_matrix_entry_by_entry_is_the_matrix_sum_bit_for_bit():
+    """A(p), written entry by entry, equals the sum of whole matrices
+    (2e0² − 1) I + 2 e eᵀ + 2 e0 [e×] bit for bit (the sign of a zero
+    aside: its terms of δij = 0 and of a zero of [e×] are not added), on
+    Euler parameters of any scale and any leading shape, with zeros and the
+    identity among them."""
+    def summed(p):
+        p = p / np.linalg.norm(p, axis=-1, keepdims=True)
+        e0, e = p[..., 0, None, None], p[..., 1:]
+        return ((2.0 * e0 * e0 - 1.0) * np.eye(3) + 2.0 * e[..., :, None] * e[..., None, :]
+                + 2.0 * e0 * skew(e))
+
+    rng = np.random.default_rng(1)
+    for scale in (1.0, 1e-3, 1e3):
+        p = rng.normal(size=(20000, 4)) * scale
+        p[::7, 1] = 0.0
+        p[::5, 0] = 0.0
+        p[::11] = (1.0, 0.0, 0.0, 0.0)
+        want = summed(p)
+        for got in (A(p), A(p.reshape(2000, 10, 4)).reshape(20000, 3, 3),
+                    np.array([A(q) for q in p[:50]])):
+            assert got.shape[-2:] == (3, 3)
+            assert np.array_equal(got, want[:got.shape[0]])
+
+
 def test_exact_integrals_of_the_drive_shapes():
     from scipy.integrate import quad
     shapes = [Sinusoid(2.0, 3.0, 0.3, 0.1, 0.5), Triangle(5.0, 0.1, 0.2, 0.05),

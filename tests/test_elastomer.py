@@ -14,15 +14,9 @@ import math
 import numpy as np
 import pytest
 
-from scene_text import base_and_body
-from test_modal import KX, KY, KZ, M1, _one_stage, _scene
+from scene_text import KX, KY, KZ, M1, base_and_body, elastomer_stage, load_text, one_stage
 
 ETA = 0.15
-
-
-def _with_elastomer(extra: str) -> str:
-    """The one-stage isolator (no viscous damping) with ``extra`` keys on every mount."""
-    return _one_stage(0.0).replace('law = "linear"\n', f'law = "linear"\n{extra}\n')
 
 
 def _vertical(scene, f):
@@ -32,7 +26,7 @@ def _vertical(scene, f):
 
 
 def test_constant_loss_factor_against_the_closed_form(tmp_path):
-    scene = _scene(tmp_path, _with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
+    scene = load_text(tmp_path, elastomer_stage(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
     fn = math.sqrt(4 * KZ / M1) / (2 * math.pi)
     f = fn * np.array([0.1, 0.5, 0.9, 0.999, 1.0, 1.001, 1.1, 2.0, 10.0])
     H, t = _vertical(scene, f)
@@ -58,7 +52,7 @@ def test_a_frequency_table_at_its_frequencies(tmp_path):
     eta = [0.05, 0.08, 0.12, 0.15, 0.2]
     rows_k = ", ".join(f"[{KX}, {KY}, {k}]" for k in kz)
     rows_e = ", ".join(f"[0.1, 0.1, {e}]" for e in eta)
-    scene = _scene(tmp_path, _with_elastomer(
+    scene = load_text(tmp_path, elastomer_stage(
         f"elastomer = {{frequency = {f_tab}, stiffness = [{rows_k}], "
         f"loss_factor = [{rows_e}]}}"))
     f = np.array(f_tab)
@@ -79,8 +73,8 @@ def test_a_frequency_table_at_its_frequencies(tmp_path):
 def test_the_static_stiffness_is_the_laws(tmp_path):
     """The equilibrium with an elastomer is the plain linear mount's."""
     import flexbed
-    plain = _scene(tmp_path, _one_stage(0.0), "plain.toml")
-    rubber = _scene(tmp_path, _with_elastomer(
+    plain = load_text(tmp_path, one_stage(0.0), "plain.toml")
+    rubber = load_text(tmp_path, elastomer_stage(
         "elastomer = {frequency = [1.0, 100.0], stiffness = [[1e5, 1e5, 1e5], [2e5, 2e5, 2e5]]}"),
         "rubber.toml")
     np.testing.assert_array_equal(flexbed.statics(plain).position, flexbed.statics(rubber).position)
@@ -106,7 +100,7 @@ BAD = [
 def test_bad_elastomer_is_one_line_exit_2(tmp_path, capsys, extra, message):
     from flexbed.cli import main
     path = tmp_path / "bad.toml"
-    path.write_text(_with_elastomer(extra))
+    path.write_text(elastomer_stage(extra))
     assert main(["static", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and message in err and "mount 'M1'" in err, err
@@ -114,7 +108,7 @@ def test_bad_elastomer_is_one_line_exit_2(tmp_path, capsys, extra, message):
 
 def test_loss_factor_on_a_nonlinear_law_is_refused(tmp_path, capsys):
     from flexbed.cli import main
-    text = _one_stage(0.0).replace('law = "linear"\n', 'law = "polynomial"\n', 1)
+    text = one_stage(0.0).replace('law = "linear"\n', 'law = "polynomial"\n', 1)
     text = text.replace(f"k = [{KX}, {KY}, {KZ}]\nc = [0.0, 0.0, 0.0]\n",
                         f"stiffness = [[0, {KX}], [0, {KY}], [0, {KZ}]]\n"
                         f"loss_factor = [0.1, 0.1, 0.1]\n", 1)
@@ -148,9 +142,9 @@ def test_a_table_of_one_stiffness_is_that_linear_mount(tmp_path):
     and the base force's axes, on inclined mounts of a turned body."""
     import flexbed
     k, k2 = (2e4, 3e4, 5e4), (3e4, 2.5e4, 8e4)
-    plain = _scene(tmp_path, _inclined(f"k = {list(k2)}"), "plain.toml")
+    plain = load_text(tmp_path, _inclined(f"k = {list(k2)}"), "plain.toml")
     rows = ", ".join([str(list(k2))] * 2)
-    rubber = _scene(tmp_path, _inclined(
+    rubber = load_text(tmp_path, _inclined(
         f"k = {list(k)}\nelastomer = {{frequency = [1.0, 9.0], stiffness = [{rows}]}}"),
         "rubber.toml")
     f = np.array([0.5, 3.0, 5.0, 7.5, 12.0, 30.0])
@@ -167,7 +161,7 @@ def test_random_with_an_elastomer_against_the_closed_form(tmp_path):
     with |T|² = (1 + η²)/((1 − r²)² + η²), by adaptive quadrature."""
     import flexbed
     from scipy.integrate import quad
-    scene = _scene(tmp_path, _with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
+    scene = load_text(tmp_path, elastomer_stage(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
     w_g, f1, f2 = 0.01, 2.0, 200.0
     r = flexbed.random_vibration(scene, psd={"z": [[f1, w_g], [f2, w_g]]},
                                  points=[("c", "mass", [0, 0, 0])])
@@ -212,7 +206,7 @@ def test_a_constant_loss_factor_fit_is_reported_when_read(tmp_path):
     with pytest.warns(FlexbedWarning, match=r"mounts 'M1', 'M2', 'M3', 'M4': elastomer: a "
                                             r"generalised Maxwell series of \d+ terms matches "
                                             r".* over 1-1000 Hz") as got:
-        _scene(tmp_path, _with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
+        load_text(tmp_path, elastomer_stage(f"loss_factor = [{ETA}, {ETA}, {ETA}]"))
     assert len([w for w in got if "Maxwell" in str(w.message)]) == 1
 
 
@@ -222,7 +216,7 @@ def test_modal_takes_each_mode_at_its_own_frequency(tmp_path):
     ζ = η(fₙ)/2; with a constant η, fₙ of the static k and ζ = η/2."""
     import flexbed
     from scipy.optimize import brentq
-    scene = _scene(tmp_path, _with_elastomer(f"loss_factor = [{ETA}, {ETA}, {ETA}]"), "c.toml")
+    scene = load_text(tmp_path, elastomer_stage(f"loss_factor = [{ETA}, {ETA}, {ETA}]"), "c.toml")
     m = flexbed.modal(scene)
     fn = math.sqrt(4 * KZ / M1) / (2 * math.pi)
     j = int(np.argmin(np.abs(m.frequency - fn)))
@@ -232,7 +226,7 @@ def test_modal_takes_each_mode_at_its_own_frequency(tmp_path):
         [0.05, 0.08, 0.12, 0.15, 0.2]
     rows_k = ", ".join(f"[{KX * s}, {KY * s}, {KZ * s}]" for s in s_tab)
     rows_e = ", ".join(f"[{e}, {e}, {e}]" for e in e_tab)
-    scene = _scene(tmp_path, _with_elastomer(
+    scene = load_text(tmp_path, elastomer_stage(
         f"elastomer = {{frequency = {f_tab}, stiffness = [{rows_k}], "
         f"loss_factor = [{rows_e}]}}"), "t.toml")
     m = flexbed.modal(scene)

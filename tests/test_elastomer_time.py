@@ -17,9 +17,7 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from test_elastomer import _with_elastomer
-from test_modal import KX, KY, KZ, M1
-from scene_text import sine_drive
+from scene_text import KX, KY, KZ, M1, elastomer_stage, sine_drive
 
 AMP = 1.0                                   # base acceleration [m/s²]
 F_TAB = [2.0, 5.0, 10.0, 20.0, 50.0]
@@ -55,7 +53,7 @@ def _steady_amplitude(tmp_path, freq, method="dop853"):
     transient is below 1e-9 of it there)."""
     from flexbed.dynamics.integrate import Settings, integrate
     from flexbed.dynamics.statics import solve_statics
-    sf, system = _system(tmp_path, _with_elastomer(TABLE) + _drive(freq), f"s{freq:g}.toml")
+    sf, system = _system(tmp_path, elastomer_stage(TABLE) + _drive(freq), f"s{freq:g}.toml")
     eq = solve_statics(system, tol=1e-12)
     assert eq.success
     run = integrate(system, system.initial_state(eq.y),
@@ -102,7 +100,7 @@ def test_free_decay_of_one_maxwell_term_is_the_closed_form(tmp_path):
     from flexbed.dynamics.integrate import Settings, integrate
     from flexbed.dynamics.maxwell_terms import MaxwellSeries, relax_states
     from flexbed.dynamics.system import System
-    text = _with_elastomer("").replace("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, 0.0]")
+    text = elastomer_stage("").replace("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, 0.0]")
     sf, _ = _system(tmp_path, text, "decay.toml")
     k1, tau = 3.0e4, 0.02
     terms = tuple(MaxwellSeries(m.name, [tau], [[0.0], [0.0], [k1]]) for m in sf.scene.mounts)
@@ -144,7 +142,7 @@ def test_statics_see_the_static_stiffness_and_the_terms_at_rest(tmp_path):
     that state zero."""
     from flexbed.dynamics.statics import solve_statics
     from flexbed.stages.system import compile_scene
-    sf, system = _system(tmp_path, _with_elastomer(TABLE), "rest.toml")
+    sf, system = _system(tmp_path, elastomer_stage(TABLE), "rest.toml")
     assert system.layout.n_internal > 0
     eq = solve_statics(system, tol=1e-12)
     plain = solve_statics(compile_scene(sf), tol=1e-12)
@@ -167,7 +165,7 @@ def test_time_runs_take_elastomer_mounts_and_refuse_the_linear_model(tmp_path, c
     from flexbed.cli import main
     from flexbed.files.results import read_results
     path = tmp_path / "rubber.toml"
-    path.write_text(_with_elastomer(TABLE) + _drive(9.0) + "\n[solver]\nt_end = 0.2\n")
+    path.write_text(elastomer_stage(TABLE) + _drive(9.0) + "\n[solver]\nt_end = 0.2\n")
     out = tmp_path / "r.h5"
     assert main(["simulate", str(path), "-o", str(out), "--no-progress"]) == 0
     # the stiffness check sees the terms' rates 1/τ_i (the bodies' own are below 100 1/s)

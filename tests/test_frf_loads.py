@@ -18,7 +18,7 @@ import math
 import numpy as np
 import pytest
 
-from test_modal import A, B, J1, KY, KZ, M1, _one_stage
+from scene_text import A, B, J1, KY, KZ, M1, one_stage
 
 BETA = 2e-3
 P, Q = 0.15, -0.1                     # the load's point [m]
@@ -65,7 +65,7 @@ start = 1.0
 @pytest.fixture(scope="module")
 def scene_path(tmp_path_factory):
     path = tmp_path_factory.mktemp("loads") / "loaded.toml"
-    path.write_text(_one_stage(BETA) + LOADS)
+    path.write_text(one_stage(BETA) + LOADS)
     return path
 
 

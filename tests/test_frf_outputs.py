@@ -16,12 +16,12 @@ import math
 import numpy as np
 import pytest
 
-from test_modal import KZ, M1, _one_stage, _scene
+from scene_text import KZ, M1, load_text, one_stage
 
 
 @pytest.fixture(scope="module")
 def isolator(tmp_path_factory):
-    return _scene(tmp_path_factory.mktemp("iso"), _one_stage(2e-3))
+    return load_text(tmp_path_factory.mktemp("iso"), one_stage(2e-3))
 
 
 def _exact(f, beta=2e-3):

@@ -8,7 +8,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_docs import commands
+
+from doc_pages import commands
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "machinery_loads.py"
 

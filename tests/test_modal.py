@@ -13,32 +13,10 @@ import math
 import numpy as np
 import pytest
 
-from scene_text import base_and_body
+from scene_text import (A, B, J1, KX, KY, KZ, M1, base_and_body, isolator_mounts, load_text,
+                        one_stage)
 
-M1, M2 = 50.0, 20.0
-A, B = 0.2, 0.3                     # half-spacings of the mounts along x, y [m]
-KX, KY, KZ = 2.0e4, 3.0e4, 5.0e4    # per mount [N/m]
-J1 = (2.0, 3.0, 4.0)
-CORNERS = [(-A, -B), (A, -B), (A, B), (-A, B)]
-
-
-def _mounts(prefix, body_i, body_j, z_i, k, beta, axes="", z_j=0.0):
-    return "".join(f"""
-[[mount]]
-name = "{prefix}{n}"
-body_i = "{body_i}"
-body_j = "{body_j}"
-point_i = [{x}, {y}, {z_i}]
-point_j = [{x}, {y}, {z_j}]
-{axes}law = "linear"
-k = [{k[0]}, {k[1]}, {k[2]}]
-c = [{beta * k[0]}, {beta * k[1]}, {beta * k[2]}]
-""" for n, (x, y) in enumerate(CORNERS, 1))
-
-
-def _one_stage(beta, axes="", z_j=0.0):
-    return (base_and_body("isolator", mass=M1, inertia=f"[{J1[0]}, {J1[1]}, {J1[2]}]")
-            + _mounts("M", "base", "mass", 0.5 + z_j, (KX, KY, KZ), beta, axes, z_j))
+M2 = 20.0                           # the second stage's mass [kg]
 
 
 def _two_stage(beta):
@@ -50,15 +28,8 @@ inertia = [0.5, 0.6, 0.7]
 position = [0.0, 0.0, 1.0]
 """
     return (base_and_body("two stages", mass=M1, inertia=f"[{J1[0]}, {J1[1]}, {J1[2]}]")
-            + top + _mounts("L", "base", "mass", 0.5, (KX, KY, KZ), beta)
-            + _mounts("U", "mass", "top", 0.5, (0.5 * KX, 0.5 * KY, 0.4 * KZ), beta))
-
-
-def _scene(tmp_path, text, name="scene.toml"):
-    import flexbed
-    path = tmp_path / name
-    path.write_text(text)
-    return flexbed.load_scene(path)
+            + top + isolator_mounts("L", "base", "mass", 0.5, (KX, KY, KZ), beta)
+            + isolator_mounts("U", "mass", "top", 0.5, (0.5 * KX, 0.5 * KY, 0.4 * KZ), beta))
 
 
 def _diagonal(energy):
@@ -74,7 +45,7 @@ def test_one_stage_isolator_against_closed_forms(tmp_path):
     to 1e-10."""
     import flexbed
     beta = 2e-3
-    scene = _scene(tmp_path, _one_stage(beta))
+    scene = load_text(tmp_path, one_stage(beta))
     m = flexbed.modal(scene)
     k = np.array([4 * KX, 4 * KY, 4 * KZ, 4 * KZ * B**2, 4 * KZ * A**2,
                   4 * (KX * B**2 + KY * A**2)])
@@ -137,7 +108,7 @@ def test_two_stage_isolator_against_closed_forms(tmp_path):
     ζ = βω/2, and the top's transmissibility from the 2×2 solve, to 1e-10."""
     import flexbed
     beta = 1e-3
-    scene = _scene(tmp_path, _two_stage(beta))
+    scene = load_text(tmp_path, _two_stage(beta))
     m = flexbed.modal(scene)
     k1, k2 = 4 * KZ, 4 * 0.4 * KZ
     K = np.array([[k1 + k2, -k2], [-k2, k2]])
@@ -202,7 +173,7 @@ def test_frf_is_the_steady_state_of_the_time_paths(tmp_path):
     import flexbed
     beta, f = 1.2e-2, 8.0
     omega = 2 * math.pi * f
-    text = _one_stage(beta, axes="axes_deg = [30.0, 0.0, 0.0]\n", z_j=-0.1)
+    text = one_stage(beta, axes="axes_deg = [30.0, 0.0, 0.0]\n", z_j=-0.1)
     solver = """
 [base]
 motion = "driven"
@@ -222,7 +193,7 @@ atol = 1e-13
     t = None
     errors = []
     for amp in (50.0, 5.0):
-        scene = _scene(tmp_path, text + solver.replace("AMP", str(amp)), f"a{amp}.toml")
+        scene = load_text(tmp_path, text + solver.replace("AMP", str(amp)), f"a{amp}.toml")
         if t is None:
             m = flexbed.modal(scene)
             assert np.all(m.damping_ratio > 0.2)
@@ -294,7 +265,7 @@ def test_modal_and_frf_commands_write_their_files(tmp_path):
     from flexbed.cli import main
     from flexbed.files.store import read_file
     scene = tmp_path / "iso.toml"
-    scene.write_text(_one_stage(2e-3))
+    scene.write_text(one_stage(2e-3))
     eq = tmp_path / "eq.h5"
     assert main(["static", str(scene), "-o", str(eq)]) == 0
     assert main(["modal", str(scene), "--equilibrium", str(eq), "-o",

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from test_modal import KZ, M1, _one_stage, _scene
+from scene_text import KZ, M1, load_text, one_stage
 
 BETA = 2e-3
 G0 = 9.80665
@@ -29,7 +29,7 @@ G0 = 9.80665
 
 @pytest.fixture(scope="module")
 def isolator(tmp_path_factory):
-    return _scene(tmp_path_factory.mktemp("rnd"), _one_stage(BETA))
+    return load_text(tmp_path_factory.mktemp("rnd"), one_stage(BETA))
 
 
 def _band_integrals(f1, f2):
@@ -148,7 +148,7 @@ def test_random_response_against_a_time_domain_monte_carlo(tmp_path):
     Sj = w_g * G0**2 * np.ones_like(fj)
     t = np.arange(0.0, settle + period + 0.5, dt)
     # the spectral model: the mount's third-axis deflection per unit base acceleration
-    iso = _scene(tmp_path, _one_stage(BETA), "iso.toml")
+    iso = load_text(tmp_path, one_stage(BETA), "iso.toml")
     Hj = flexbed.frf(iso, points=[("c", "mass", [0, 0, 0])], frequencies=fj,
                      deflections=True)
     Hd = Hj.H[:, Hj.column("M1 d3")]
@@ -163,7 +163,7 @@ def test_random_response_against_a_time_domain_monte_carlo(tmp_path):
         a = (amp[None, :] * np.cos(2 * np.pi * fj[None, :] * t[:, None] + phase)).sum(axis=1)
         (tmp_path / "drive.csv").write_text("\n".join(f"{ti:.6f},{ai:.12e}"
                                                       for ti, ai in zip(t, a)))
-        text = _one_stage(BETA) + f"""
+        text = one_stage(BETA) + f"""
 [base]
 motion = "driven"
 
@@ -176,7 +176,7 @@ file = "drive.csv"
 t_end = {settle + period}
 output_dt = {dt}
 """
-        run = flexbed.simulate(_scene(tmp_path, text, f"mc{k}.toml"))
+        run = flexbed.simulate(load_text(tmp_path, text, f"mc{k}.toml"))
         keep = run.t >= settle - 1e-9
         x = run.mount_deflection[keep, 0, 2][:-1]             # one period, M1's third axis
         got.append(np.mean((x - x.mean()) ** 2))
@@ -193,8 +193,7 @@ def test_the_command_writes_its_files(tmp_path, capsys):
     import h5py
 
     from flexbed.cli import main
-    from test_modal import _one_stage as stage
-    (tmp_path / "iso.toml").write_text(stage(BETA))
+    (tmp_path / "iso.toml").write_text(one_stage(BETA))
     (tmp_path / "p.csv").write_text("frequency_Hz,z\n1,0.04\n400,0.04\n")
     code = main(["random", str(tmp_path / "iso.toml"), "--psd", str(tmp_path / "p.csv"),
                  "--point", "c=mass:0,0,0", "-o", str(tmp_path / "r"), "--peak-factor", "4.5"])

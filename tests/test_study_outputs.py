@@ -149,18 +149,3 @@ def test_a_flexible_bed_s_points_equal_the_results_bit_for_bit():
     scene = flexbed.vary(flexbed.load_scene(), {"bed.model": "flexible"})
     lazy, full = _pair(scene, modes=flexbed.modes(scene))
     _same_points_and_mounts(lazy, full)
-
-
-def test_the_frames_are_rotation_a_bit_for_bit():
-    """A point's frames (``outputs._rotation``, entry by entry) equal
-    :func:`flexbed.dynamics.rotation.A` bit for bit, on Euler parameters of
-    any scale, with zeros and the identity among them."""
-    from flexbed.dynamics.rotation import A
-    from flexbed.study.outputs import _rotation
-    rng = np.random.default_rng(1)
-    for scale in (1.0, 1e-3, 1e3):
-        p = rng.normal(size=(20000, 4)) * scale
-        p[::7, 1] = 0.0
-        p[::5, 0] = 0.0
-        p[::11] = (1.0, 0.0, 0.0, 0.0)
-        _same(_rotation(p), A(p))

@@ -13,13 +13,11 @@ from flexbed.analyses.transmitted import (db, insertion_loss, spectrum, third_oc
                                           transmitted_force)
 from flexbed.cli import main
 from flexbed.dynamics.rotation import A as rotation_matrix
-from flexbed.files.builtin import builtin_scene_text
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
+from scene_text import FIXED_REFERENCE
 
-# the reference scene, its base held, equipment A running with an unbalance
-_FIXED = builtin_scene_text().split("[base]")[0] + builtin_scene_text().split(
-    "sample = 1.0e-3", 1)[1]
+# equipment A running with an unbalance, on the reference scene with its base held
 UNBALANCE = """
 [[unbalance]]
 name = "pump"
@@ -43,7 +41,7 @@ amplitude = 40.0
 
 
 def _scene(tmp_path, extra=UNBALANCE, t_end=1.0):
-    text = _FIXED.replace("t_end = 3.0", f"t_end = {t_end}") + extra
+    text = FIXED_REFERENCE.replace("t_end = 3.0", f"t_end = {t_end}") + extra
     path = tmp_path / "machinery.toml"
     path.write_text(text)
     return path

@@ -15,7 +15,7 @@ from flexbed.api.arguments import Arguments
 from flexbed.dynamics.system import System
 from flexbed.files.modes import ModesData, modes_data
 from flexbed.files.scene import SceneFile
-from flexbed.stages.modes import compute_modes, ensure_modes
+from flexbed.stages.modes import compute_modes, ensure_modes, require_bed
 from flexbed.stages.system import compile_scene
 from flexbed.threads import limited
 
@@ -60,11 +60,17 @@ def modes(scene: SceneFile, *, file: str | Path | None = None, force: bool = Fal
     ModesData
         Frequencies [Hz], nodal shapes, invariants (``path`` is None when
         computed in memory).
+
+    Raises
+    ------
+    InputError
+        A scene with no ``[bed]`` table (as ``flexbed modes`` refuses it).
     """
     check = Arguments("modes")
     scene = check.scene(scene)
     file = check.path(file, "file")
     force = check.flag(force, "force")
+    require_bed(scene)
     if file is not None:
         data, _ = ensure_modes(scene, file, force=force, log=lambda m: None)
         return data

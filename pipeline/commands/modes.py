@@ -14,12 +14,12 @@ import warnings
 from pathlib import Path
 
 from flexbed.commands.arguments import add_scene_arg, number, file_name
-from flexbed.files.bed_section import AUTO_TOLERANCE
+from flexbed.files.bed_section import AUTO_TOLERANCE, check_mode_count
 from flexbed.files.destination import check_destination, refuse_inputs
 from flexbed.errors import FlexbedWarning, InputError
 from flexbed.files.modes import ModesData, read_modes_file
 from flexbed.files.scene import load_scene
-from flexbed.stages.modes import default_modes_path, ensure_modes
+from flexbed.stages.modes import default_modes_path, ensure_modes, require_bed
 from flexbed.words import count
 
 
@@ -116,6 +116,9 @@ def run(args: argparse.Namespace) -> int:
     path = Path(args.output) if args.output else default_modes_path(sf)
     check_destination(path)          # refused before any work, not after
     refuse_inputs(path, sf.source)
+    require_bed(sf)
+    if args.modes is not None:
+        check_mode_count(sf.bed.plate, args.modes, f"{sf.source.name}: --modes {args.modes}")
     t0 = time.perf_counter()
     data, reused = ensure_modes(sf, path, n_modes=args.modes, fmax=args.fmax, force=args.force,
                                 log=lambda m: print(m, file=sys.stderr))

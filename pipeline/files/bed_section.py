@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from flexbed.fem.layout import bed_mass_properties
-from flexbed.fem.spec import PlateSpec, PlateSpecError
+from flexbed.fem.layout import bed_mass_properties, elastic_mode_count
+from flexbed.fem.spec import MAX_DOFS, PlateSpec, PlateSpecError
 
 from flexbed.errors import InputError
 from flexbed.files.table_reader import LARGEST, SMALLEST, short_repr, out_of_range
@@ -313,6 +313,42 @@ def read_bed(table: dict, where: str, folder: Path | None = None) -> BedSection:
         value = table["damping_ratio"]
         args["damping_ratio"] = tuple(value) if isinstance(value, list) else (value,)
     try:
-        return BedSection(**args)
+        bed = BedSection(**args)
     except ValueError as exc:
         raise InputError(f"{where}: {exc}") from None
+    if bed.modes is not None:
+        check_mode_count(bed.plate, bed.modes, f"{where}: modes = {bed.modes}")
+    if bed.static_correction:
+        check_mode_count(bed.plate, bed.correction_modes,
+                         f"{where}: correction_modes = {bed.correction_modes}")
+    return bed
+
+
+def check_mode_count(plate: PlateSpec, n: int, what: str) -> None:
+    """Refuse ``n`` elastic modes of a bed whose FE model has fewer
+    (:func:`flexbed.fem.layout.elastic_mode_count`, counted on the mesh
+    before any assembly; an auto mesh has at most ``MAX_DOFS`` degrees of
+    freedom).
+
+    Parameters
+    ----------
+    plate : PlateSpec
+    n : int
+        The elastic modes asked for.
+    what : str
+        The message's start, naming the file, the entry and its value
+        (``"lee.toml: bed: modes = 500"``, ``"--modes 500"``).
+
+    Raises
+    ------
+    InputError
+        ``"<what>: the 10 x 10 plate has only 481 elastic modes"``.
+    """
+    have = elastic_mode_count(plate)
+    if have is None:
+        if n > MAX_DOFS:
+            raise InputError(f"{what}: element_size = \"auto\" meshes the bed "
+                             f"with at most {MAX_DOFS:,} degrees of freedom")
+    elif n > have:
+        mesh = f"the {plate.nx} x {plate.ny} plate" if plate.geometry is None else "the bed's mesh"
+        raise InputError(f"{what}: {mesh} has only {have} elastic modes")

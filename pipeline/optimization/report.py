@@ -158,10 +158,12 @@ def plot_convergence(opt: Optimum, path: Path) -> Path:
     ax.semilogy(n, np.abs(best - opt.objective) + floor, "k-", lw=1.5,
                 label="best feasible so far")
     ax.set_ylabel("|objective − optimum's| [1]")
-    ax.set_title(f"{opt.problem.spec.name}: {opt.problem.spec.method}, "
-                 f"{len(hist)} evaluations ({opt.evaluations} new in this run), "
-                 f"optimum {opt.objective:.6g}", fontsize=10)
-    ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
+    ax.set_title(f"{opt.problem.spec.name}: {opt.problem.spec.method}, optimum "
+                 f"{opt.objective:.6g}\n{len(hist)} evaluations ({opt.evaluations} new in "
+                 f"this run)", fontsize=10, pad=22)
+    # above the axes, clear of the points wherever the method put them
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=8,
+              frameon=False)
     ax.grid(True, which="both", alpha=0.3)
     if constrained:
         bx = axes[1, 0]

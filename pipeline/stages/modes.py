@@ -15,7 +15,23 @@ from flexbed.interrupts import Interrupted, held, kept
 if TYPE_CHECKING:
     from flexbed.fem.bed import BedModes
 
-__all__ = ["default_modes_path", "ensure_modes", "compute_modes"]
+__all__ = ["default_modes_path", "require_bed", "ensure_modes", "compute_modes"]
+
+
+def require_bed(sf: SceneFile) -> None:
+    """Refuse a scene with no ``[bed]`` table (a base and bodies on mounts
+    alone): it has no bed whose modes could be computed, only the default
+    plate its reader fills in. (A ``[bed]`` with ``model = "rigid"`` has
+    its plate: its modes are those a flexible bed would keep.)
+
+    Raises
+    ------
+    InputError
+        One line naming the scene file.
+    """
+    if not sf.has_bed:
+        raise InputError(f"{sf.source.name}: no [bed] table: the scene has no bed to compute "
+                         f"the modes of")
 
 
 def default_modes_path(sf: SceneFile) -> Path:
