@@ -29,9 +29,11 @@ the 20-mode β-damped flexible bed of ``scenes/hard_beta20.toml``. They are
 shared: a test must not change them (their state arrays are read-only;
 copy one to perturb it).
 
-One command is shared across the pytest-xdist workers too: ``flexbed run``
+Two commands are shared across the pytest-xdist workers too: ``flexbed run``
 of the built-in scene (about 20 s of CPU), which the tour page's command
-lines and ``tests/test_cli_modes.py`` both check. The first worker to ask
+lines and ``tests/test_cli_modes.py`` both check, and the tour's ``flexbed
+compare`` (about 7 s), whose numbers ``tests/test_compare.py`` checks
+(:data:`SHARED_COMMANDS`). The first worker to ask
 runs it, in a subprocess as a reader would, under a lock in the run's
 common temporary folder; later ones read what it left (one that comes while
 it runs runs its own rather than wait).
@@ -197,8 +199,10 @@ def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
 
 #: command lines that several tests check, run once per pytest run
 #: (:func:`shared_command`): the tour's ``flexbed run``, also checked by
-#: tests/test_cli_modes.py
-SHARED_COMMANDS = {"flexbed run": "reference-run"}
+#: tests/test_cli_modes.py, and its ``flexbed compare``, whose results
+#: tests/test_compare.py checks against the paper
+SHARED_COMMANDS = {"flexbed run": "reference-run",
+                   "flexbed compare -o compare-out": "reference-compare"}
 
 
 @pytest.fixture(scope="session")
