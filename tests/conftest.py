@@ -87,6 +87,59 @@ def _read_only(a: np.ndarray) -> np.ndarray:
     return a
 
 
+def _compile_jobs() -> list:
+    """numba's compiled code in parts (name, function): the right-hand side,
+    each compiled stepper with the batch evaluations, the linear path; all
+    of flexbed's compiled functions (:data:`flexbed.dynamics.jitcache.COMPILED`)
+    for the argument types the runs pass them."""
+    from flexbed.dynamics import precompile
+    from flexbed.dynamics.kernel import rhs_function
+
+    return ([("rhs", rhs_function)]
+            + [(m, lambda m=m: precompile.compile_callers((m,))) for m in precompile.STEPPERS]
+            + [("linear", precompile.compile_linear_path)])
+
+
+@pytest.fixture(scope="session", autouse=True)
+def compiled_once_across_workers(request, tmp_path_factory):
+    """On an empty numba cache (a fresh install, as in CI), the pytest-xdist
+    workers compile flexbed's kernels before their first test, each part
+    once: a worker takes the parts in order, the other from the end, each
+    part under a lock in the run's shared temporary folder; a part the other
+    worker holds is left till last, then loaded from the cache it wrote.
+    Without this, each worker compiled what its first tests used, both often
+    the same functions at the same time (about 30 s of CPU for the
+    right-hand side alone), each also in a compile child of its own
+    (:mod:`flexbed.dynamics.precompile`): four compiling processes on two
+    cores. Nothing is done with a warm cache, without xdist, or for a run
+    of a few tests (``tests/test_jitcache.py`` checks the first-run
+    compiling itself, in processes of its own with caches of their own)."""
+    worker = os.environ.get("PYTEST_XDIST_WORKER")
+    if worker is None or len(request.session.items) < 200:
+        return
+    from flexbed.dynamics.precompile import rhs_cached
+
+    if rhs_cached():
+        return
+    jobs = _compile_jobs()
+    if int(worker.removeprefix("gw") or 0) % 2:
+        jobs.reverse()
+    root = _shared_root(tmp_path_factory)
+    later = []
+    for name, job in jobs:
+        with open(root / f"numba-{name}.lock", "w") as lock:
+            try:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                later.append((name, job))
+                continue
+            job()
+    for name, job in later:        # the other worker's parts: loaded once it has written them
+        with open(root / f"numba-{name}.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            job()
+
+
 @pytest.fixture(scope="session")
 def reference_scene():
     """The built-in reference scene (rigid bed) as ``load_scene(None)``
