@@ -29,9 +29,11 @@ the 20-mode β-damped flexible bed of ``scenes/hard_beta20.toml``. They are
 shared: a test must not change them (their state arrays are read-only;
 copy one to perturb it).
 
-One command is shared across the pytest-xdist workers too: ``flexbed run``
+Two commands are shared across the pytest-xdist workers too: ``flexbed run``
 of the built-in scene (about 20 s of CPU), which the tour page's command
-lines and ``tests/test_cli_modes.py`` both check. The first worker to ask
+lines and ``tests/test_cli_modes.py`` both check, and the tour's ``flexbed
+compare`` (about 7 s), whose numbers ``tests/test_compare.py`` checks
+(:data:`SHARED_COMMANDS`). The first worker to ask
 runs it, in a subprocess as a reader would, under a lock in the run's
 common temporary folder; later ones read what it left (one that comes while
 it runs runs its own rather than wait).
@@ -83,6 +85,59 @@ def _read_only(a: np.ndarray) -> np.ndarray:
     a = np.array(a, dtype=float)
     a.setflags(write=False)
     return a
+
+
+def _compile_jobs() -> list:
+    """numba's compiled code in parts (name, function): the right-hand side,
+    each compiled stepper with the batch evaluations, the linear path; all
+    of flexbed's compiled functions (:data:`flexbed.dynamics.jitcache.COMPILED`)
+    for the argument types the runs pass them."""
+    from flexbed.dynamics import precompile
+    from flexbed.dynamics.kernel import rhs_function
+
+    return ([("rhs", rhs_function)]
+            + [(m, lambda m=m: precompile.compile_callers((m,))) for m in precompile.STEPPERS]
+            + [("linear", precompile.compile_linear_path)])
+
+
+@pytest.fixture(scope="session", autouse=True)
+def compiled_once_across_workers(request, tmp_path_factory):
+    """On an empty numba cache (a fresh install, as in CI), the pytest-xdist
+    workers compile flexbed's kernels before their first test, each part
+    once: a worker takes the parts in order, the other from the end, each
+    part under a lock in the run's shared temporary folder; a part the other
+    worker holds is left till last, then loaded from the cache it wrote.
+    Without this, each worker compiled what its first tests used, both often
+    the same functions at the same time (about 30 s of CPU for the
+    right-hand side alone), each also in a compile child of its own
+    (:mod:`flexbed.dynamics.precompile`): four compiling processes on two
+    cores. Nothing is done with a warm cache, without xdist, or for a run
+    of a few tests (``tests/test_jitcache.py`` checks the first-run
+    compiling itself, in processes of its own with caches of their own)."""
+    worker = os.environ.get("PYTEST_XDIST_WORKER")
+    if worker is None or len(request.session.items) < 200:
+        return
+    from flexbed.dynamics.precompile import rhs_cached
+
+    if rhs_cached():
+        return
+    jobs = _compile_jobs()
+    if int(worker.removeprefix("gw") or 0) % 2:
+        jobs.reverse()
+    root = _shared_root(tmp_path_factory)
+    later = []
+    for name, job in jobs:
+        with open(root / f"numba-{name}.lock", "w") as lock:
+            try:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                later.append((name, job))
+                continue
+            job()
+    for name, job in later:        # the other worker's parts: loaded once it has written them
+        with open(root / f"numba-{name}.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            job()
 
 
 @pytest.fixture(scope="session")
@@ -197,8 +252,10 @@ def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
 
 #: command lines that several tests check, run once per pytest run
 #: (:func:`shared_command`): the tour's ``flexbed run``, also checked by
-#: tests/test_cli_modes.py
-SHARED_COMMANDS = {"flexbed run": "reference-run"}
+#: tests/test_cli_modes.py, and its ``flexbed compare``, whose results
+#: tests/test_compare.py checks against the paper
+SHARED_COMMANDS = {"flexbed run": "reference-run",
+                   "flexbed compare -o compare-out": "reference-compare"}
 
 
 @pytest.fixture(scope="session")

@@ -65,16 +65,29 @@ def test_higher_navier_modes_on_a_fine_mesh():
     assert np.allclose(np.sqrt(vals), exact, rtol=1e-4)
 
 
-def uniform_load_deflection(element, n):
-    spec = PlateSpec(length_x=0.8, length_y=4.8, nx=n, ny=n)
+@pytest.fixture(scope="module")
+def plate_80x80():
+    """The reference plate (0.8 x 4.8 m) on an 80 x 80 mesh, assembled once
+    for the two 80 x 80 tests: the model (its K from the local-coordinate
+    element) and the bending stiffness from scikit-fem's global-coordinate
+    BFS basis on the same mesh (CSR) with that basis, about 6 s of CPU
+    together."""
+    spec = PlateSpec(nx=80, ny=80)
     model = assemble_plate(spec)
-    basis = Basis(model.mesh, element, intorder=6)
-    K = _bending.assemble(basis, D=spec.rigidity, nu=spec.poisson).tocsr()
+    basis = Basis(model.mesh, ElementQuadBFS(), intorder=6)
+    K_global = _bending.assemble(basis, D=spec.rigidity, nu=spec.poisson).tocsr()
+    return model, K_global, basis
+
+
+def uniform_load_deflection(model, K, basis):
+    """The deflection w at the nodes of the simply supported plate under a
+    uniform unit pressure, with the bending stiffness K assembled on
+    ``basis`` (of ``model``'s mesh)."""
     f = LinearForm(lambda v, w: 1.0 * v).assemble(basis)
     free = simply_supported(model)
     w = np.zeros(K.shape[0])
     w[free] = sla.spsolve(K[free][:, free].tocsc(), f[free])
-    return model, w[model.node_dofs[0]]
+    return w[model.node_dofs[0]]
 
 
 def asymmetry(model, w):
@@ -93,14 +106,17 @@ def test_local_element_equals_scikit_fem_bfs_on_the_reference_mesh():
 
 
 @pytest.mark.slow
-def test_symmetric_static_solution_stays_symmetric_on_80x80():
+def test_symmetric_static_solution_stays_symmetric_on_80x80(plate_80x80):
     """The known caution: scikit-fem's global-coordinate BFS basis loses
-    digits on fine meshes. With the local-coordinate element a symmetric
-    solution is symmetric to the solver's round-off (the 0.01 x 0.06 m
-    elements make K ill-conditioned); the global one is 25x worse."""
-    model, w_local = uniform_load_deflection(ElementQuadBFSLocal(), 80)
+    digits on fine meshes. With the local-coordinate element (the model's
+    own K) a symmetric solution is symmetric to the solver's round-off (the
+    0.01 x 0.06 m elements make K ill-conditioned); the global one is 25x
+    worse."""
+    model, K_global, basis_global = plate_80x80
+    w_local = uniform_load_deflection(model, model.K.tocsr(),
+                                      Basis(model.mesh, ElementQuadBFSLocal(), intorder=6))
     assert asymmetry(model, w_local) < 3e-9
-    _, w_global = uniform_load_deflection(ElementQuadBFS(), 80)
+    w_global = uniform_load_deflection(model, K_global, basis_global)
     assert asymmetry(model, w_global) > 10 * asymmetry(model, w_local)
 
 
@@ -121,15 +137,12 @@ def mirror_x(model, K):
 
 
 @pytest.mark.slow
-def test_local_element_stiffness_is_mirror_symmetric_on_80x80():
+def test_local_element_stiffness_is_mirror_symmetric_on_80x80(plate_80x80):
     """At the element level: the plate is symmetric under x -> -x, so is its
     stiffness matrix. The local element keeps that to round-off; scikit-fem's
     global BFS is off by about 5e-5 (the figure the issue quotes)."""
-    spec = PlateSpec(nx=80, ny=80)
-    model = assemble_plate(spec)
+    model, K_global, _ = plate_80x80
     mirrored, K = mirror_x(model, model.K)
     assert abs(mirrored - K).max() < 1e-12 * abs(K).max()
-    Kg = _bending.assemble(Basis(model.mesh, ElementQuadBFS(), intorder=6),
-                           D=spec.rigidity, nu=spec.poisson)
-    mirrored_g, Kg = mirror_x(model, Kg)
+    mirrored_g, Kg = mirror_x(model, K_global)
     assert abs(mirrored_g - Kg).max() > 1e-6 * abs(Kg).max()
