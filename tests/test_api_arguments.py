@@ -259,6 +259,24 @@ def test_fuzz_load_scene_and_vary(value):
             assert "\n" not in str(exc), exc
 
 
+@pytest.mark.parametrize("name", ["\n", "scene\n.toml", "a\tb.toml", "x\x1b[31m.toml", "d\x7f"])
+def test_a_file_name_with_a_control_character_is_refused_in_one_line(name, tmp_path):
+    """A line break, a tab or an escape in a file name would break the
+    one-line message that names the file (the hypothesis fuzzer found
+    ``load_scene("\\n")``): refused as input, shown escaped, for a file
+    read, a file written and an output folder; nothing is created."""
+    from flexbed.files.destination import check_destination, make_folder
+    for call, doing in ((lambda: flexbed.load_scene(name), "cannot read the scene file"),
+                        (lambda: check_destination(tmp_path / name), "cannot write here"),
+                        (lambda: make_folder(tmp_path / name), "cannot create the folder")):
+        with pytest.raises(InputError, match="holding a control character") as err:
+            call()
+        text = str(err.value)
+        assert "\n" not in text and "\t" not in text and "\x1b" not in text, text
+        assert doing in text and repr(name)[1:-1] in text
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.parametrize("name", ["\x00", "scene\x00.toml"])
 def test_a_file_name_with_a_nul_character_is_one_line(name, tmp_path):
     """The operating system refuses such a name with a ValueError: flexbed

@@ -37,10 +37,16 @@ _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a character device"),
 
 def _no_nul(path: str | os.PathLike, doing: str) -> None:
     """InputError for a name holding a NUL character, which no file name
-    can (the operating system's calls refuse it with a ValueError)."""
-    if "\x00" in os.fsdecode(path):
-        raise InputError(f"{os.fsdecode(path)!r}: {doing}: a file name cannot hold a NUL "
-                         f"character")
+    can (the operating system's calls refuse it with a ValueError), or
+    another control character (a line break, a tab, an escape: a name the
+    one-line messages that name files could not show on one line)."""
+    name = os.fsdecode(path)
+    if "\x00" in name:
+        raise InputError(f"{name!r}: {doing}: a file name cannot hold a NUL character")
+    bad = next((c for c in name if ord(c) < 0x20 or ord(c) == 0x7F), None)
+    if bad is not None:
+        raise InputError(f"{name!r}: {doing}: flexbed does not take a file name holding a "
+                         f"control character ({bad!r})")
 
 
 def check_source(path: str | os.PathLike, what: str) -> Path:
@@ -138,6 +144,7 @@ def _reason(exc: OSError) -> str:
 def make_folder(path: str | os.PathLike, option: str = "-o") -> Path:
     """An output folder, created if absent; InputError if it names a file,
     a device or a folder that cannot be made."""
+    _no_nul(path, f"{option}: cannot create the folder")
     path = Path(path)
     if path.exists() and not path.is_dir():
         raise InputError(f"{option} {path}: is not a folder (it names an existing file or "
