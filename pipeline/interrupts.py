@@ -1,7 +1,8 @@
 """SIGINT and SIGTERM as one exception, and sections that hold them back.
 
 The command line (:func:`flexbed.cli.main`) installs :func:`handlers`:
-both signals raise :class:`Interrupted`, a :class:`KeyboardInterrupt`
+both signals raise :class:`Interrupted` (delivered again when the handler
+ran inside a finalizer, where the exception would be lost), a :class:`KeyboardInterrupt`
 that carries the signal's name and its exit code (128 + the signal's
 number: 130 for SIGINT, 143 for SIGTERM). Everything that already keeps
 what was computed on a Ctrl-C (the integrators return their samples
@@ -16,7 +17,9 @@ standard library only.
 
 from __future__ import annotations
 
+import os
 import signal
+import sys
 import threading
 from contextlib import contextmanager
 from typing import Iterator
@@ -74,6 +77,25 @@ def _raise(signum, frame):
     raise Interrupted(signum)
 
 
+def _unraisable(hook):
+    """A :data:`sys.unraisablehook` that does not lose an interrupt: a
+    signal whose handler ran inside a finalizer (``__del__``: llvmlite
+    frees its objects that way while numba compiles) raised there, where
+    Python can only print "Exception ignored in …" and go on, as if no
+    Ctrl-C had come. The signal is sent again instead, a millisecond later
+    from another thread (sent from here, its handler would run inside this
+    hook, where an exception is lost too), to be raised in the code that
+    runs then; anything else goes to ``hook``."""
+    def unraisable(info):
+        if isinstance(info.exc_value, Interrupted):
+            again = threading.Timer(0.001, os.kill, (os.getpid(), info.exc_value.signum))
+            again.daemon = True
+            again.start()
+            return
+        hook(info)
+    return unraisable
+
+
 def _in_main_thread() -> bool:
     return threading.current_thread() is threading.main_thread()
 
@@ -87,9 +109,12 @@ def handlers() -> Iterator[None]:
         yield
         return
     old = {s: signal.signal(s, _raise) for s in _SIGNALS}
+    old_hook = sys.unraisablehook
+    sys.unraisablehook = _unraisable(old_hook)
     try:
         yield
     finally:
+        sys.unraisablehook = old_hook
         for s, h in old.items():
             signal.signal(s, h)
 

@@ -1,0 +1,49 @@
+"""A Ctrl-C or SIGTERM whose handler runs inside a finalizer is not lost.
+
+Python cannot raise out of ``__del__``: it prints "Exception ignored in …"
+and goes on. llvmlite frees its objects in finalizers while numba
+compiles, so a first run's Ctrl-C could land there and be dropped (seen
+once in the test of a bench stopped while it compiles).
+:func:`flexbed.interrupts.handlers` sends such a signal again, to be
+raised in the code that runs next."""
+
+import os
+import signal
+import sys
+
+import pytest
+
+from flexbed.interrupts import Interrupted, handlers
+
+
+class _SignalInFinalizer:
+    def __init__(self, signum):
+        self.signum = signum
+
+    def __del__(self):
+        os.kill(os.getpid(), self.signum)      # the handler runs here, inside __del__
+        for _ in range(1000):
+            pass
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_handled_inside_a_finalizer_still_interrupts(signum, capfd):
+    with pytest.raises(Interrupted) as err:
+        with handlers():
+            _SignalInFinalizer(signum)           # finalized at once
+            for _ in range(10 ** 8):             # a few seconds at most: the signal comes first
+                pass
+    assert err.value.signum == signum and err.value.exit_code == 128 + signum
+    assert "Exception ignored" not in capfd.readouterr().err
+
+
+def test_other_unraisable_exceptions_still_reach_the_previous_hook(monkeypatch):
+    seen = []
+    monkeypatch.setattr(sys, "unraisablehook", lambda info: seen.append(info.exc_value))
+
+    class Broken:
+        def __del__(self):
+            raise ValueError("a finalizer's own fault")
+    with handlers():
+        Broken()
+    assert [str(e) for e in seen] == ["a finalizer's own fault"]
