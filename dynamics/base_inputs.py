@@ -23,13 +23,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .bounded_cache import BoundedCache
 from .scene import Scene
 
 __all__ = ["BaseInputs", "compiled_shape"]
 
 #: shapes compiled already, by content (:func:`compiled_shape`); a few kept
-_COMPILED: dict = {}
-_KEEP = 16
+_COMPILED = BoundedCache(16)
 
 
 def _content(obj):
@@ -53,21 +53,12 @@ def compiled_shape(shape):
     read only), computed once for equal shapes: the variants of a study
     share their inputs, and a sampled curve's spline costs about a
     millisecond to build."""
-    key = _content(shape)
     try:
-        return _COMPILED[key]
+        key = _content(shape)
+        hash(key)
     except TypeError:                   # a field that cannot be hashed
         return shape.compile()
-    except KeyError:
-        pass
-    f = shape.compile()
-    while len(_COMPILED) >= _KEEP:             # the oldest out (another thread may race here)
-        try:
-            _COMPILED.pop(next(iter(_COMPILED)), None)
-        except (RuntimeError, StopIteration):
-            break
-    _COMPILED[key] = f
-    return f
+    return _COMPILED.get(key, shape.compile)
 
 
 @dataclass(frozen=True, slots=True)

@@ -48,6 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from .bounded_cache import BoundedCache
 from .rotation import A as rotation_matrix
 from .rotation import quat_mul
 from .system import System
@@ -118,9 +119,8 @@ def _graph(system: System, modal: bool) -> MountGraph:
 
 
 _GRAPHS: "weakref.WeakKeyDictionary[System, dict]" = weakref.WeakKeyDictionary()
-#: graphs by topology (:func:`topology`): a study's variants share theirs
-_BY_TOPOLOGY: dict = {}
-_KEEP = 8
+#: what depends on the topology alone (:func:`by_topology`): a study's variants share it
+_BY_TOPOLOGY = BoundedCache(8)
 _TOPOLOGIES: "weakref.WeakKeyDictionary[System, tuple]" = weakref.WeakKeyDictionary()
 
 
@@ -144,17 +144,7 @@ def topology(system: System) -> tuple:
 def by_topology(system: System, name: str, make):
     """``make()`` once per :func:`topology` of ``system`` and ``name`` (a
     few kept): what depends on the topology alone (read only)."""
-    key = (name, topology(system))
-    found = _BY_TOPOLOGY.get(key)
-    if found is None:
-        found = make()
-        while len(_BY_TOPOLOGY) >= _KEEP:       # the oldest out (another thread may race here)
-            try:
-                _BY_TOPOLOGY.pop(next(iter(_BY_TOPOLOGY)), None)
-            except (RuntimeError, StopIteration):
-                break
-        _BY_TOPOLOGY[key] = found
-    return found
+    return _BY_TOPOLOGY.get((name, topology(system)), make)
 
 
 def mount_graph(system: System, modal: bool = True) -> MountGraph:
