@@ -1,10 +1,10 @@
-"""The two-body scene most hand-written test scenes start from: a heavy
-base and one body above it, as TOML text to which a test appends its
-mounts, base motion (``sine_drive``) and solver settings; and that body on four linear
-mounts, the fault catalogue's scene, which the fuzzer and the sanity
-checks mutate too; the one-stage isolator whose closed forms the modal,
-FRF, random and elastomer tests check (``one_stage``); and the reference
-scene with its base held (``FIXED_REFERENCE``).
+"""The two-body scene most hand-written test scenes start from: a heavy base
+and one body above it, as TOML text to which a test appends its mounts, base
+motion (``driven_base``, ``sine_drive``) and solver settings; and that body
+on four linear mounts, the fault catalogue's scene, which the fuzzer and the
+sanity checks mutate too; the one-stage isolator whose closed forms the
+modal, FRF, random and elastomer tests check (``one_stage``); and the
+reference scene with its base held (``FIXED_REFERENCE``).
 
 A plain module, not fixtures: test modules build their scene texts at
 import time (module constants, parametrisations, Hypothesis strategies).
@@ -37,19 +37,24 @@ position = [0.0, 0.0, 0.5]
 {body_extra}"""
 
 
-def sine_drive(amplitude, frequency, direction: str = "z") -> str:
-    """``[base]`` driven by one sinusoidal acceleration: ``amplitude``
-    [m/s²] at ``frequency`` [Hz] along ``direction``."""
+def driven_base(shape: str, direction: str = "z", **keys) -> str:
+    """``[base]`` driven by one acceleration of ``shape`` along
+    ``direction``, its numeric keys (``peak``, ``start``, …) given."""
+    lines = "".join(f"{k} = {v}\n" for k, v in keys.items())
     return f"""
 [base]
 motion = "driven"
 
 [[base.drive]]
 direction = "{direction}"
-shape = "sinusoid"
-amplitude = {amplitude}
-frequency = {frequency}
-"""
+shape = "{shape}"
+{lines}"""
+
+
+def sine_drive(amplitude, frequency, direction: str = "z") -> str:
+    """``[base]`` driven by one sinusoidal acceleration: ``amplitude``
+    [m/s²] at ``frequency`` [Hz] along ``direction``."""
+    return driven_base("sinusoid", direction, amplitude=amplitude, frequency=frequency)
 
 
 #: the corners of the mounts' square under body "mass" [m]

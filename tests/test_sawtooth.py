@@ -20,7 +20,7 @@ from flexbed.errors import InputError
 from flexbed.files.results import read_results
 from flexbed.files.scene import load_scene
 from flexbed.stages.system import compile_scene
-from scene_text import base_and_body, four_mounts
+from scene_text import base_and_body, driven_base, four_mounts
 
 P, T, S = 200.0, 0.011, 0.0023        # peak [m/s²], rise [s], start [s]
 M, K, C = 50.0, 1.25e5, 20.0          # body [kg]; per mount, z: [N/m], [N s/m]
@@ -67,18 +67,8 @@ def exact_isolator(t, omega, zeta):
     return np.where(t < S, 0.0, np.where(t < S + T, z_on, free))
 
 
-SCENE = base_and_body("sawtooth", mass=M) + f"""
-
-[base]
-motion = "driven"
-
-[[base.drive]]
-direction = "z"
-shape = "sawtooth"
-peak = {P}
-start = {S}
-rise = {T}
-
+SCENE = base_and_body("sawtooth", mass=M) + driven_base("sawtooth", peak=P, start=S,
+                                                        rise=T) + """
 [solver]
 t_end = 0.1
 output_dt = 1.0e-4
