@@ -1,8 +1,9 @@
 """SIGINT and SIGTERM as one exception, and sections that hold them back.
 
 The command line (:func:`flexbed.cli.main`) installs :func:`handlers`:
-both signals raise :class:`Interrupted` (delivered again when the handler
-ran inside a finalizer, where the exception would be lost), a :class:`KeyboardInterrupt`
+both signals raise :class:`Interrupted` (raised again, by a SIGALRM a
+millisecond later, when the handler ran inside a finalizer, where the
+exception would be lost), a :class:`KeyboardInterrupt`
 that carries the signal's name and its exit code (128 + the signal's
 number: 130 for SIGINT, 143 for SIGTERM). Everything that already keeps
 what was computed on a Ctrl-C (the integrators return their samples
@@ -17,7 +18,6 @@ standard library only.
 
 from __future__ import annotations
 
-import os
 import signal
 import sys
 import threading
@@ -77,20 +77,30 @@ def _raise(signum, frame):
     raise Interrupted(signum)
 
 
+#: interrupts raised inside a finalizer, where they were lost: raised again
+#: by :func:`_raise_lost` when SIGALRM comes (:func:`_unraisable`)
+_lost: list[int] = []
+
+
+def _raise_lost(signum, frame):
+    if _lost:
+        raise Interrupted(_lost.pop())
+
+
 def _unraisable(hook):
     """A :data:`sys.unraisablehook` that does not lose an interrupt: a
     signal whose handler ran inside a finalizer (``__del__``: llvmlite
     frees its objects that way while numba compiles) raised there, where
     Python can only print "Exception ignored in …" and go on, as if no
-    Ctrl-C had come. The signal is sent again instead, a millisecond later
-    from another thread (sent from here, its handler would run inside this
-    hook, where an exception is lost too), to be raised in the code that
-    runs then; anything else goes to ``hook``."""
+    Ctrl-C had come. The interrupt is recorded instead and a timer set
+    (one C call: nothing here waits, so no second signal can land in this
+    hook while it does): a millisecond later SIGALRM raises it again in
+    the code that runs then (and, landing in a finalizer again, comes back
+    here). Anything else goes to ``hook``."""
     def unraisable(info):
         if isinstance(info.exc_value, Interrupted):
-            again = threading.Timer(0.001, os.kill, (os.getpid(), info.exc_value.signum))
-            again.daemon = True
-            again.start()
+            _lost.append(info.exc_value.signum)
+            signal.setitimer(signal.ITIMER_REAL, 0.001)
             return
         hook(info)
     return unraisable
@@ -109,11 +119,14 @@ def handlers() -> Iterator[None]:
         yield
         return
     old = {s: signal.signal(s, _raise) for s in _SIGNALS}
+    old[signal.SIGALRM] = signal.signal(signal.SIGALRM, _raise_lost)
     old_hook = sys.unraisablehook
     sys.unraisablehook = _unraisable(old_hook)
     try:
         yield
     finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        _lost.clear()
         sys.unraisablehook = old_hook
         for s, h in old.items():
             signal.signal(s, h)
@@ -132,9 +145,14 @@ def held() -> Iterator[list]:
         return
 
     def record(signum, frame):
-        pending.append(signum)
+        if signum != signal.SIGALRM:
+            pending.append(signum)
+        elif _lost:                                  # a lost interrupt's timer
+            pending.append(_lost.pop())
 
     old = {s: signal.signal(s, record) for s in _SIGNALS}
+    if _lost or signal.getsignal(signal.SIGALRM) is _raise_lost:
+        old[signal.SIGALRM] = signal.signal(signal.SIGALRM, record)
     try:
         yield pending
     finally:

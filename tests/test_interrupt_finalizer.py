@@ -47,3 +47,17 @@ def test_other_unraisable_exceptions_still_reach_the_previous_hook(monkeypatch):
     with handlers():
         Broken()
     assert [str(e) for e in seen] == ["a finalizer's own fault"]
+
+
+def test_a_lost_interrupt_coming_back_inside_a_held_section_is_recorded():
+    """Its timer (SIGALRM) may fire while a file is being written
+    (:func:`flexbed.interrupts.held`): the interrupt is then recorded as
+    the signal it was, for the writer to act on once done."""
+    import time
+
+    from flexbed.interrupts import held
+    with handlers():
+        _SignalInFinalizer(signal.SIGTERM)       # lost in __del__, its timer set (1 ms)
+        with held() as pending:
+            time.sleep(0.05)                     # the timer fires in here
+        assert pending == [signal.SIGTERM]
