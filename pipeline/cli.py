@@ -1,4 +1,5 @@
-"""The ``flexbed`` command: ``main(argv)`` builds the subcommands.
+"""The ``flexbed`` command: ``main(argv)`` builds the subcommands;
+:func:`script` is the program itself (the console script).
 
 Every subcommand lives in its own module ``flexbed.commands.<name>`` with
 ``add_args(parser)`` and ``run(args) -> int``. Failures the user can act on
@@ -34,6 +35,8 @@ from flexbed.threads import limited, pin_environment
 EXIT_PIPE = 141
 #: status of a run stopped by Ctrl-C (128 + SIGINT); SIGTERM gives 143
 EXIT_INTERRUPT = 130
+#: status of a run stopped by SIGTERM (128 + SIGTERM)
+EXIT_TERMINATED = 143
 
 COMMANDS = {
     "scene": "print the built-in reference scene as TOML",
@@ -162,5 +165,30 @@ def _main(argv: list[str] | None) -> int:
         _silence_stdout()
         return EXIT_PIPE
 
+
+def script() -> None:
+    """The ``flexbed`` program: :func:`main` on ``sys.argv``, then the
+    process ends with its exit code.
+
+    After an interrupt (130, 143) the process ends at once, its standard
+    streams flushed (``os._exit``), without the interpreter's finalizers:
+    the signal may have cut numba's compiler between an LLVM object's
+    release and its record of it, and a finalizer would then free it a
+    second time (a segfault, status -11, where 130 or 143 was due; seen
+    once in CI, a Ctrl-C during a first run's compilation). What an
+    interrupted run keeps is written and closed before :func:`main`
+    returns.
+    """
+    code = main()
+    if code in (EXIT_INTERRUPT, EXIT_TERMINATED):
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError, AttributeError):
+                pass
+        os._exit(code)
+    sys.exit(code)
+
+
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    script()

@@ -69,8 +69,8 @@ def _run_command(fds: list[int], argv: list[str], cwd: str, env: dict) -> None:
     os.environ.clear()
     os.environ.update(env)
     sys.argv = ["flexbed", *argv]
-    from flexbed.cli import main
-    sys.exit(main(argv))
+    from flexbed.cli import script
+    script()
 
 
 def _serve_one(conn: socket.socket) -> None:

@@ -160,7 +160,7 @@ def test_a_first_run_stopped_while_it_compiles_leaves_nothing_behind(tmp_path, s
     cache = tmp_path / "cache"
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
     proc = subprocess.Popen(
-        [sys.executable, "-c", "import sys; from flexbed.cli import main; sys.exit(main())",
+        [sys.executable, "-c", "from flexbed.cli import script; script()",
          "bench", "rigid", "--quick", "-o", str(tmp_path / "out")],
         cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         start_new_session=True)
