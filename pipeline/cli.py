@@ -27,7 +27,7 @@ import sys
 
 from flexbed.console import run_command
 from flexbed.errors import EXIT_INPUT, FlexbedError
-from flexbed.interrupts import exit_code, handlers, message
+from flexbed.interrupts import exit_code, handlers, lost_pending, message, take_lost
 from flexbed.threads import limited, pin_environment
 
 #: status of a run whose output pipe was closed by its reader (128 + SIGPIPE,
@@ -135,13 +135,25 @@ def _silence_stdout() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit code."""
-    with handlers():                # SIGINT and SIGTERM raise flexbed.interrupts.Interrupted
-        return _main(argv)
-
-
-def _main(argv: list[str] | None) -> int:
-    pin_environment()
     argv = sys.argv[1:] if argv is None else list(argv)
+    with handlers():                # SIGINT and SIGTERM raise flexbed.interrupts.Interrupted
+        try:
+            return _main(argv)
+        except Exception:
+            # an error that followed an interrupt lost in a finalizer or a
+            # callback and not raised again yet: the interrupt is what happened
+            try:
+                interrupt = take_lost()
+            except KeyboardInterrupt as exc:        # its timer fired here
+                interrupt = exc
+            if interrupt is None:
+                raise
+            print(message(interrupt, chosen_command(argv)), file=sys.stderr)
+            return exit_code(interrupt)
+
+
+def _main(argv: list[str]) -> int:
+    pin_environment()
     command = chosen_command(argv)
     try:
         parser = build_parser([command] if command else [])
@@ -154,6 +166,8 @@ def _main(argv: list[str] | None) -> int:
             with limited():
                 code = run_command(module, args)
         except FlexbedError as exc:
+            if lost_pending():      # the interrupt it followed, by main()
+                raise
             print(f"flexbed {args.command}: {exc}", file=sys.stderr)
             return exc.exit_code
         sys.stdout.flush()

@@ -1,9 +1,9 @@
 """SIGINT and SIGTERM as one exception, and sections that hold them back.
 
 The command line (:func:`flexbed.cli.main`) installs :func:`handlers`:
-both signals raise :class:`Interrupted` (raised again, by a SIGALRM a
-millisecond later, when the handler ran inside a finalizer, where the
-exception would be lost), a :class:`KeyboardInterrupt`
+both signals raise :class:`Interrupted` (raised again, by a SIGALRM
+50 µs later, when the handler ran inside a finalizer or a ctypes
+callback, where the exception would be lost), a :class:`KeyboardInterrupt`
 that carries the signal's name and its exit code (128 + the signal's
 number: 130 for SIGINT, 143 for SIGTERM). Everything that already keeps
 what was computed on a Ctrl-C (the integrators return their samples
@@ -24,7 +24,8 @@ import threading
 from contextlib import contextmanager
 from typing import Iterator
 
-__all__ = ["Interrupted", "handlers", "held", "signal_name", "exit_code", "kept", "message"]
+__all__ = ["Interrupted", "handlers", "held", "signal_name", "exit_code", "kept", "message",
+           "take_lost", "lost_pending"]
 
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -80,30 +81,67 @@ def _raise(signum, frame):
 #: interrupts raised inside a finalizer, where they were lost: raised again
 #: by :func:`_raise_lost` when SIGALRM comes (:func:`_unraisable`)
 _lost: list[int] = []
+#: True while :func:`_unraisable`'s hook runs (an exception raised there
+#: would be lost too)
+_in_hook = False
+
+#: the delay of the timer that raises a lost interrupt again [s]: long
+#: enough for the hook to return first (the timer's handler, run inside
+#: the hook, sets it again), short against the code that runs next (numba's
+#: compiler, cut in a ctypes callback, runs on into "no compiled object
+#: yet": :func:`take_lost` lets the command line report such an error as
+#: the interrupt it follows)
+_AGAIN = 5e-5
 
 
 def _raise_lost(signum, frame):
-    if _lost:
+    if _in_hook:                                 # would be lost again: later
+        signal.setitimer(signal.ITIMER_REAL, _AGAIN)
+    elif _lost:
         raise Interrupted(_lost.pop())
 
 
 def _unraisable(hook):
     """A :data:`sys.unraisablehook` that does not lose an interrupt: a
     signal whose handler ran inside a finalizer (``__del__``: llvmlite
-    frees its objects that way while numba compiles) raised there, where
-    Python can only print "Exception ignored in …" and go on, as if no
-    Ctrl-C had come. The interrupt is recorded instead and a timer set
-    (one C call: nothing here waits, so no second signal can land in this
-    hook while it does): a millisecond later SIGALRM raises it again in
-    the code that runs then (and, landing in a finalizer again, comes back
-    here). Anything else goes to ``hook``."""
+    frees its objects that way while numba compiles) or a ctypes callback
+    (llvmlite's object cache) raised there, where Python can only print
+    "Exception ignored in …" and go on, as if no Ctrl-C had come. The
+    interrupt is recorded instead and a timer set (one C call: nothing
+    here waits, so no second signal can land in this hook while it does):
+    50 µs later SIGALRM raises it again in the Python code that
+    runs next (and, landing in a finalizer again, comes back here; landing
+    in this hook, sets the timer again). Anything else goes to ``hook``."""
     def unraisable(info):
-        if isinstance(info.exc_value, Interrupted):
-            _lost.append(info.exc_value.signum)
-            signal.setitimer(signal.ITIMER_REAL, 0.001)
-            return
-        hook(info)
+        global _in_hook
+        _in_hook = True
+        try:
+            if isinstance(info.exc_value, Interrupted):
+                _lost.append(info.exc_value.signum)
+                signal.setitimer(signal.ITIMER_REAL, _AGAIN)
+                return
+            hook(info)
+        finally:
+            _in_hook = False
     return unraisable
+
+
+def take_lost() -> Interrupted | None:
+    """The interrupt lost in a finalizer or a callback and not raised again
+    yet, taken (its timer then raises nothing), or None.
+
+    The code that ran on may have failed first: numba's compiler, its
+    object cache's callback cut, raises "no compiled object yet". The
+    command line reports such an error as this interrupt. The timer may
+    still fire on entry here: callers catch :class:`KeyboardInterrupt`
+    around the call."""
+    return Interrupted(_lost.pop()) if _lost else None
+
+
+def lost_pending() -> bool:
+    """Whether an interrupt lost in a finalizer or a callback waits to be
+    raised again (:func:`take_lost`)."""
+    return bool(_lost)
 
 
 def _in_main_thread() -> bool:
