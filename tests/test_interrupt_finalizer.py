@@ -118,8 +118,8 @@ def test_the_program_ends_an_interrupted_run_without_finalizers(signum):
     """After an interrupt the ``flexbed`` program (:func:`flexbed.cli.script`)
     ends at once, its streams flushed, without the interpreter's finalizers:
     one cut numba's compiler where a finalizer then freed an LLVM object a
-    second time (status -11; in a loop of first runs interrupted at random
-    moments, 1 in 7 ended so). Exit 128 + signal, what was printed kept."""
+    second time (status -11: in CI, and once in 39 first runs interrupted
+    at random here). Exit 128 + signal, what was printed kept."""
     import subprocess
     proc = subprocess.run([sys.executable, "-c", _INTERRUPTED_PROGRAM.format(signum=int(signum))],
                           capture_output=True, text=True, timeout=60)
@@ -147,8 +147,8 @@ script()
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_an_error_that_follows_a_lost_interrupt_is_reported_as_the_interrupt(signum):
     """numba's compiler, its object cache's ctypes callback cut by a Ctrl-C,
-    runs on into "no compiled object yet" (seen in 6 of 32 first runs
-    interrupted at random without flexbed's hook); if that error comes
+    runs on into "no compiled object yet" (9 of 32 first runs
+    interrupted at random, without flexbed's hook, ended so); if that error comes
     before the interrupt is raised again, the run still ends as
     interrupted: exit 128 + signal, one line, no traceback."""
     import subprocess
