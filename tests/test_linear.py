@@ -223,3 +223,23 @@ def test_an_unstable_equilibrium_is_reported_not_propagated(tmp_path):
     auto = flexbed.simulate(scene, model="auto")
     assert auto.complete and auto.solver["model"] == "nonlinear"
     assert "unstable equilibrium" in auto.solver["model_reason"]
+
+
+def test_the_time_numba_loads_or_compiles_is_told_apart_without_a_warm_up():
+    """The linear run's timings leave out numba's loading and compiling,
+    timed by numba's event API (its compiler lock) rather than by a
+    warm-up run: a first call that compiles is counted, a call of code
+    already loaded is not."""
+    import numba
+
+    from flexbed.dynamics.linear.run import _Loading
+
+    @numba.njit
+    def add_one(x):
+        return x + 1.0
+
+    with _Loading() as first:
+        add_one(1.0)
+    with _Loading() as again:
+        add_one(2.0)
+    assert first.seconds > 0.0 and again.seconds == 0.0

@@ -16,12 +16,12 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+from numba.core import event as numba_event
 
 from ..integrate import Run, Settings, Stats
 from ..system import System
 from .estimate import ErrorEstimate, estimate_error
 from .model import Linearisation, linearise
-from .phi import doubling_tables, phi_double
 from .propagation import propagate_pieces
 
 __all__ = ["LinearRun", "run_linear", "unstable_rate"]
@@ -61,18 +61,27 @@ def unstable_rate(lin: Linearisation) -> float | None:
     return rate if rate > 1e-6 * max(scale, 1.0) else None
 
 
-def _load_compiled(system: System, lin: Linearisation, z0: np.ndarray,
-                   settings: Settings) -> None:
-    """Compile (or load from numba's cache) the propagation's and the
-    estimate's compiled code by running both over one output step, so that
-    the timings that follow are the run's own, not numba's (a fresh
-    install's first linear run compiles for tens of seconds)."""
-    h = min(settings.output_dt, settings.t_end)
-    if h > 0.0:
-        tp, Zp, samples = propagate_pieces(lin, z0, h, settings.output_dt)
-        estimate_error(system, lin, tp, Zp, samples)
-        # the doublings, which one output step may not need but longer pieces do
-        phi_double(np.eye(1), np.zeros((1, 1, 1)), *doubling_tables(0))
+class _Loading:
+    """The time numba spends loading or compiling inside the block [s]
+    (``seconds``): numba's event API times every hold of its compiler lock,
+    which a call of a compiled function takes only when it loads (from the
+    cache) or compiles code, so the run's timings are its own (a fresh
+    install's first linear run compiles for tens of seconds) without a
+    warm-up run, which cost a third of a warm call."""
+
+    def __init__(self):
+        self.seconds = 0.0
+
+    def __enter__(self):
+        self._timer = numba_event.install_timer("numba:compiler_lock", self._add)
+        self._timer.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        return self._timer.__exit__(*exc)
+
+    def _add(self, seconds: float) -> None:
+        self.seconds += seconds
 
 
 def run_linear(system: System, y_eq: np.ndarray, y0: np.ndarray,
@@ -106,21 +115,25 @@ def run_linear(system: System, y_eq: np.ndarray, y0: np.ndarray,
                             _e=np.zeros((1, lin.coords.nz)))
         return LinearRun(run, est, lin, w1 - w0, 0.0, 0.0, 0)
     z0 = lin.coords.to_z(np.asarray(y0, dtype=float))
-    _load_compiled(system, lin, z0, settings)
-    w1b = time.perf_counter()              # from w1 to here: numba (and the stability check)
-    tp, Zp, samples = propagate_pieces(lin, z0, settings.t_end, settings.output_dt)
+    w1b = time.perf_counter()              # from w1 to here: the stability check
+    with _Loading() as propagation_load:
+        tp, Zp, samples = propagate_pieces(lin, z0, settings.t_end, settings.output_dt)
     pieces = tp.size - 1
     w2 = time.perf_counter()
-    est = estimate_error(system, lin, tp, Zp, samples)
+    with _Loading() as estimate_load:
+        est = estimate_error(system, lin, tp, Zp, samples)
     w3 = time.perf_counter()
+    loading = propagation_load.seconds + estimate_load.seconds
     t, Z = (tp, Zp) if samples.size == tp.size else (tp[samples], Zp[samples])
     Y = lin.coords.to_y(Z)
     Y[:, system.layout.work] = np.asarray(y0)[system.layout.work] + est.works
     stats = Stats(method="linear", steps=pieces, rhs_evaluations=lin.evaluations + est.evaluations,
-                  jacobian_evaluations=1, segments=1, wall_time=(w1 - w0) + (w3 - w1b),
-                  load_time=(w0 - l0) + (w1b - w1), rejected_source="none (exact propagation)")
+                  jacobian_evaluations=1, segments=1,
+                  wall_time=(w3 - w0) - loading, load_time=(w0 - l0) + loading,
+                  rejected_source="none (exact propagation)")
     message = (f"linear model: estimated position error {est.position:.2e} m against the "
                f"nonlinear model")
     run = Run(t=t, y=Y, complete=True, message=message, stats=stats, settings=settings,
               t_reached=float(t[-1]))
-    return LinearRun(run, est, lin, w1 - w0, w2 - w1b, w3 - w2, pieces)
+    return LinearRun(run, est, lin, w1 - w0, w2 - w1b - propagation_load.seconds,
+                     w3 - w2 - estimate_load.seconds, pieces)
