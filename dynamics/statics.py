@@ -97,12 +97,14 @@ def _residual(system: System, y: np.ndarray, sag: bool = True) -> np.ndarray:
     """Generalized forces at rest, flat: 6 per body (N, N m) then, with
     ``sag``, the modal forces of the flexible bodies."""
     d = system.rhs(0.0, y)
-    parts = system.layout.split(d)
-    rdd = parts["rd"]                     # (n, 3): the slot of ṙ holds r̈
-    wd = parts["w"]
-    m = system.m_r
-    Jw = np.einsum("nij,nj->ni", system.J, wd)
-    R = np.concatenate([m * rdd, Jw], axis=1)   # (n, 6)
+    vr = d[system.layout.v_rigid].reshape(system.n_rigid, 6)
+    rdd = vr[:, :3]                       # (n, 3): the slot of ṙ holds r̈
+    wd = vr[:, 3:]
+    R = np.empty((system.n_rigid, 6))
+    R[:, :3] = system.m_r * rdd
+    R[:, 3:] = np.einsum("nij,nj->ni", system.J, wd)
+    if not system.flex_compiled:
+        return R.ravel()
     modal = []
     p = system.layout.split(y)["p"]
     for fc in system.flex_compiled:      # flexible bodies: M(q) v̇, coupled blocks
@@ -236,7 +238,7 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
 
     def residual_rows(dY, Y):
         return _residual_rows(system, dY, Y, sag)
-    start_r = lay.split(y)["r"].copy()
+    start_r = y[lay.q_rigid].reshape(n, 7)[:, :3].copy()
     if max_move is None:
         max_move = 100.0 * (1.0 + float(np.max(np.abs(system.initial_r))))
 
@@ -305,7 +307,7 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
         else:
             y_new = perturbed_positions(system, y, dx[None, :])[0]
         R_new = _residual(system, y_new, sag)
-        moved = np.abs(lay.split(y_new)["r"] - start_r)
+        moved = np.abs(y_new[lay.q_rigid].reshape(n, 7)[:, :3] - start_r)
         if not np.all(np.isfinite(R_new)) or float(np.max(moved)) > max_move:
             b, k = np.unravel_index(int(np.argmax(np.where(np.isfinite(moved), moved, np.inf))),
                                     moved.shape)
