@@ -8,7 +8,10 @@ right-hand side (N, N·m). The Jacobian is the exact tangent stiffness at
 rest (:func:`flexbed.dynamics.tangent.tangent`: one right-hand side and its
 derivatives written out), where it applies; it leaves out the terms
 proportional to the accelerations (a flexible body's ∂M(q)/∂q v̇, nil at an
-equilibrium), so near the solution the steps are Newton's. Where the
+equilibrium), so near the solution the steps are Newton's. For a scene of
+rigid bodies with no loads of their own the tangent and the state update
+are compiled (:mod:`flexbed.dynamics.rigid_statics`: the same formulas,
+the tangent equal to round-off, the update bit for bit). Where the
 tangent does not cover the scene (a law of another kind, a flexible body's
 frame without its modal coordinates) the Jacobian is by central
 differences (eq. 21) by colour classes of the mount graph
@@ -69,7 +72,8 @@ class Equilibrium:
     instability : :class:`~flexbed.dynamics.stability.Instability` when
     unstable, else None; jacobian : (n, n) array or CSR, or None — the last
     Newton Jacobian when it was the exact tangent stiffness
-    (:func:`flexbed.dynamics.tangent.tangent`: ∂(M v̇)/∂q in the unknowns,
+    (:func:`flexbed.dynamics.tangent.tangent`, or for rigid bodies
+    :func:`flexbed.dynamics.rigid_statics.rigid_tangent`: ∂(M v̇)/∂q in the unknowns,
     6 per rigid body then the modal coordinates with ``sag``
     [N/m, N/rad, N m/m, N m/rad, …]), at the iterate before the polishing
     steps (which move the state by less than ``tol``); None when it was by
