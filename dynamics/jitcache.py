@@ -56,7 +56,7 @@ COMPILED = (
     "kernel.storage", "kernel.inputs", "kernel.mount_laws", "kernel.flexible_body",
     "kernel.rhs", "kernel.batch",
     "steppers.common", "steppers.rk4", "steppers.dop853", "steppers.radau",
-    "linear.sweep", "linear.defect", "linear.phi", "sample_passes",
+    "linear.sweep", "linear.defect", "linear.phi", "sample_passes", "rigid_statics",
 )
 
 #: Modules of data that numba compiles into the functions of COMPILED as

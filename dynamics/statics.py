@@ -8,7 +8,10 @@ right-hand side (N, N·m). The Jacobian is the exact tangent stiffness at
 rest (:func:`flexbed.dynamics.tangent.tangent`: one right-hand side and its
 derivatives written out), where it applies; it leaves out the terms
 proportional to the accelerations (a flexible body's ∂M(q)/∂q v̇, nil at an
-equilibrium), so near the solution the steps are Newton's. Where the
+equilibrium), so near the solution the steps are Newton's. For a scene of
+rigid bodies with no loads of their own the tangent and the state update
+are compiled (:mod:`flexbed.dynamics.rigid_statics`: the same formulas,
+the tangent equal to round-off, the update bit for bit). Where the
 tangent does not cover the scene (a law of another kind, a flexible body's
 frame without its modal coordinates) the Jacobian is by central
 differences (eq. 21) by colour classes of the mount graph
@@ -37,8 +40,9 @@ from .rotation import A as rotation_matrix
 from .jacobian import force_jacobian, perturbed_positions
 from .maxwell_terms import relax_states, relaxed
 from .rotation import quat_mul, rotvec_to_p
+from .rigid_statics import rigid_tangent, step_state
 from .system import System
-from .tangent import tangent
+from .tangent import _KINDS, _own_slots, law_slopes, tangent
 
 __all__ = ["Equilibrium", "solve_statics", "COORDINATES", "DENSE_LIMIT"]
 
@@ -68,7 +72,8 @@ class Equilibrium:
     instability : :class:`~flexbed.dynamics.stability.Instability` when
     unstable, else None; jacobian : (n, n) array or CSR, or None — the last
     Newton Jacobian when it was the exact tangent stiffness
-    (:func:`flexbed.dynamics.tangent.tangent`: ∂(M v̇)/∂q in the unknowns,
+    (:func:`flexbed.dynamics.tangent.tangent`, or for rigid bodies
+    :func:`flexbed.dynamics.rigid_statics.rigid_tangent`: ∂(M v̇)/∂q in the unknowns,
     6 per rigid body then the modal coordinates with ``sag``
     [N/m, N/rad, N m/m, N m/rad, …]), at the iterate before the polishing
     steps (which move the state by less than ``tol``); None when it was by
@@ -96,12 +101,14 @@ def _residual(system: System, y: np.ndarray, sag: bool = True) -> np.ndarray:
     """Generalized forces at rest, flat: 6 per body (N, N m) then, with
     ``sag``, the modal forces of the flexible bodies."""
     d = system.rhs(0.0, y)
-    parts = system.layout.split(d)
-    rdd = parts["rd"]                     # (n, 3): the slot of ṙ holds r̈
-    wd = parts["w"]
-    m = system.m_r
-    Jw = np.einsum("nij,nj->ni", system.J, wd)
-    R = np.concatenate([m * rdd, Jw], axis=1)   # (n, 6)
+    vr = d[system.layout.v_rigid].reshape(system.n_rigid, 6)
+    rdd = vr[:, :3]                       # (n, 3): the slot of ṙ holds r̈
+    wd = vr[:, 3:]
+    R = np.empty((system.n_rigid, 6))
+    R[:, :3] = system.m_r * rdd
+    R[:, 3:] = np.einsum("nij,nj->ni", system.J, wd)
+    if not system.flex_compiled:
+        return R.ravel()
     modal = []
     p = system.layout.split(y)["p"]
     for fc in system.flex_compiled:      # flexible bodies: M(q) v̇, coupled blocks
@@ -231,10 +238,11 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
     modal = bool(sag and lay.n_modal)
     steps = np.full(n_unknown, fd_step)
     use_sparse = n_unknown > DENSE_LIMIT if sparse is None else bool(sparse)
+    compiled = not use_sparse and _rigid_only(system)
 
     def residual_rows(dY, Y):
         return _residual_rows(system, dY, Y, sag)
-    start_r = lay.split(y)["r"].copy()
+    start_r = y[lay.q_rigid].reshape(n, 7)[:, :3].copy()
     if max_move is None:
         max_move = 100.0 * (1.0 + float(np.max(np.abs(system.initial_r))))
 
@@ -264,7 +272,10 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
         # factors: its change over a step at round-off level is below what the
         # step can resolve
         if converged_at is None or solve is None:
-            jac, exact = _jacobian(system, y, residual_rows, steps, modal, use_sparse)
+            jac = _rigid_jacobian(system, y) if compiled else None
+            exact = jac is not None
+            if jac is None:
+                jac, exact = _jacobian(system, y, residual_rows, steps, modal, use_sparse)
             njev += 1
             values = jac.data if use_sparse else jac
             if not (np.all(np.isfinite(values)) and np.all(np.isfinite(R))):
@@ -294,9 +305,13 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
         step = float(np.max(np.abs(dx) * step_unit))
         if converged_at is not None and not step < prev_step:
             break       # polishing no longer helps; keep the previous iterate
-        y_new = perturbed_positions(system, y, dx[None, :])[0]
+        if compiled:
+            y_new = np.empty_like(y)
+            step_state(y, lay.q_rigid.start, n, dx, y_new)
+        else:
+            y_new = perturbed_positions(system, y, dx[None, :])[0]
         R_new = _residual(system, y_new, sag)
-        moved = np.abs(lay.split(y_new)["r"] - start_r)
+        moved = np.abs(y_new[lay.q_rigid].reshape(n, 7)[:, :3] - start_r)
         if not np.all(np.isfinite(R_new)) or float(np.max(moved)) > max_move:
             b, k = np.unravel_index(int(np.argmax(np.where(np.isfinite(moved), moved, np.inf))),
                                     moved.shape)
@@ -345,6 +360,31 @@ def _jacobian(system: System, y: np.ndarray, residual_rows, steps: np.ndarray, m
     fj = force_jacobian(system, y, residual_rows, functools.partial(perturbed_positions, system, y),
                         steps, modal=modal, capture=())
     return (fj.R if sparse else fj.R.toarray()), False
+
+
+def _rigid_only(system: System) -> bool:
+    """Whether the compiled Newton pieces (:mod:`flexbed.dynamics.rigid_statics`)
+    apply: every body rigid, no loads on bodies, laws the tangent covers."""
+    return (not system.flex_compiled and not _own_slots(system)
+            and set(np.unique(system.data.law_kind).tolist()) <= set(_KINDS))
+
+
+def _rigid_jacobian(system: System, y: np.ndarray) -> np.ndarray | None:
+    """The exact tangent stiffness (6n, 6n) of a scene of rigid bodies at
+    the state y at rest (:func:`flexbed.dynamics.rigid_statics.rigid_tangent`,
+    the numbers of :func:`flexbed.dynamics.tangent.tangent` to round-off),
+    or None where :func:`tangent` would not give it either (a moving base,
+    forces not finite): the caller then takes :func:`_jacobian`."""
+    system.rhs(0.0, y)                 # its work arrays keep this call's fields
+    d = system.data
+    if np.any(d.w_Pd != 0.0):
+        return None
+    kx, _ = law_slopes(system, d.w_dx.ravel(), d.w_dxd.ravel())
+    n = system.n_rigid
+    K = np.zeros((6 * n, 6 * n))
+    rigid_tangent(d.w_A, d.w_P, d.w_ub, d.w_f, d.w_F, system.U, kx, system.body_i,
+                  system.body_j, K)
+    return K if np.all(np.isfinite(K)) else None
 
 
 def _singular_direction(Jac: np.ndarray) -> int | None:

@@ -16,11 +16,18 @@ from flexbed.dynamics import statics as statics_module
 from flexbed.dynamics.statics import solve_statics
 
 
+def _no_tangent(mp):
+    """Take the tangent away (its NumPy form and the compiled one of rigid
+    scenes, :mod:`flexbed.dynamics.rigid_statics`): differences answer."""
+    mp.setattr(statics_module, "tangent", lambda *a, **k: None)
+    mp.setattr(statics_module, "_rigid_jacobian", lambda *a, **k: None)
+
+
 def _pair(system, monkeypatch):
     """The equilibrium with the tangent, and with central differences alone."""
     exact = solve_statics(system)
     with monkeypatch.context() as m:
-        m.setattr(statics_module, "tangent", lambda *a, **k: None)
+        _no_tangent(m)
         differences = solve_statics(system)
     return exact, differences
 
@@ -64,7 +71,7 @@ def test_where_the_tangent_does_not_apply_differences_answer():
         return real(*a, **k)
     mp = pytest.MonkeyPatch()
     mp.setattr(statics_module, "force_jacobian", spy)
-    mp.setattr(statics_module, "tangent", lambda *a, **k: None)
+    _no_tangent(mp)
     try:
         eq = solve_statics(system)
     finally:
@@ -142,5 +149,5 @@ def test_the_stability_check_takes_the_statics_tangent(tmp_path):
 def test_differences_hand_the_stability_check_no_jacobian(monkeypatch):
     """A Jacobian by differences is not handed on (the check linearises)."""
     system = flexbed.statics(flexbed.load_scene()).system
-    monkeypatch.setattr(statics_module, "tangent", lambda *a, **k: None)
+    _no_tangent(monkeypatch)
     assert solve_statics(system).jacobian is None
