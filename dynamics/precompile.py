@@ -52,7 +52,7 @@ from .kernel.rhs import PROTOTYPE, rhs_loaded
 from .steppers import N_COUNTS, dop853_segment, radau_segment, radau_workspace, rk4_segment
 
 __all__ = ["rhs_cached", "stand_in_kernel", "compile_callers", "compile_linear_path",
-           "compile_in_parallel",
+           "compile_statics", "compile_in_parallel",
            "likely_steppers", "LINEAR_MAPS", "STEPPERS", "STOP_WAIT", "SWITCH"]
 
 #: the compiled steppers by method name
@@ -114,6 +114,29 @@ def compile_callers(methods=tuple(STEPPERS), ny: int = 13) -> None:
     evaluate_batch(kernel, math.inf, np.zeros(0), np.zeros((0, ny)), np.zeros((0, ny)),
                    np.zeros(0, dtype=np.int64), np.zeros((0, 0)))
     evaluate_many(0, 0.0, math.inf, z, np.empty_like(z), kernel)
+
+
+def compile_statics() -> None:
+    """Compile (or load) the statics' compiled Newton pieces for scenes of
+    rigid bodies (:mod:`flexbed.dynamics.rigid_statics`) for the argument
+    types :func:`flexbed.dynamics.statics.solve_statics` passes them, by
+    calls on a stand-in of one mount between the base and a body (C
+    arrays of float64 and int64, the System's own read-only;
+    ``tests/test_jitcache.py`` checks that the reference scene's statics
+    then add no signature)."""
+    from .rigid_statics import rigid_tangent, step_state
+    m, nb = 1, 2
+    A = np.zeros((nb, 3, 3))
+    A[:] = np.eye(3)
+    U, body_i, body_j = (np.zeros((m, 3, 3)), np.zeros(m, dtype=np.int64),
+                         np.ones(m, dtype=np.int64))
+    for a in (U, body_i, body_j):              # the System's arrays are read-only
+        a.flags.writeable = False
+    rigid_tangent(A, np.zeros((2 * m, 3)), np.zeros((2 * m, 3)), np.zeros((m, 3)),
+                  np.zeros((m, 3)), U, np.zeros(3 * m), body_i, body_j, np.zeros((6, 6)))
+    y = np.zeros(7)
+    y[3] = 1.0
+    step_state(y, 0, 1, np.zeros(6), np.empty(7))
 
 
 def _linear_signatures() -> dict:
@@ -201,8 +224,9 @@ def _stop(child: subprocess.Popen) -> None:
 def compile_in_parallel(methods=tuple(STEPPERS), log=lambda m: None,
                         linear=False) -> float:
     """On a first run, compile the right-hand side in a child process and
-    the steppers ``methods`` (and the linear path's functions ``linear``)
-    here, at the same time; else nothing.
+    the steppers ``methods`` (and the linear path's functions ``linear``,
+    and the statics' compiled pieces, :func:`compile_statics`) here, at the
+    same time; else nothing.
 
     Parameters
     ----------
@@ -230,6 +254,7 @@ def compile_in_parallel(methods=tuple(STEPPERS), log=lambda m: None,
             compile_callers(methods)
         if linear:
             compile_linear_path(None if linear is True else linear)
+        compile_statics()
         child.wait()
     finally:
         _stop(child)

@@ -35,14 +35,14 @@ __all__ = ["rigid_tangent", "step_state"]
 _refresh()   # before any compiled function is loaded (flexbed.dynamics.jitcache)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _skew_into(v0, v1, v2, S):
     S[0, 0], S[0, 1], S[0, 2] = 0.0, -v2, v1
     S[1, 0], S[1, 1], S[1, 2] = v2, 0.0, -v0
     S[2, 0], S[2, 1], S[2, 2] = -v1, v0, 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _mul(A, B, out, transpose):
     """out (3, c) = A (3, 3) @ B (3, c), or Aᵀ @ B with ``transpose``;
     each entry summed left to right."""
@@ -97,7 +97,9 @@ def rigid_tangent(A, P, ub, f, F, U, kx, body_i, body_j, K):
         for s in range(2):
             e = m + s * M
             b = ends[s]
-            E[s, :, :] = 0.0
+            for r in range(3):
+                for c in range(6):
+                    E[s, r, c] = 0.0
             if b > 0:
                 for r in range(3):
                     E[s, r, r] = 1.0
@@ -110,7 +112,9 @@ def rigid_tangent(A, P, ub, f, F, U, kx, body_i, body_j, K):
             for c in range(6):
                 dl[r, c] = -E[0, r, c]
                 dl[r, 6 + c] = E[1, r, c]
-        Thi[:, :] = 0.0
+        for r in range(3):
+            for c in range(12):
+                Thi[r, c] = 0.0
         if ends[0] > 0:
             for r in range(3):
                 Thi[r, 3 + r] = 1.0
@@ -181,7 +185,8 @@ def step_state(y, q0, n, dx, out):
     """out (ny,) = y (ny,) with the rigid bodies' positions stepped by dx
     (6n,): the numbers of ``perturbed_positions(system, y, dx[None])[0]``
     (q0 : the index of the first body's position in y, 7 per body)."""
-    out[:] = y
+    for i in range(y.size):             # (a slice assignment costs seconds to compile)
+        out[i] = y[i]
     for b in range(n):
         q = q0 + 7 * b
         for k in range(3):

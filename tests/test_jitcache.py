@@ -98,10 +98,11 @@ import flexbed
 from flexbed.bench.cases import CASES, ModesStore, build_case
 from flexbed.dynamics.integrate import Settings
 from flexbed.dynamics.linear.run import run_linear
-from flexbed.dynamics.precompile import compile_callers, compile_linear_path
+from flexbed.dynamics.precompile import compile_callers, compile_linear_path, compile_statics
 
 compile_callers()              # the first run's steppers, compiled without the right-hand side
 compile_linear_path()          # and the linear path's functions, by their signatures
+compile_statics()              # and the rigid statics' pieces, on a stand-in
 sf = flexbed.load_scene()
 store = ModesStore(sf, Path(tempfile.mkdtemp()))
 for key in ("rigid", "damped"):
@@ -128,7 +129,8 @@ print("checked")
 def test_each_compiled_function_is_compiled_for_one_signature(tmp_path):
     """The steppers compiled as a first run compiles them beside the
     right-hand side (flexbed.dynamics.precompile, with a stand-in for its
-    pointer), then the rigid and the damped flexible reference cases, every
+    pointer, and the rigid statics' pieces on a stand-in), then the rigid
+    and the damped flexible reference cases (their statics), every
     stepper, the flexible bed's Python side and the linear path, in a fresh
     interpreter:
     each compiled function of flexbed.dynamics ends with one signature (a
