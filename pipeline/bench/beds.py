@@ -91,9 +91,10 @@ def matched(bed: BedModes) -> list[float | None]:
 
 
 def accuracy_runs(quick: bool, repeats: int, log=lambda m: None,
-                  folder: Path | None = None) -> list[BedRun]:
+                  folder: Path | None = None, tolerance: float = 0.005) -> list[BedRun]:
     """The reference bed on each mesh of :data:`ACCURACY` (10 modes each;
-    ``folder``: where the triangle mesh file is written)."""
+    ``folder``: where the triangle mesh file is written; ``tolerance``: the
+    "auto" bed's ``mesh_tolerance``)."""
     runs = []
     for label, theory, nx, ny in (QUICK_ACCURACY if quick else ACCURACY):
         log(f"bench beds: {label} ...")
@@ -101,22 +102,23 @@ def accuracy_runs(quick: bool, repeats: int, log=lambda m: None,
             path = _mesh_file(Path(folder), nx, ny, "triangle")
             spec = PlateSpec(theory="mindlin", geometry=BedGeometry(mesh_file=str(path)))
         elif theory == "auto":
-            spec = PlateSpec(theory="mindlin", mesh_tolerance=0.005)
+            spec = PlateSpec(theory="mindlin", mesh_tolerance=tolerance)
         else:
             spec = PlateSpec(theory=theory, nx=nx, ny=ny)
         runs.append(timed(label, spec, 10, repeats))
     return runs
 
 
-def stiffened_run(repeats: int) -> tuple[BedRun, np.ndarray]:
-    """The stiffened bed with ``element_size = "auto"`` (tolerance 0.5 %,
-    hinged stiffeners, the default): its run and its error against
+def stiffened_run(repeats: int, tolerance: float = 0.005) -> tuple[BedRun, np.ndarray]:
+    """The stiffened bed with ``element_size = "auto"`` (``tolerance``: the
+    default 0.5 %), hinged stiffeners (the default): its run and its error against
     :data:`STIFFENED` (10,), modes matched kind by kind in order (the
     second bending and the first torsion mode lie within 0.5 %)."""
     from dataclasses import replace
 
     from flexbed.fem.solid_check import shell_spec
-    spec = replace(shell_spec("stiffened", 0.05), nx=10, ny=10, mesh_tolerance=0.005)
+    spec = replace(shell_spec("stiffened", 0.05), nx=10, ny=10,
+                   mesh_tolerance=tolerance)
     run = timed("stiffened bed, element_size = \"auto\"", spec, 10, repeats)
     labels = list(run.bed.modes.labels)
     pools = {k: [i for i, lab in enumerate(labels) if lab == k] for k in set(STIFFENED_KINDS)}
@@ -177,10 +179,11 @@ def _cell(f: float | None, ref: float) -> str:
 def section_beds(ctx: BenchContext) -> str:
     """The reference bed against the 3D solid, and modes of large beds."""
     repeats = 1 if ctx.quick else 3
-    acc = accuracy_runs(ctx.quick, repeats, ctx.log, ctx.workdir)
+    tol = ctx.profile.auto_tolerance
+    acc = accuracy_runs(ctx.quick, repeats, ctx.log, ctx.workdir, tol)
     size = size_runs(ctx.workdir, ctx.quick, repeats, ctx.log)
     ctx.log("bench beds: stiffened bed, auto ...")
-    stiff, stiff_err = stiffened_run(repeats)
+    stiff, stiff_err = stiffened_run(repeats, tol)
     ctx.results["beds"] = {"accuracy": acc, "size": size, "stiffened": (stiff, stiff_err),
                            "matched": {r.label: matched(r.bed) for r in acc}}
     head = ["mode", "3D solid [Hz]"] + [r.label for r in acc]

@@ -4,7 +4,8 @@ sections read, and the figures written."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import os
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -14,7 +15,7 @@ from flexbed.bench.cases import CASES, Case, ModesStore, build_case
 from flexbed.bench.reference import Reference, compute_reference
 from flexbed.files.scene import SceneFile
 
-__all__ = ["BenchContext", "FULL", "QUICK"]
+__all__ = ["BenchContext", "FULL", "QUICK", "TEST_PROFILE", "quick_profile"]
 
 
 @dataclass(frozen=True)
@@ -26,7 +27,8 @@ class Profile:
     longest predicted wall time of one setting that is still run [s];
     rhs_seconds : length of one timing of the right-hand side [s];
     left_out : names of the report's sections it leaves out when no
-    section is asked for.
+    section is asked for; auto_tolerance : the ``mesh_tolerance`` of the
+    beds section's ``element_size = "auto"`` beds (the default 0.005).
     """
 
     name: str
@@ -35,6 +37,7 @@ class Profile:
     budget: float
     rhs_seconds: float
     left_out: tuple = ()
+    auto_tolerance: float = 0.005
 
 
 FULL = Profile("full", ("rigid", "flexible", "damped"), reference_dt=5e-5, budget=15.0,
@@ -44,6 +47,23 @@ FULL = Profile("full", ("rigid", "flexible", "damped"), reference_dt=5e-5, budge
 #: quick report (docs/first-run.md)
 QUICK = Profile("quick", ("rigid", "flexible"), reference_dt=1.25e-4, budget=3.0,
                 rhs_seconds=0.05, left_out=("linear",))
+#: A test profile, for tests/test_bench.py only: the quick report with the
+#: beds section's two ``element_size = "auto"`` beds (the reference bed and
+#: the stiffened bed) meshed to a 2 % tolerance rather than 0.5 % (a few
+#: coarse meshes rather than the fine ones: about 25 s of the quick report's
+#: 90 s of CPU). Every section, table and figure is the same; those two
+#: beds' 0.5 % results are checked by the tests of the meshes themselves
+#: (tests/test_accuracy.py, tests/test_stiffener_model.py). Chosen by the
+#: environment variable ``FLEXBED_BENCH_PROFILE=test`` (:func:`quick_profile`);
+#: ``flexbed bench --quick`` without it is unchanged.
+TEST_PROFILE = replace(QUICK, auto_tolerance=0.02)
+
+
+def quick_profile() -> Profile:
+    """The quick report's profile: :data:`QUICK`, or :data:`TEST_PROFILE`
+    when the environment sets ``FLEXBED_BENCH_PROFILE=test`` (the test
+    suite's hook; any other value is the quick profile)."""
+    return TEST_PROFILE if os.environ.get("FLEXBED_BENCH_PROFILE") == "test" else QUICK
 
 
 @dataclass

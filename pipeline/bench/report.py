@@ -39,7 +39,7 @@ from flexbed.bench.stress import section_stress
 from flexbed.bench.random import section_random
 from flexbed.bench.response_spectrum import section_response_spectrum
 from flexbed.bench.beds import section_beds
-from flexbed.bench.context import FULL, QUICK, BenchContext
+from flexbed.bench.context import FULL, BenchContext, quick_profile
 from flexbed.bench.dynamics import (LADDERS, QUICK_LADDERS, fastest_reaching, ladder_table,
                              observed_orders, run_ladders)
 from flexbed.bench.markdown import fmt_error, fmt_time, md_table
@@ -414,7 +414,7 @@ def write_report(out_dir: str | Path, *, scene: str | Path | None = None, quick:
     """
     t0 = time.perf_counter()
     load = ", ".join(f"{v:.2f}" for v in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
-    profile = QUICK if quick else FULL
+    profile = quick_profile() if quick else FULL
     if cases is not None:
         unknown = [c for c in cases if c not in CASES]
         if unknown:
