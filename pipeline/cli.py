@@ -27,7 +27,7 @@ import sys
 
 from flexbed.console import run_command
 from flexbed.errors import EXIT_INPUT, FlexbedError
-from flexbed.interrupts import exit_code, handlers, lost_pending, message, take_lost
+from flexbed.interrupts import exit_code, handlers, message, take_interrupt, was_interrupted
 from flexbed.threads import limited, pin_environment
 
 #: status of a run whose output pipe was closed by its reader (128 + SIGPIPE,
@@ -140,10 +140,12 @@ def main(argv: list[str] | None = None) -> int:
         try:
             return _main(argv)
         except Exception:
-            # an error that followed an interrupt lost in a finalizer or a
-            # callback and not raised again yet: the interrupt is what happened
+            # an error that followed an interrupt (one lost in a finalizer or
+            # a callback, or one some code turned into an error of its own,
+            # as numba's compiler and NumPy's import can): the interrupt is
+            # what happened
             try:
-                interrupt = take_lost()
+                interrupt = take_interrupt()
             except KeyboardInterrupt as exc:        # its timer fired here
                 interrupt = exc
             if interrupt is None:
@@ -166,7 +168,7 @@ def _main(argv: list[str]) -> int:
             with limited():
                 code = run_command(module, args)
         except FlexbedError as exc:
-            if lost_pending():      # the interrupt it followed, by main()
+            if was_interrupted():      # reported as the interrupt it followed, by main()
                 raise
             print(f"flexbed {args.command}: {exc}", file=sys.stderr)
             return exc.exit_code

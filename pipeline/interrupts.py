@@ -25,7 +25,7 @@ from contextlib import contextmanager
 from typing import Iterator
 
 __all__ = ["Interrupted", "handlers", "held", "signal_name", "exit_code", "kept", "message",
-           "take_lost", "lost_pending"]
+           "take_interrupt", "was_interrupted"]
 
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -74,7 +74,12 @@ def message(exc: BaseException, command: str | None) -> str:
     return f"{head}: interrupted ({signal_name(exc)})" + (f" {what}" if what else "")
 
 
+#: the interrupts :func:`_raise` raised since :func:`handlers` began
+_raised: list[int] = []
+
+
 def _raise(signum, frame):
+    _raised.append(signum)
     raise Interrupted(signum)
 
 
@@ -89,8 +94,8 @@ _in_hook = False
 #: enough for the hook to return first (the timer's handler, run inside
 #: the hook, sets it again), short against the code that runs next (numba's
 #: compiler, cut in a ctypes callback, runs on into "no compiled object
-#: yet": :func:`take_lost` lets the command line report such an error as
-#: the interrupt it follows)
+#: yet": :func:`take_interrupt` lets the command line report such an error
+#: as the interrupt it follows)
 _AGAIN = 5e-5
 
 
@@ -98,7 +103,9 @@ def _raise_lost(signum, frame):
     if _in_hook:                                 # would be lost again: later
         signal.setitimer(signal.ITIMER_REAL, _AGAIN)
     elif _lost:
-        raise Interrupted(_lost.pop())
+        signum = _lost.pop()
+        _raised.append(signum)
+        raise Interrupted(signum)
 
 
 def _unraisable(hook):
@@ -126,22 +133,27 @@ def _unraisable(hook):
     return unraisable
 
 
-def take_lost() -> Interrupted | None:
-    """The interrupt lost in a finalizer or a callback and not raised again
-    yet, taken (its timer then raises nothing), or None.
+def take_interrupt() -> Interrupted | None:
+    """The interrupt an error followed, taken (a lost one's timer then
+    raises nothing), or None: one lost in a finalizer or a callback and
+    not raised again yet, else the last one raised.
 
-    The code that ran on may have failed first: numba's compiler, its
-    object cache's callback cut, raises "no compiled object yet". The
-    command line reports such an error as this interrupt. The timer may
-    still fire on entry here: callers catch :class:`KeyboardInterrupt`
-    around the call."""
-    return Interrupted(_lost.pop()) if _lost else None
+    Code may turn an interrupt into an error of its own: numba's compiler,
+    its object cache's callback cut, raises "no compiled object yet";
+    CPython's ``PyCapsule_Import``, its module's import interrupted (NumPy
+    being imported), an ImportError, the interrupt dropped. The command
+    line reports such an error as the interrupt. The timer may still fire
+    on entry here: callers catch :class:`KeyboardInterrupt` around the
+    call."""
+    if _lost:
+        return Interrupted(_lost.pop())
+    return Interrupted(_raised[-1]) if _raised else None
 
 
-def lost_pending() -> bool:
-    """Whether an interrupt lost in a finalizer or a callback waits to be
-    raised again (:func:`take_lost`)."""
-    return bool(_lost)
+def was_interrupted() -> bool:
+    """Whether an interrupt was raised, or lost and waits to be raised
+    again (:func:`take_interrupt`), since :func:`handlers` began."""
+    return bool(_lost or _raised)
 
 
 def _in_main_thread() -> bool:
@@ -165,6 +177,7 @@ def handlers() -> Iterator[None]:
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0.0)
         _lost.clear()
+        _raised.clear()
         sys.unraisablehook = old_hook
         for s, h in old.items():
             signal.signal(s, h)

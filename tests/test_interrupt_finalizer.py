@@ -158,3 +158,50 @@ def test_an_error_that_follows_a_lost_interrupt_is_reported_as_the_interrupt(sig
     name = signal.Signals(signum).name
     assert (proc.returncode, proc.stderr) == (128 + signum,
                                               f"flexbed scene: interrupted ({name})\n")
+
+
+_AN_INTERRUPT_TURNED_INTO_AN_ERROR = """
+import os, sys
+import flexbed.commands.scene as scene
+def run(args):
+    try:
+        os.kill(os.getpid(), {signum})
+        for _ in range(10 ** 8):
+            pass
+    except KeyboardInterrupt:                  # as CPython's PyCapsule_Import does
+        raise ImportError('PyCapsule_Import could not import module "datetime"') from None
+scene.run = run
+sys.argv = ["flexbed", "scene"]
+from flexbed.cli import script
+script()
+"""
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_an_interrupt_code_turned_into_an_error_is_still_the_interrupt(signum):
+    """A signal that lands while NumPy imports its C part comes out of
+    CPython's ``PyCapsule_Import`` as an ImportError, the interrupt dropped
+    (seen in a test of a command interrupted while it loads): the run ends
+    as interrupted, exit 128 + signal, one line, no traceback."""
+    import subprocess
+    proc = subprocess.run(
+        [sys.executable, "-c", _AN_INTERRUPT_TURNED_INTO_AN_ERROR.format(signum=int(signum))],
+        capture_output=True, text=True, timeout=60)
+    name = signal.Signals(signum).name
+    assert (proc.returncode, proc.stderr) == (128 + signum,
+                                              f"flexbed scene: interrupted ({name})\n")
+
+
+def test_an_error_with_no_interrupt_before_it_stays_that_error():
+    """Without an interrupt the command line leaves an error as it was (an
+    internal fault keeps its traceback)."""
+    from flexbed import interrupts
+    with handlers():
+        assert not interrupts.was_interrupted() and interrupts.take_interrupt() is None
+        with pytest.raises(Interrupted):
+            os.kill(os.getpid(), signal.SIGTERM)
+            for _ in range(10 ** 8):
+                pass
+        assert interrupts.was_interrupted()
+        assert interrupts.take_interrupt().signum == signal.SIGTERM
+    assert not interrupts.was_interrupted()            # forgotten when the block ends
