@@ -98,19 +98,22 @@ def test_a_lost_interrupt_coming_back_inside_a_held_section_is_recorded():
         assert pending == [signal.SIGTERM]
 
 
-_INTERRUPTED_PROGRAM = """
-import atexit, signal, sys
-import flexbed.commands.scene as scene
-from flexbed.interrupts import Interrupted
-atexit.register(lambda: print("finalizers ran", file=sys.stderr))
-def run(args):
-    print("printed before", end="")                  # buffered: a pipe
-    raise KeyboardInterrupt if {signum} == 2 else Interrupted({signum})
-scene.run = run
-sys.argv = ["flexbed", "scene"]
-from flexbed.cli import script
-script()
-"""
+def _flexbed_scene(run_source: str, signum: int):
+    """``flexbed scene`` run as the program (:func:`flexbed.cli.script`) in a
+    fresh interpreter, its command's ``run`` replaced by ``run_source``
+    (``{signum}`` filled in); the finished process."""
+    import subprocess
+    program = ("import atexit, os, sys\nimport flexbed.commands.scene as scene\n"
+               "from flexbed.interrupts import Interrupted\n"
+               + run_source.format(signum=int(signum))
+               + "scene.run = run\nsys.argv = ['flexbed', 'scene']\n"
+                 "from flexbed.cli import script\nscript()\n")
+    return subprocess.run([sys.executable, "-c", program], capture_output=True, text=True,
+                          timeout=60)
+
+
+def _interrupted_line(signum: int) -> str:
+    return f"flexbed scene: interrupted ({signal.Signals(signum).name})\n"
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
@@ -120,61 +123,32 @@ def test_the_program_ends_an_interrupted_run_without_finalizers(signum):
     one cut numba's compiler where a finalizer then freed an LLVM object a
     second time (status -11: in CI, and once in 39 first runs interrupted
     at random here). Exit 128 + signal, what was printed kept."""
-    import subprocess
-    proc = subprocess.run([sys.executable, "-c", _INTERRUPTED_PROGRAM.format(signum=int(signum))],
-                          capture_output=True, text=True, timeout=60)
-    name = signal.Signals(signum).name
+    proc = _flexbed_scene("""
+atexit.register(lambda: print("finalizers ran", file=sys.stderr))
+def run(args):
+    print("printed before", end="")                  # buffered: a pipe
+    raise KeyboardInterrupt if {signum} == 2 else Interrupted({signum})
+""", signum)
     assert (proc.returncode, proc.stdout) == (128 + signum, "printed before")
-    assert proc.stderr == f"flexbed scene: interrupted ({name})\n"
+    assert proc.stderr == _interrupted_line(signum)
 
 
-_FAILING_AFTER_A_LOST_INTERRUPT = """
-import os, sys
-import flexbed.commands.scene as scene
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_an_error_that_follows_a_lost_interrupt_is_reported_as_the_interrupt(signum):
+    """numba's compiler, its object cache's ctypes callback cut by a Ctrl-C,
+    runs on into "no compiled object yet" (9 of 32 first runs interrupted
+    at random, without flexbed's hook, ended so); if that error comes
+    before the interrupt is raised again, the run still ends as
+    interrupted: exit 128 + signal, one line, no traceback."""
+    proc = _flexbed_scene("""
 class Finalized:
     def __del__(self):
         os.kill(os.getpid(), {signum})          # handled in here: lost, recorded
 def run(args):
     Finalized()
     raise RuntimeError("no compiled object yet")   # at once, before the timer
-scene.run = run
-sys.argv = ["flexbed", "scene"]
-from flexbed.cli import script
-script()
-"""
-
-
-@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
-def test_an_error_that_follows_a_lost_interrupt_is_reported_as_the_interrupt(signum):
-    """numba's compiler, its object cache's ctypes callback cut by a Ctrl-C,
-    runs on into "no compiled object yet" (9 of 32 first runs
-    interrupted at random, without flexbed's hook, ended so); if that error comes
-    before the interrupt is raised again, the run still ends as
-    interrupted: exit 128 + signal, one line, no traceback."""
-    import subprocess
-    proc = subprocess.run(
-        [sys.executable, "-c", _FAILING_AFTER_A_LOST_INTERRUPT.format(signum=int(signum))],
-        capture_output=True, text=True, timeout=60)
-    name = signal.Signals(signum).name
-    assert (proc.returncode, proc.stderr) == (128 + signum,
-                                              f"flexbed scene: interrupted ({name})\n")
-
-
-_AN_INTERRUPT_TURNED_INTO_AN_ERROR = """
-import os, sys
-import flexbed.commands.scene as scene
-def run(args):
-    try:
-        os.kill(os.getpid(), {signum})
-        for _ in range(10 ** 8):
-            pass
-    except KeyboardInterrupt:                  # as CPython's PyCapsule_Import does
-        raise ImportError('PyCapsule_Import could not import module "datetime"') from None
-scene.run = run
-sys.argv = ["flexbed", "scene"]
-from flexbed.cli import script
-script()
-"""
+""", signum)
+    assert (proc.returncode, proc.stderr) == (128 + signum, _interrupted_line(signum))
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
@@ -183,13 +157,16 @@ def test_an_interrupt_code_turned_into_an_error_is_still_the_interrupt(signum):
     CPython's ``PyCapsule_Import`` as an ImportError, the interrupt dropped
     (seen in a test of a command interrupted while it loads): the run ends
     as interrupted, exit 128 + signal, one line, no traceback."""
-    import subprocess
-    proc = subprocess.run(
-        [sys.executable, "-c", _AN_INTERRUPT_TURNED_INTO_AN_ERROR.format(signum=int(signum))],
-        capture_output=True, text=True, timeout=60)
-    name = signal.Signals(signum).name
-    assert (proc.returncode, proc.stderr) == (128 + signum,
-                                              f"flexbed scene: interrupted ({name})\n")
+    proc = _flexbed_scene("""
+def run(args):
+    try:
+        os.kill(os.getpid(), {signum})
+        for _ in range(10 ** 8):
+            pass
+    except KeyboardInterrupt:                  # as CPython's PyCapsule_Import does
+        raise ImportError('PyCapsule_Import could not import module "datetime"') from None
+""", signum)
+    assert (proc.returncode, proc.stderr) == (128 + signum, _interrupted_line(signum))
 
 
 def test_an_error_with_no_interrupt_before_it_stays_that_error():
