@@ -295,3 +295,31 @@ def test_the_quick_report(tmp_path, monkeypatch):
         except AssertionError as exc:
             failed.append(f"{check.__name__[1:]}: {exc}")
     assert not failed, "\n".join(failed)
+
+
+def test_a_section_that_raises_leaves_the_others_and_one_line(tmp_path, monkeypatch, capsys):
+    """A section's internal fault: the report is written with the other
+    sections and, in the failed one's place, the error and its traceback;
+    ``flexbed bench`` then ends with one line naming it, exit 1 (it ended
+    with a traceback and no report before)."""
+    from flexbed.bench import report as bench_report
+    from flexbed.bench.report import Section
+    from flexbed.commands import bench as bench_command
+
+    def broken(ctx):
+        raise ValueError("a bug in the section")
+
+    sections = [Section("rhs", lambda ctx: "## First\n\nfine"), Section("integrators", broken),
+                Section("aims", lambda ctx: "## Third\n\nfine too")]
+    monkeypatch.setattr(bench_report, "SECTIONS", sections)
+    monkeypatch.setitem(bench_command.TARGETS, "rigid", (["rhs", "integrators", "aims"], None))
+    out = tmp_path / "b"
+    assert main(["bench", "rigid", "--quick", "-o", str(out)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1] == (f"flexbed bench: 1 section failed (integrators): ValueError: a bug in the "
+                       f"section; the report holds the other sections and the traceback: "
+                       f"{out / 'benchmarks-rigid.md'}")
+    assert not any("Traceback" in line for line in err)
+    text = (out / "benchmarks-rigid.md").read_text()
+    assert "## First" in text and "## Third" in text
+    assert "## Section integrators: failed" in text and "Traceback (most recent call last)" in text

@@ -20,6 +20,7 @@ import os
 import platform
 import tempfile
 import time
+import traceback
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable
@@ -28,6 +29,7 @@ import numba
 import numpy as np
 import scipy
 
+from flexbed.errors import FlexbedError
 from flexbed.files.destination import write_text
 from flexbed.bench.cases import CASES, CaseSpec, kernel_cost, rhs_cost
 from flexbed.bench.fastpath import section_linear, section_modes_auto
@@ -331,13 +333,16 @@ class Report:
     """What :func:`write_report` did: the Markdown file, the PNGs, the total
     time [s], the context (``ctx.results`` holds every section's data) and
     ``stale``: the ``bench-*.png`` files in the folder that this report
-    does not draw (an earlier report's; left in place)."""
+    does not draw (an earlier report's; left in place); ``failed``: (name,
+    one line) of each section that raised (its place in the report holds
+    the error and its traceback; the other sections ran)."""
 
     path: Path
     figures: list
     elapsed: float
     ctx: BenchContext
     stale: list = field(default_factory=list)
+    failed: list = field(default_factory=list)
 
 
 def _cpu_name() -> str:
@@ -433,11 +438,19 @@ def write_report(out_dir: str | Path, *, scene: str | Path | None = None, quick:
         ctx = BenchContext(scene=sf, out_dir=out, workdir=Path(tmp), profile=profile,
                            t_end=float(t_end if t_end is not None else sf.solver.t_end),
                            log=log)
-        texts = []
+        texts, failed = [], []
         for s in chosen:
             ts = time.perf_counter()
             log(f"bench: section {s.name} ...")
-            texts.append(s.function(ctx).rstrip() + "\n")
+            try:
+                texts.append(s.function(ctx).rstrip() + "\n")
+            except FlexbedError:
+                raise                           # the scene or an option: nothing to report
+            except Exception as exc:            # noqa: BLE001 - kept in the report, run on
+                failed.append((s.name, _one_line(exc)))
+                texts.append(_failed_section(s.name, exc))
+                log(f"bench: section {s.name} failed ({_one_line(exc)})")
+                continue
             log(f"bench: section {s.name} done ({time.perf_counter() - ts:.1f} s)")
     elapsed = time.perf_counter() - t0
     text = _header(ctx, [s.name for s in chosen], elapsed, load, command) + "\n" + "\n".join(texts)
@@ -447,4 +460,19 @@ def write_report(out_dir: str | Path, *, scene: str | Path | None = None, quick:
     # PNGs that this one does not draw are only named
     stale = sorted(p for p in out.glob("bench-*.png") if p not in ctx.figures) \
         if sections is None else []
-    return Report(path=path, figures=list(ctx.figures), elapsed=elapsed, ctx=ctx, stale=stale)
+    return Report(path=path, figures=list(ctx.figures), elapsed=elapsed, ctx=ctx, stale=stale,
+                  failed=failed)
+
+
+def _one_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
+
+
+def _failed_section(name: str, exc: BaseException) -> str:
+    """The report's text for a section that raised: its name, the error,
+    and the traceback (for a bug report), in place of its tables."""
+    trace = "".join(traceback.format_exception(exc)).rstrip()
+    return "\n".join([f"## Section {name}: failed", "",
+                      f"This section raised {_one_line(exc)}; the report's other sections "
+                      f"ran. The traceback:", "", "```text", trace, "```", ""])

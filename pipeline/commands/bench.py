@@ -28,7 +28,11 @@ only, as
 - ``random``: the CPU cost of a random response (docs/random-vibration.md).
 - ``response_spectrum``: response-spectrum analysis and synthesis (docs/response-spectrum.md).
 
-The report is also printed on stdout; progress goes to stderr.
+The report is also printed on stdout; progress goes to stderr. A section
+that raises (an internal fault) does not stop the report: its place holds
+the error and its traceback, the other sections run, the report is
+written, and the command then ends with one line naming the failed
+sections, exit 1.
 """
 
 from __future__ import annotations
@@ -39,7 +43,7 @@ import sys
 from pathlib import Path
 
 from flexbed.commands.arguments import number, file_name
-from flexbed.errors import InputError
+from flexbed.errors import InputError, NumericalError
 from flexbed.words import count
 
 #: the default output folder, in the current folder
@@ -131,4 +135,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"note: {old} is not part of this report (left in place)", file=sys.stderr)
     print(f"wrote {report.path} and {count(len(report.figures), 'PNG')} in "
           f"{report.elapsed:.1f} s", file=sys.stderr)
+    if report.failed:
+        names = ", ".join(name for name, _ in report.failed)
+        raise NumericalError(f"{count(len(report.failed), 'section')} failed ({names}): "
+                             f"{report.failed[0][1]}; the report holds the other sections "
+                             f"and the traceback: {report.path}")
     return 0
