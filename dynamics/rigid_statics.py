@@ -92,6 +92,8 @@ def rigid_tangent(A, P, ub, f, F, U, kx, body_i, body_j, K):
     dg = np.empty((3, 12))
     Q = np.empty((6, 12))
     dF = np.empty((M, 3, 12))
+    lam = np.empty(3)
+    Fb = np.empty(3)
     for m in range(M):
         ends = (body_i[m], body_j[m])
         for s in range(2):
@@ -123,8 +125,6 @@ def rigid_tangent(A, P, ub, f, F, U, kx, body_i, body_j, K):
         l0 = P[M + m, 0] - P[m, 0]
         l1 = P[M + m, 1] - P[m, 1]
         l2 = P[M + m, 2] - P[m, 2]
-        lam = np.empty(3)
-        Fb = np.empty(3)
         for r in range(3):
             lam[r] = (Ai[0, r] * l0 + Ai[1, r] * l1) + Ai[2, r] * l2
             Fb[r] = (U[m, 0, r] * f[m, 0] + U[m, 1, r] * f[m, 1]) + U[m, 2, r] * f[m, 2]

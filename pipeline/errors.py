@@ -53,3 +53,13 @@ def os_error_text(exc: OSError) -> str:
     reason = exc.strerror or str(exc) or type(exc).__name__
     advice = ADVICE.get(exc.errno)
     return f"{reason}; {advice}" if advice else reason
+
+
+def one_line(exc: BaseException) -> str:
+    """An exception as one line: a FlexbedError's own message (its first
+    line), anything else as ``Type: first line`` (a study point's failure,
+    a benchmark section's)."""
+    text = str(exc).strip().splitlines()
+    if isinstance(exc, FlexbedError):
+        return text[0] if text else type(exc).__name__
+    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__

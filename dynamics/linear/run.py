@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import math
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass
+from typing import Iterator
 
 import numpy as np
 from numba.core import event as numba_event
@@ -61,27 +63,18 @@ def unstable_rate(lin: Linearisation) -> float | None:
     return rate if rate > 1e-6 * max(scale, 1.0) else None
 
 
-class _Loading:
-    """The time numba spends loading or compiling inside the block [s]
-    (``seconds``): numba's event API times every hold of its compiler lock,
-    which a call of a compiled function takes only when it loads (from the
-    cache) or compiles code, so the run's timings are its own (a fresh
-    install's first linear run compiles for tens of seconds) without a
-    warm-up run, which cost a third of a warm call."""
-
-    def __init__(self):
-        self.seconds = 0.0
-
-    def __enter__(self):
-        self._timer = numba_event.install_timer("numba:compiler_lock", self._add)
-        self._timer.__enter__()
-        return self
-
-    def __exit__(self, *exc):
-        return self._timer.__exit__(*exc)
-
-    def _add(self, seconds: float) -> None:
-        self.seconds += seconds
+@contextmanager
+def _loading() -> Iterator[list]:
+    """Inside the block, the time numba spends loading or compiling [s]:
+    the yielded list holds it once the block ends (empty if none). numba's
+    event API times every hold of its compiler lock, which a call of a
+    compiled function takes only when it loads (from the cache) or
+    compiles code, so the run's timings are its own (a fresh install's
+    first linear run compiles for tens of seconds) without a warm-up run,
+    which cost a seventh of a warm call."""
+    seconds: list[float] = []
+    with numba_event.install_timer("numba:compiler_lock", seconds.append):
+        yield seconds
 
 
 def run_linear(system: System, y_eq: np.ndarray, y0: np.ndarray,
@@ -116,14 +109,14 @@ def run_linear(system: System, y_eq: np.ndarray, y0: np.ndarray,
         return LinearRun(run, est, lin, w1 - w0, 0.0, 0.0, 0)
     z0 = lin.coords.to_z(np.asarray(y0, dtype=float))
     w1b = time.perf_counter()              # from w1 to here: the stability check
-    with _Loading() as propagation_load:
+    with _loading() as propagation_load:
         tp, Zp, samples = propagate_pieces(lin, z0, settings.t_end, settings.output_dt)
     pieces = tp.size - 1
     w2 = time.perf_counter()
-    with _Loading() as estimate_load:
+    with _loading() as estimate_load:
         est = estimate_error(system, lin, tp, Zp, samples)
     w3 = time.perf_counter()
-    loading = propagation_load.seconds + estimate_load.seconds
+    loading = sum(propagation_load) + sum(estimate_load)
     t, Z = (tp, Zp) if samples.size == tp.size else (tp[samples], Zp[samples])
     Y = lin.coords.to_y(Z)
     Y[:, system.layout.work] = np.asarray(y0)[system.layout.work] + est.works
@@ -135,5 +128,5 @@ def run_linear(system: System, y_eq: np.ndarray, y0: np.ndarray,
                f"nonlinear model")
     run = Run(t=t, y=Y, complete=True, message=message, stats=stats, settings=settings,
               t_reached=float(t[-1]))
-    return LinearRun(run, est, lin, w1 - w0, w2 - w1b - propagation_load.seconds,
-                     w3 - w2 - estimate_load.seconds, pieces)
+    return LinearRun(run, est, lin, w1 - w0, w2 - w1b - sum(propagation_load),
+                     w3 - w2 - sum(estimate_load), pieces)

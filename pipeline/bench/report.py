@@ -29,7 +29,7 @@ import numba
 import numpy as np
 import scipy
 
-from flexbed.errors import FlexbedError
+from flexbed.errors import FlexbedError, one_line
 from flexbed.files.destination import write_text
 from flexbed.bench.cases import CASES, CaseSpec, kernel_cost, rhs_cost
 from flexbed.bench.fastpath import section_linear, section_modes_auto
@@ -447,9 +447,9 @@ def write_report(out_dir: str | Path, *, scene: str | Path | None = None, quick:
             except FlexbedError:
                 raise                           # the scene or an option: nothing to report
             except Exception as exc:            # noqa: BLE001 - kept in the report, run on
-                failed.append((s.name, _one_line(exc)))
+                failed.append((s.name, one_line(exc)))
                 texts.append(_failed_section(s.name, exc))
-                log(f"bench: section {s.name} failed ({_one_line(exc)})")
+                log(f"bench: section {s.name} failed ({one_line(exc)})")
                 continue
             log(f"bench: section {s.name} done ({time.perf_counter() - ts:.1f} s)")
     elapsed = time.perf_counter() - t0
@@ -464,15 +464,10 @@ def write_report(out_dir: str | Path, *, scene: str | Path | None = None, quick:
                   failed=failed)
 
 
-def _one_line(exc: BaseException) -> str:
-    text = str(exc).strip().splitlines()
-    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
-
-
 def _failed_section(name: str, exc: BaseException) -> str:
     """The report's text for a section that raised: its name, the error,
     and the traceback (for a bug report), in place of its tables."""
     trace = "".join(traceback.format_exception(exc)).rstrip()
     return "\n".join([f"## Section {name}: failed", "",
-                      f"This section raised {_one_line(exc)}; the report's other sections "
+                      f"This section raised {one_line(exc)}; the report's other sections "
                       f"ran. The traceback:", "", "```text", trace, "```", ""])

@@ -20,7 +20,7 @@ from distributed.diagnostics.plugin import WorkerPlugin
 
 import numpy as np
 
-from flexbed.errors import FlexbedError, NumericalError
+from flexbed.errors import NumericalError, one_line
 from flexbed.files.scene import SceneFile
 from flexbed.study.analyses import ANALYSES
 
@@ -43,13 +43,6 @@ class PointResult:
     solve_time: float
     cpu_time: float
     files: dict = field(default_factory=dict)
-
-
-def _one_line(exc: BaseException) -> str:
-    text = str(exc).strip().splitlines()
-    if isinstance(exc, FlexbedError):
-        return text[0] if text else type(exc).__name__
-    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
 
 
 def run_point(scene: SceneFile, analyses: tuple, metrics: tuple, modes=None,
@@ -83,7 +76,7 @@ def run_point(scene: SceneFile, analyses: tuple, metrics: tuple, modes=None,
             if not math.isfinite(v):
                 raise NumericalError(f"metric {c} = {v!r}: not a finite number")
     except Exception as exc:                       # the study goes on
-        return PointResult("failed", _one_line(exc), (float("nan"),) * n,
+        return PointResult("failed", one_line(exc), (float("nan"),) * n,
                            time.perf_counter() - t0, time.thread_time() - c0)
     wall, cpu = time.perf_counter() - t0, time.thread_time() - c0
     files = {}
