@@ -78,6 +78,11 @@ class Equilibrium:
     [N/m, N/rad, N m/m, N m/rad, …]), at the iterate before the polishing
     steps (which move the state by less than ``tol``); None when it was by
     differences or the solve failed. The stability check reuses it.
+    mounts : (dx, f), each (M, 3), or None — the mounts' deflections [m] and
+    forces [N] along their axes at ``y`` (the right-hand side's, the numbers
+    of :func:`flexbed.dynamics.observation.observe` at t = 0 bit for bit),
+    kept by a successful solve of a scene without Maxwell terms; None
+    otherwise (then observe the state).
     """
 
     success: bool
@@ -95,6 +100,7 @@ class Equilibrium:
     stability: str = "not checked"
     instability: object = None
     jacobian: object = field(default=None, repr=False, compare=False)
+    mounts: tuple | None = field(default=None, repr=False, compare=False)
 
 
 def _residual(system: System, y: np.ndarray, sag: bool = True) -> np.ndarray:
@@ -249,7 +255,8 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
     def result(success, message, it, res, step, rf, njev, history, jacobian=None):
         return Equilibrium(success, message, y, it, res, step, rf[:6 * n].reshape(n, 6), njev,
                            system.nfev - nfev0, time.perf_counter() - t_start, tol,
-                           tuple(history), jacobian=jacobian)
+                           tuple(history), jacobian=jacobian,
+                           mounts=_mounts_at(system, y) if success else None)
 
     def name_of(c: int, verb: str = "in") -> str:
         if c < 6 * n:
@@ -272,7 +279,7 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
         # factors: its change over a step at round-off level is below what the
         # step can resolve
         if converged_at is None or solve is None:
-            jac = _rigid_jacobian(system, y) if compiled else None
+            jac = _rigid_jacobian(system) if compiled else None
             exact = jac is not None
             if jac is None:
                 jac, exact = _jacobian(system, y, residual_rows, steps, modal, use_sparse)
@@ -346,6 +353,18 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
                   njev, history, jac if exact else None)
 
 
+def _mounts_at(system: System, y: np.ndarray) -> tuple | None:
+    """The mounts' deflections and forces (M, 3) along their axes at the
+    state y at rest (t = 0; one right-hand side, not counted: what
+    :func:`flexbed.dynamics.observation.observe` reads), or None for a
+    scene with Maxwell terms (its statics run them relaxed, and its state
+    is then relaxed again)."""
+    if system.layout.n_internal:
+        return None
+    system.rhs_into(0.0, y, np.empty(system.ny))
+    return system.data.w_dx.copy(), system.data.w_f.copy()
+
+
 def _jacobian(system: System, y: np.ndarray, residual_rows, steps: np.ndarray, modal: bool,
               sparse: bool):
     """∂R/∂(unknowns) at the state y at rest: the exact tangent stiffness
@@ -369,13 +388,14 @@ def _rigid_only(system: System) -> bool:
             and set(np.unique(system.data.law_kind).tolist()) <= set(_KINDS))
 
 
-def _rigid_jacobian(system: System, y: np.ndarray) -> np.ndarray | None:
+def _rigid_jacobian(system: System) -> np.ndarray | None:
     """The exact tangent stiffness (6n, 6n) of a scene of rigid bodies at
-    the state y at rest (:func:`flexbed.dynamics.rigid_statics.rigid_tangent`,
+    the state of the system's last right-hand side, at rest (its work
+    arrays: the Newton loop's residual at the iterate has just been
+    evaluated) (:func:`flexbed.dynamics.rigid_statics.rigid_tangent`,
     the numbers of :func:`flexbed.dynamics.tangent.tangent` to round-off),
     or None where :func:`tangent` would not give it either (a moving base,
     forces not finite): the caller then takes :func:`_jacobian`."""
-    system.rhs(0.0, y)                 # its work arrays keep this call's fields
     d = system.data
     if np.any(d.w_Pd != 0.0):
         return None

@@ -50,7 +50,8 @@ def test_the_compiled_tangent_is_the_numpy_one(tmp_path):
         assert _rigid_only(system)
         for y in _states(system):
             want = tangent(system, y, dense=True, rates=False).Kq
-            got = _rigid_jacobian(system, y)
+            system.rhs(0.0, y)           # the tangent is taken at the last evaluation's state
+            got = _rigid_jacobian(system)
             assert got.shape == want.shape
             assert np.max(np.abs(got - want)) <= 1e-14 * np.max(np.abs(want))
 
@@ -109,3 +110,17 @@ def test_a_load_on_a_body_keeps_the_numpy_tangent():
     load = BodyLoad("box", (0.1, 0.0, 0.0), 2, Curve(np.arange(4.0), np.full(4, 5.0)))
     loaded = Scene(bodies, Base("fixed"), mounts, (0.0, 0.0, -9.81), "box", loads=(load,))
     assert not _rigid_only(System(loaded))
+
+
+def test_the_equilibrium_keeps_the_mounts_at_rest_as_observed(tmp_path):
+    """``Equilibrium.mounts`` (the deflections and forces the plausibility
+    check and a study's static metrics read) are observe's at the
+    equilibrium bit for bit; a failed solve keeps none."""
+    for scene in _scenes(tmp_path):
+        system = compiled(scene, None)
+        eq = solve_statics(system)
+        obs = system.observe(0.0, eq.y)
+        dx, f = eq.mounts
+        assert np.array_equal(dx, obs.dx) and np.array_equal(f, obs.f)
+        failed = solve_statics(system, max_iter=1)
+        assert not failed.success and failed.mounts is None

@@ -69,15 +69,22 @@ class MountStatics:
     force: np.ndarray
 
 
-def mount_statics(system: System, y_eq: np.ndarray) -> MountStatics:
-    """The mounts' static deflections and forces at the state ``y_eq`` (ny,)."""
-    obs = system.observe(0.0, np.asarray(y_eq, dtype=float))
+def mount_statics(system: System, y_eq: np.ndarray, eq: Equilibrium | None = None
+                  ) -> MountStatics:
+    """The mounts' static deflections and forces at the state ``y_eq`` (ny,):
+    those ``eq`` kept (:attr:`Equilibrium.mounts`, when ``eq.y`` is
+    ``y_eq``), else observed there."""
+    if eq is not None and eq.mounts is not None and eq.y is y_eq:
+        dx, f = eq.mounts
+    else:
+        obs = system.observe(0.0, np.asarray(y_eq, dtype=float))
+        dx, f = obs.dx, obs.f
     bodies = [b.name for b in system.scene.bodies]
     mounts = system.scene.mounts
     return MountStatics(tuple(m.name for m in mounts),
                         tuple(bodies[i] for i in system.body_i),
                         tuple(bodies[j] for j in system.body_j),
-                        np.array(obs.dx, dtype=float), np.array(obs.f, dtype=float))
+                        np.array(dx, dtype=float), np.array(f, dtype=float))
 
 
 def mount_table(ms: MountStatics) -> str:
@@ -128,10 +135,13 @@ def _rotation_deg(p0: np.ndarray, p1: np.ndarray) -> float:
 
 def implausibility(sf, system: System, y_eq: np.ndarray, *,
                    deflection_limit: float = DEFLECTION_LIMIT,
-                   rotation_limit_deg: float = ROTATION_LIMIT_DEG) -> str:
+                   rotation_limit_deg: float = ROTATION_LIMIT_DEG,
+                   eq: Equilibrium | None = None) -> str:
     """Why the equilibrium ``y_eq`` cannot be what the user meant (one
-    sentence naming the body, the mount and the deflection), or ""."""
-    ms = mount_statics(system, y_eq)
+    sentence naming the body, the mount and the deflection), or "";
+    ``eq``: the solve that gave ``y_eq`` (its mounts' values are read,
+    :func:`mount_statics`)."""
+    ms = mount_statics(system, y_eq, eq)
     size = body_sizes(sf, system)
     names = [b.name for b in system.scene.bodies]
     defl = np.linalg.norm(ms.deflection, axis=1)
@@ -169,7 +179,7 @@ def check_equilibrium(sf, system: System, eq: Equilibrium, *,
     :func:`flexbed.stages.simulation.checked`."""
     s = sf.solver
     why = implausibility(sf, system, eq.y, deflection_limit=s.static_deflection_limit,
-                         rotation_limit_deg=s.static_rotation_limit_deg)
+                         rotation_limit_deg=s.static_rotation_limit_deg, eq=eq)
     if why:
         raise InputError(f"{sf.source.name}: implausible static equilibrium: {why}")
     allowed = s.allow_unstable if allow_unstable is None else allow_unstable

@@ -208,7 +208,9 @@ def static_deflections(outcomes: dict) -> np.ndarray:
     st = outcomes["static"]
     cached = outcomes.get("_static_dx")              # one evaluation for all of a point's metrics
     if cached is None or cached[0] is not st:
-        cached = (st, st.system.observe(0.0, st.equilibrium.y).dx)
+        eq = st.equilibrium                          # the statics' own evaluation at rest, if kept
+        cached = (st, eq.mounts[0] if eq.mounts is not None
+                  else st.system.observe(0.0, eq.y).dx)
         outcomes["_static_dx"] = cached
     return cached[1]
 
