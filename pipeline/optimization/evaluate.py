@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from flexbed.api.bed_modes import modes_request
-from flexbed.errors import InputError
+from flexbed.errors import InputError, one_line
 from flexbed.optimization.problem import FAILED_CONSTRAINT, FAILED_OBJECTIVE, Problem
 from flexbed.study.plan import modes_scene
 from flexbed.study.point import PointResult, bed_modes, pack, run_batch
@@ -183,7 +183,7 @@ class Evaluator:
             try:
                 results = fut.result()
             except Exception as exc:                    # a worker lost, every retry
-                results = [PointResult("failed", f"{type(exc).__name__}: {exc}".splitlines()[0],
+                results = [PointResult("failed", one_line(exc),
                                        (float("nan"),) * len(self.problem.columns),
                                        float("nan"), float("nan"))] * len(keys)
             for key, res in zip(keys, results):

@@ -28,6 +28,7 @@ import sys
 import time
 from pathlib import Path
 
+from flexbed.errors import one_line
 from flexbed.interrupts import Interrupted, held
 from flexbed.study.plan import Plan, modes_scene
 from flexbed.study.point import PointResult, bed_modes, pack, run_batch
@@ -305,8 +306,7 @@ def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint, siz
                 try:
                     results = fut.result()
                 except Exception as exc:                # every try lost, or cancelled
-                    text = str(exc).splitlines()[0] if str(exc) else ""
-                    lost = PointResult("failed", f"{type(exc).__name__}: {text}".rstrip(": "),
+                    lost = PointResult("failed", one_line(exc),
                                        (float("nan"),) * len(plan.metric_columns),
                                        float("nan"), float("nan"))
                     results = [lost] * len(keys)
