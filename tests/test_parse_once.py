@@ -53,6 +53,9 @@ def test_limited_holds_and_restores_the_pools(monkeypatch):
     before = [p["num_threads"] for p in threadpool_info()]
     with threads.limited():
         assert {p["num_threads"] for p in threadpool_info()} == {1}
+        with threads.limited():                          # nested: held, not restored
+            assert {p["num_threads"] for p in threadpool_info()} == {1}
+        assert {p["num_threads"] for p in threadpool_info()} == {1}
     assert [p["num_threads"] for p in threadpool_info()] == before
 
 
