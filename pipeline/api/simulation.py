@@ -36,7 +36,10 @@ SETTINGS = ("integrator", "t_end", "dt", "rtol", "atol", "output_dt")
 def solver_with(scene: SceneFile, settings: Mapping[str, Any], function: str = "simulate"):
     """The scene's ``[solver]`` with ``settings`` (names of :data:`SETTINGS`)
     replaced, checked as the scene file's ``[solver]`` is (messages start
-    ``flexbed.<function>:``)."""
+    ``flexbed.<function>:``); with none, the scene's own (checked when the
+    scene was read)."""
+    if not settings:
+        return scene.solver
     unknown = sorted(set(settings) - set(SETTINGS))
     if unknown:
         raise InputError(f"flexbed.{function}: unknown setting(s) {', '.join(unknown)} "
