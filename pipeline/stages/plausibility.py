@@ -127,10 +127,14 @@ def body_sizes(sf, system: System) -> np.ndarray:
     return np.array([math.inf] + [sizes[b.name] for b in bodies[1:]])
 
 
-def _rotation_deg(p0: np.ndarray, p1: np.ndarray) -> float:
-    """The angle [deg] between two orientations (Euler parameters)."""
-    c = abs(float(np.dot(p0, p1))) / (np.linalg.norm(p0) * np.linalg.norm(p1))
-    return math.degrees(2.0 * math.acos(min(1.0, c)))
+def _rotation_deg(p0: np.ndarray, p1: np.ndarray) -> float | np.ndarray:
+    """The angle [deg] between two orientations (Euler parameters (4,)), or
+    between each pair of rows of two (n, 4) arrays ((n,) angles)."""
+    p0, p1 = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
+    c = np.abs(np.sum(p0 * p1, axis=-1)) / (np.sqrt(np.sum(p0 * p0, axis=-1))
+                                            * np.sqrt(np.sum(p1 * p1, axis=-1)))
+    turn = np.degrees(2.0 * np.arccos(np.minimum(1.0, c)))
+    return float(turn) if turn.ndim == 0 else turn
 
 
 def implausibility(sf, system: System, y_eq: np.ndarray, *,
@@ -145,29 +149,34 @@ def implausibility(sf, system: System, y_eq: np.ndarray, *,
     size = body_sizes(sf, system)
     names = [b.name for b in system.scene.bodies]
     defl = np.linalg.norm(ms.deflection, axis=1)
-    for k in np.argsort(-defl):
-        for b in (int(system.body_j[k]), int(system.body_i[k])):
-            if b > 0 and defl[k] > deflection_limit * size[b]:
-                d = ms.deflection[k] * 1e3
-                return (f"mount '{ms.names[k]}' deflects {defl[k] * 1e3:.4g} mm at the static "
-                        f"equilibrium (Δx1, Δx2, Δx3 = {d[0]:.4g}, {d[1]:.4g}, {d[2]:.4g} mm) "
-                        f"under body '{names[b]}', more than {deflection_limit:g} of its size "
-                        f"{size[b]:.3g} m: check its mass "
-                        f"(kg, not g) and the mounts' stiffness [N/m], or raise [solver] "
-                        f"static_deflection_limit")
+    bj, bi = system.body_j, system.body_i
+    over_j = (bj > 0) & (defl > deflection_limit * size[bj])
+    over_i = (bi > 0) & (defl > deflection_limit * size[bi])
+    order = np.argsort(-defl)
+    worst = order[(over_j | over_i)[order]]      # the most deflected mount over its limit
+    if worst.size:
+        k = int(worst[0])
+        b = int(bj[k]) if over_j[k] else int(bi[k])
+        d = ms.deflection[k] * 1e3
+        return (f"mount '{ms.names[k]}' deflects {defl[k] * 1e3:.4g} mm at the static "
+                f"equilibrium (Δx1, Δx2, Δx3 = {d[0]:.4g}, {d[1]:.4g}, {d[2]:.4g} mm) "
+                f"under body '{names[b]}', more than {deflection_limit:g} of its size "
+                f"{size[b]:.3g} m: check its mass "
+                f"(kg, not g) and the mounts' stiffness [N/m], or raise [solver] "
+                f"static_deflection_limit")
     _, p_eq = system.poses(y_eq)
-    p0 = np.array(system.initial_p, dtype=float)
-    for b in range(1, system.nb):
-        turn = _rotation_deg(p0[b], p_eq[b])
-        if turn > rotation_limit_deg:
-            on = [k for k in range(len(ms.names)) if b in (system.body_i[k], system.body_j[k])]
-            k = max(on, key=lambda m: defl[m]) if on else None
-            worst = (f"; its most deflected mount '{ms.names[k]}' by {defl[k] * 1e3:.4g} mm"
-                     if k is not None else "")
-            return (f"body '{names[b]}' turns {turn:.3g}° from its orientation in the scene "
-                    f"at the static equilibrium, more than {rotation_limit_deg:g}°{worst}: "
-                    f"check the masses (kg, not g), the mounts' stiffness and positions, or "
-                    f"raise [solver] static_rotation_limit_deg")
+    turns = _rotation_deg(system.initial_p[1:], p_eq[1:])      # bodies 1, 2, …
+    turned = np.flatnonzero(turns > rotation_limit_deg)
+    if turned.size:
+        b = int(turned[0]) + 1
+        on = np.flatnonzero((bi == b) | (bj == b))
+        k = int(on[np.argmax(defl[on])]) if on.size else None
+        worst = (f"; its most deflected mount '{ms.names[k]}' by {defl[k] * 1e3:.4g} mm"
+                 if k is not None else "")
+        return (f"body '{names[b]}' turns {turns[b - 1]:.3g}° from its orientation in the "
+                f"scene at the static equilibrium, more than {rotation_limit_deg:g}°{worst}: "
+                f"check the masses (kg, not g), the mounts' stiffness and positions, or "
+                f"raise [solver] static_rotation_limit_deg")
     return ""
 
 
