@@ -257,12 +257,13 @@ def main() -> None:
         "reads the point's positions alone); the numbers are the same bit for bit. The "
         "statics' Newton-Raphson takes the exact tangent stiffness at rest as its Jacobian "
         "(`flexbed.dynamics.tangent`: one right-hand side and its derivatives, where central "
-        "differences by colour classes took 24) and polishes with the last one's factors; "
-        "the plausibility check reads whether the scene has a `[bed]` from the scene "
-        "(no second TOML parse). What a point costs past its solve is then mostly the "
-        "right-hand-side pass over the output samples that the mount forces need (3,001 "
-        "evaluations, where the reference scene's integration makes 3,538), then the statics "
-        "(compiling the scene, Newton-Raphson, the checks).",
+        "differences by colour classes took 24), in compiled code for a scene of rigid "
+        "bodies (`flexbed.dynamics.rigid_statics`), and polishes with the last one; the "
+        "solve keeps the mounts' deflections and forces at rest, which the plausibility "
+        "check and the static metrics read (no further evaluation). What a point costs past "
+        "its solve is then mostly the right-hand-side pass over the output samples that the "
+        "mount forces need (3,001 evaluations, where the reference scene's integration makes "
+        "3,538), then the statics (compiling the scene, Newton-Raphson, the checks).",
         "",
         "| quantity | value |",
         "|---|---:|",

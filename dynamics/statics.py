@@ -20,8 +20,9 @@ differences (eq. 21) by colour classes of the mount graph
 Convergence: the Newton step is below ``tol`` (m, rad) and every residual
 component is below ``tol`` times the body's force scale (its weight, or
 1 N·(1 m) without gravity). Once converged, up to ``polish`` more steps are
-taken while they still shrink, with the last Jacobian's factors, which costs
-little and takes the answer to round-off.
+taken while they still shrink, with the last Jacobian (a sparse one's factors
+kept; a dense one of a few dozen unknowns is factorised again, some 10 µs),
+which costs little and takes the answer to round-off.
 """
 
 from __future__ import annotations
@@ -275,9 +276,9 @@ def _solve_statics(system: System, y0, *, tol, max_iter, polish, fd_step, max_mo
     prev_step = math.inf
     solve = None
     for it in range(1, max_iter + 1):
-        # a new Jacobian per iteration; polishing (converged) reuses the last one's
-        # factors: its change over a step at round-off level is below what the
-        # step can resolve
+        # a new Jacobian per iteration; polishing (converged) reuses the last one:
+        # its change over a step at round-off level is below what the step can
+        # resolve
         if converged_at is None or solve is None:
             jac = _rigid_jacobian(system) if compiled else None
             exact = jac is not None
