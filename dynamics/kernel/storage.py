@@ -4,11 +4,14 @@ inside compiled code (``view1`` … ``view5``)."""
 
 from __future__ import annotations
 
+import math
 from collections import namedtuple
 
 import numpy as np
 from numba import carray, njit, types
 from numba.extending import intrinsic
+
+from ..bounded_cache import BoundedCache
 
 __all__ = ["Compiled", "FIELDS", "KINDS", "HEADER", "pack",
            "view1", "view2", "view3", "view4", "view5"]
@@ -161,7 +164,10 @@ def pack(fields: dict, ny: int):
     The compiled right-hand side (:func:`flexbed.dynamics.kernel.rhs.evaluate`)
     is called with the state, its derivative and these two arrays only; it
     rebuilds the views of every field inside compiled code (``view1`` …
-    ``view5``).
+    ``view5``). Where each field goes (the offsets, the header and the
+    fields' table of I) is worked out once per set of shapes and kept
+    (:class:`_Layout`): a study's variants share it and only copy their
+    values.
 
     Parameters
     ----------
@@ -181,28 +187,60 @@ def pack(fields: dict, ny: int):
     views : Compiled
         NumPy views of every field into F and I (writes go to the storage).
     """
-    n = len(FIELDS)
-    rows = []
-    offsets = {"f": 0, "i": HEADER + 6 * n}
-    arrays = {"f": [], "i": []}
-    for name in FIELDS:
-        kind, ndim = KINDS[name]
-        a = np.asarray(fields[name], dtype=np.float64 if kind == "f" else np.int64)
+    arrays = []
+    for name, _, dtype, ndim in _ORDER:
+        a = fields[name]
+        if type(a) is not np.ndarray or a.dtype != dtype:
+            a = np.asarray(a, dtype=dtype)
         if a.ndim != ndim:
             raise ValueError(f"kernel field {name}: {a.ndim} dimensions, expected {ndim}")
-        rows.append((kind, offsets[kind], a.shape, a.size))
-        offsets[kind] += a.size
-        arrays[kind].append(a.reshape(-1))
-    F = np.zeros(max(offsets["f"], 1))
-    if arrays["f"]:
-        np.concatenate(arrays["f"], out=F[:offsets["f"]])
-    I = np.empty(offsets["i"], dtype=np.int64)
-    I[:HEADER] = (ny, F.size, I.size, n)
-    I[HEADER:HEADER + 6 * n] = [v for _, o, shape, _ in rows
-                                for v in (o,) + shape + (1,) * (5 - len(shape))]
-    if arrays["i"]:
-        np.concatenate(arrays["i"], out=I[HEADER + 6 * n:])
-    views = {}
-    for name, (kind, o, shape, size) in zip(FIELDS, rows):
-        views[name] = (F if kind == "f" else I)[o:o + size].reshape(shape)
-    return (F, I), Compiled(**views)
+        arrays.append(a)
+    key = (ny,) + tuple(a.shape for a in arrays)
+    lay = _LAYOUTS.get(key, lambda: _Layout(key))
+    F = np.zeros(1) if lay.nF == 0 else np.empty(lay.nF)
+    if lay.nF:
+        np.concatenate([arrays[i].reshape(-1) for i in lay.float_fields], out=F)
+    I = lay.header.copy()
+    if lay.int_fields:
+        np.concatenate([arrays[i].reshape(-1) for i in lay.int_fields], out=I[lay.i0:])
+    views = [(F if kind == "f" else I)[o:e].reshape(shape)
+             for kind, o, e, shape in lay.rows]
+    return (F, I), Compiled._make(views)
+
+
+class _Layout:
+    """Where the fields of a given set of shapes go in (F, I), computed once
+    per set (:data:`_LAYOUTS`): the sizes, the header and fields' table of I,
+    and each field's storage, start, end and shape."""
+
+    __slots__ = ("nF", "i0", "header", "rows", "float_fields", "int_fields")
+
+    def __init__(self, key: tuple):
+        ny, shapes = key[0], key[1:]
+        n = len(FIELDS)
+        offsets = {"f": 0, "i": HEADER + 6 * n}
+        rows = []
+        for (_, kind, _, _), shape in zip(_ORDER, shapes):
+            size = math.prod(shape)
+            rows.append((kind, offsets[kind], offsets[kind] + size, shape))
+            offsets[kind] += size
+        self.nF = offsets["f"]
+        self.i0 = HEADER + 6 * n
+        header = np.empty(offsets["i"], dtype=np.int64)
+        header[:HEADER] = (ny, max(self.nF, 1), offsets["i"], n)
+        header[HEADER:self.i0] = [v for _, o, _, shape in rows
+                                  for v in (o,) + shape + (1,) * (5 - len(shape))]
+        header[self.i0:] = 0
+        header.flags.writeable = False
+        self.header = header
+        self.rows = tuple(rows)
+        self.float_fields = tuple(i for i, r in enumerate(rows) if r[0] == "f")
+        self.int_fields = tuple(i for i, r in enumerate(rows) if r[0] == "i")
+
+
+#: The fields in order: name, storage ('f' or 'i'), dtype, number of dimensions.
+_ORDER = tuple((name, KINDS[name][0], np.dtype(np.float64 if KINDS[name][0] == "f" else np.int64),
+                KINDS[name][1]) for name in FIELDS)
+
+#: The layouts of the sets of shapes met lately (a study's variants share one).
+_LAYOUTS = BoundedCache(16)
