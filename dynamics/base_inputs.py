@@ -26,13 +26,13 @@ import numpy as np
 from .bounded_cache import BoundedCache
 from .scene import Scene
 
-__all__ = ["BaseInputs", "compiled_shape"]
+__all__ = ["BaseInputs", "compiled_shape", "content"]
 
 #: shapes compiled already, by content (:func:`compiled_shape`); a few kept
 _COMPILED = BoundedCache(16)
 
 
-def _content(obj):
+def content(obj):
     """A hashable key equal for equal shapes: a dataclass by its type and
     fields, an array by its dtype, shape and bytes, a float by its bits
     (−0.0 is not 0.0), any other value by its type and itself."""
@@ -41,9 +41,9 @@ def _content(obj):
     if isinstance(obj, np.ndarray):
         return (obj.dtype.str, obj.shape, obj.tobytes())
     if isinstance(obj, (tuple, list)):
-        return tuple(_content(v) for v in obj)
+        return tuple(content(v) for v in obj)
     if dataclasses.is_dataclass(obj):
-        return (type(obj),) + tuple(_content(getattr(obj, f.name))
+        return (type(obj),) + tuple(content(getattr(obj, f.name))
                                     for f in dataclasses.fields(obj))
     return (type(obj), obj)
 
@@ -54,7 +54,7 @@ def compiled_shape(shape):
     share their inputs, and a sampled curve's spline costs about a
     millisecond to build."""
     try:
-        key = _content(shape)
+        key = content(shape)
         hash(key)
     except TypeError:                   # a field that cannot be hashed
         return shape.compile()
@@ -120,6 +120,19 @@ class BaseInputs:
             bps.update(f.breakpoints)
         for f in body_loads:
             bps.update(f.breakpoints)
+        r0, support = cls.placement(scene, gravity)
+        return cls(r0=r0, support=support, items=items,
+                   roles=(0,) * len(base.drives) + (1,) * len(base.loads)
+                   + (2,) * len(scene.loads), compiled=compiled,
+                   drives=tuple(tuple(f) for f in drives), loads=tuple(tuple(f) for f in loads),
+                   breakpoints=tuple(sorted(b for b in bps if b > 0.0)),
+                   body_loads=tuple(body_loads))
+
+    @staticmethod
+    def placement(scene: Scene, gravity: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The base's position r0 (3,) [m] in ``scene`` and its support (3,)
+        [N] (``"static"``: −(total mass) ``gravity``), both read-only."""
+        base = scene.base
         if isinstance(base.support, str):
             support = (-scene.total_mass * gravity if base.support == "static"
                        else np.zeros(3))
@@ -129,12 +142,7 @@ class BaseInputs:
         r0.flags.writeable = False
         support = np.array(support, dtype=float)
         support.flags.writeable = False
-        return cls(r0=r0, support=support, items=items,
-                   roles=(0,) * len(base.drives) + (1,) * len(base.loads)
-                   + (2,) * len(scene.loads), compiled=compiled,
-                   drives=tuple(tuple(f) for f in drives), loads=tuple(tuple(f) for f in loads),
-                   breakpoints=tuple(sorted(b for b in bps if b > 0.0)),
-                   body_loads=tuple(body_loads))
+        return r0, support
 
     def motion_at(self, t: float, seg_end: float = math.inf):
         """The base's prescribed position [m], velocity [m/s] and acceleration

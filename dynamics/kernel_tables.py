@@ -20,6 +20,7 @@ import numpy as np
 from .kernel import Compiled, pack
 from .laws import LawBank
 from .maxwell_terms import maxwell_tables
+from .shared_parts import tables_of
 from .time_functions import Sinusoid
 
 __all__ = ["kernel_storage", "law_tables", "flexible_tables", "input_tables", "load_points",
@@ -75,6 +76,15 @@ def law_tables(bank: LawBank, M: int) -> dict:
     (:func:`stack_tables`); the bump stops ``stop_gap``, ``stop_kc`` (3M,
     2), with their work arrays ``w_contact`` (3M,) and ``w_hold`` (1,),
     all with no rows when no mount has a stop."""
+    if bank.lin.size == 3 * M and not bank.stopped.size:
+        # linear laws alone, no stop: only k and c differ between such banks
+        fixed = tables_of(None, ("linear laws", M), lambda: _law_tables(bank, M))
+        return dict(fixed, lin_kc=np.stack([bank.k, bank.c], axis=1))
+    return _law_tables(bank, M)
+
+
+def _law_tables(bank: LawBank, M: int) -> dict:
+    """:func:`law_tables`, made."""
     kind = np.zeros(3 * M, dtype=np.int64)
     row = np.zeros(3 * M, dtype=np.int64)
     for code, idx in ((0, bank.lin), (1, bank.poly), (2, bank.curve)):
@@ -260,19 +270,31 @@ def kernel_storage(system) -> tuple[tuple[np.ndarray, np.ndarray], Compiled]:
     Jinv = np.zeros((nb, 3, 3))
     Jinv[1:] = np.einsum("bij,bj,bkj->bik", system.J_vec, 1.0 / system.J_eig, system.J_vec)
     inputs = system.inputs
+    scene = system.scene
+    names = tuple(b.name for b in scene.bodies)
+    E = system.end_body.size
+    if nf:
+        flexible = flexible_tables(flex, nb, system.end_body, system.S)
+        points = load_points(inputs.items, inputs.roles, flex, scene.body_index)
+    else:                               # what they are without flexible bodies
+        flexible = tables_of(None, ("flexible", nb, E),
+                             lambda: flexible_tables(flex, nb, system.end_body, system.S))
+        points = tables_of(inputs.compiled, ("points", inputs.roles, names), lambda: load_points(
+            inputs.items, inputs.roles, flex, scene.body_index))
+    maxwell = (tables_of(None, ("maxwell", M), lambda: maxwell_tables((), [""] * M, 0))
+               if not scene.maxwell else
+               maxwell_tables(scene.maxwell, [m.name for m in scene.mounts], lay.internal.start))
     storage, views = pack(dict(
-        ints=ints, gravity=system.g.copy(), mass=system.mass.astype(float), J=J, Jinv=Jinv,
-        r0_base=inputs.r0.copy(), support=np.asarray(inputs.support, dtype=float).copy(),
-        body_i=system.body_i.astype(np.int64), body_j=system.body_j.astype(np.int64),
-        S=np.ascontiguousarray(system.S, dtype=float), U=np.ascontiguousarray(system.U),
-        d0=np.ascontiguousarray(system.d0),
+        ints=ints, gravity=system.g, mass=system.mass, J=J, Jinv=Jinv,
+        r0_base=inputs.r0, support=inputs.support,
+        body_i=system.body_i, body_j=system.body_j, S=system.S, U=system.U, d0=system.d0,
         **law_tables(system.laws, M),
-        **flexible_tables(flex, nb, system.end_body, system.S),
-        **input_tables(inputs.items, inputs.roles, inputs.compiled, system.scene.body_index),
-        **load_points(inputs.items, inputs.roles, flex, system.scene.body_index),
-        **maxwell_tables(system.scene.maxwell, [m.name for m in system.scene.mounts],
-                         lay.internal.start),
-        **work_arrays(nb, M, nf, nm)), lay.ny)
+        **flexible,
+        **tables_of(inputs.compiled, ("inputs", inputs.roles, names), lambda: input_tables(
+            inputs.items, inputs.roles, inputs.compiled, scene.body_index)),
+        **points,
+        **maxwell,
+        **tables_of(None, ("work", nb, M, nf, nm), lambda: work_arrays(nb, M, nf, nm))), lay.ny)
     for name, v in zip(views._fields, views):
         if not name.startswith("w_"):
             v.flags.writeable = False

@@ -254,15 +254,22 @@ class LawBank:
         #: (n, 2) [N/m, N s/m] the contact stiffness and damping
         self.stop_gap = np.full((n, 2), np.inf)
         self.stop_kc = np.zeros((n, 2))
-        for i, st in enumerate(stops):
-            if st is not None:
-                self.stop_gap[i] = (st.gap_compression, st.gap_extension)
-                self.stop_kc[i] = (st.stiffness, st.damping)
+        stopped = [i for i, st in enumerate(stops) if st is not None]
+        for i in stopped:
+            st = stops[i]
+            self.stop_gap[i] = (st.gap_compression, st.gap_extension)
+            self.stop_kc[i] = (st.stiffness, st.damping)
         #: the entries that have a bump stop
-        self.stopped = np.flatnonzero(np.isfinite(self.stop_gap).any(axis=1))
-        lin = [i for i, law in enumerate(laws) if isinstance(law, LinearLaw)]
-        poly = [i for i, law in enumerate(laws) if isinstance(law, PolynomialLaw)]
-        curve = [i for i, law in enumerate(laws) if isinstance(law, CurveLaw)]
+        self.stopped = (np.flatnonzero(np.isfinite(self.stop_gap).any(axis=1)) if stopped
+                        else np.zeros(0, dtype=np.intp))
+        lin, poly, curve = [], [], []
+        for i, law in enumerate(laws):
+            if isinstance(law, LinearLaw):
+                lin.append(i)
+            elif isinstance(law, PolynomialLaw):
+                poly.append(i)
+            elif isinstance(law, CurveLaw):
+                curve.append(i)
         if len(lin) + len(poly) + len(curve) != n:
             raise SceneError("unknown mount law type")
         self.all_linear = len(lin) == n

@@ -34,16 +34,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .base_inputs import BaseInputs
+from .bounded_cache import BoundedCache
 from .flexible import FlexibleEOM
 from .kernel import evaluate_batch, rhs_function
 from .kernel_tables import kernel_storage
+from .laws import LawBank
 from .layout import Layout
 from .maxwell_terms import relax_states
-from .laws import LawBank
 from .observation import Observation, observe
 from .rotation import A as rotation_matrix
 from .scene import Scene
+from .shared_parts import base_inputs
 
 __all__ = ["System", "Observation"]
 
@@ -66,6 +67,21 @@ def _as_state(y) -> np.ndarray:
     if isinstance(y, np.ndarray) and y.dtype == np.float64 and y.flags.c_contiguous:
         return y
     return np.ascontiguousarray(y, dtype=np.float64)
+
+
+def _initial_frames(p0: np.ndarray) -> np.ndarray:
+    """The bodies' rotation matrices (nb, 3, 3) at the Euler parameters p0
+    (nb, 4), the base's the identity (it never rotates); read-only, made
+    once for equal p0 (a study's variants seldom turn a body)."""
+    def make():
+        A0 = rotation_matrix(p0)
+        A0[0] = np.eye(3)
+        return _frozen(A0)
+    return _FRAMES.get((p0.dtype.str, p0.shape, p0.tobytes()), make)
+
+
+#: the initial frames of the orientations met lately (:func:`_initial_frames`)
+_FRAMES = BoundedCache(16)
 
 
 def _frozen(a) -> np.ndarray:
@@ -132,32 +148,40 @@ class System:
         self.J_vec = _frozen(jq)
         # base
         self.m_base = float(bodies[0].mass)
-        self.inputs = BaseInputs.of(scene, self.g)
-        # mounts
-        M = len(scene.mounts)
+        self.inputs = base_inputs(scene, self.g)
+        # mounts, read in one pass
+        mounts = scene.mounts
+        M = len(mounts)
         self.M = M
         name_to_index = {b.name: i for i, b in enumerate(bodies)}
-        bi = np.array([name_to_index[m.body_i] for m in scene.mounts], dtype=np.intp)
-        bj = np.array([name_to_index[m.body_j] for m in scene.mounts], dtype=np.intp)
-        self.end_body = _frozen(np.concatenate([bi, bj]))
+        ends, points, axes, laws, stops = [], [], [], [], []
+        for m in mounts:
+            ends.append(name_to_index[m.body_i])
+            points.append(m.point_i)
+            axes.append(m.axes)
+            laws.extend(m.laws)
+            stops.extend(m.stops)
+        for m in mounts:
+            ends.append(name_to_index[m.body_j])
+            points.append(m.point_j)
+        end_body = np.array(ends, dtype=np.intp)
+        bi = end_body[:M]
+        bj = end_body[M:]
+        self.end_body = _frozen(end_body)
         self.body_i = _frozen(bi)
         self.body_j = _frozen(bj)
-        self.S = _frozen(np.concatenate(
-            [np.array([m.point_i for m in scene.mounts]).reshape(M, 3),
-             np.array([m.point_j for m in scene.mounts]).reshape(M, 3)]))
-        self.U = _frozen(np.array([m.axes for m in scene.mounts]).reshape(M, 3, 3))
-        self.laws = LawBank([law for m in scene.mounts for law in m.laws],
-                            [st for m in scene.mounts for st in m.stops])
+        self.S = _frozen(np.array(points).reshape(2 * M, 3))
+        self.U = _frozen(np.array(axes).reshape(M, 3, 3))
+        self.laws = LawBank(laws, stops)
         # unstrained mount vectors from the scene's initial configuration
         R0 = np.array([b.position for b in bodies])
-        A0 = rotation_matrix(np.array([b.orientation for b in bodies]))
-        A0[0] = np.eye(3)      # the base never rotates
-        P0 = R0[self.end_body] + np.einsum("kij,kj->ki", A0[self.end_body], self.S)
+        p0 = np.array([b.orientation for b in bodies])
+        A0 = _initial_frames(p0)
+        P0 = R0[end_body] + np.einsum("kij,kj->ki", A0[end_body], self.S)
         l0 = P0[M:] - P0[:M]
         l0_bar = np.einsum("mji,mj->mi", A0[bi], l0)        # A_iᵀ l0
         self.d0 = _frozen(np.einsum("mkj,mj->mk", self.U, l0_bar))   # Ū l̄0 (M, 3)
         self.initial_r = _frozen(R0)
-        p0 = np.array([b.orientation for b in bodies])
         p0[0] = (1.0, 0.0, 0.0, 0.0)
         self.initial_p = _frozen(p0)
         self._flex = self._flexible(flex)
