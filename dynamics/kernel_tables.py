@@ -294,8 +294,6 @@ def kernel_storage(system) -> tuple[tuple[np.ndarray, np.ndarray], Compiled]:
             inputs.items, inputs.roles, inputs.compiled, scene.body_index)),
         **points,
         **maxwell,
-        **tables_of(None, ("work", nb, M, nf, nm), lambda: work_arrays(nb, M, nf, nm))), lay.ny)
-    for name, v in zip(views._fields, views):
-        if not name.startswith("w_"):
-            v.flags.writeable = False
+        **tables_of(None, ("work", nb, M, nf, nm), lambda: work_arrays(nb, M, nf, nm))), lay.ny,
+        frozen=True)
     return storage, views

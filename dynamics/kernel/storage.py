@@ -158,7 +158,7 @@ def view5(a, m, dtype):
     return carray(_advance(a, 8 * m[0]), (m[1], m[2], m[3], m[4], m[5]), dtype)
 
 
-def pack(fields: dict, ny: int):
+def pack(fields: dict, ny: int, *, frozen: bool = False):
     """Pack a scene's arrays into one float64 and one int64 array.
 
     The compiled right-hand side (:func:`flexbed.dynamics.kernel.rhs.evaluate`)
@@ -176,6 +176,9 @@ def pack(fields: dict, ny: int):
         number of dimensions, :data:`KINDS`).
     ny : int
         Size of the state.
+    frozen : bool
+        The views of the fields that describe the scene (all but the work
+        arrays, ``w_*``) read-only.
 
     Returns
     -------
@@ -185,7 +188,8 @@ def pack(fields: dict, ny: int):
         (offset into F or I, then the shape padded with 1), the integer
         fields.
     views : Compiled
-        NumPy views of every field into F and I (writes go to the storage).
+        NumPy views of every field into F and I (writes go to the storage;
+        with ``frozen``, to the work arrays' alone).
     """
     arrays = []
     for name, _, dtype, ndim in _ORDER:
@@ -203,8 +207,15 @@ def pack(fields: dict, ny: int):
     I = lay.header.copy()
     if lay.int_fields:
         np.concatenate([arrays[i].reshape(-1) for i in lay.int_fields], out=I[lay.i0:])
-    views = [(F if kind == "f" else I)[o:e].reshape(shape)
-             for kind, o, e, shape in lay.rows]
+    if frozen:                          # views of read-only views are read-only
+        Fr, Ir = F.view(), I.view()
+        Fr.flags.writeable = False
+        Ir.flags.writeable = False
+        bases, which = (F, I, Fr, Ir), lay.frozen
+    else:
+        bases, which = (F, I), lay.plain
+    views = [bases[b][o:e] if shape is None else bases[b][o:e].reshape(shape)
+             for b, o, e, shape in which]
     return (F, I), Compiled._make(views)
 
 
@@ -213,7 +224,7 @@ class _Layout:
     per set (:data:`_LAYOUTS`): the sizes, the header and fields' table of I,
     and each field's storage, start, end and shape."""
 
-    __slots__ = ("nF", "i0", "header", "rows", "float_fields", "int_fields")
+    __slots__ = ("nF", "i0", "header", "rows", "plain", "frozen", "float_fields", "int_fields")
 
     def __init__(self, key: tuple):
         ny, shapes = key[0], key[1:]
@@ -234,6 +245,12 @@ class _Layout:
         header.flags.writeable = False
         self.header = header
         self.rows = tuple(rows)
+        # (storage: 0 F, 1 I, 2 F read-only, 3 I read-only; start; end; shape or
+        # None for one dimension) without and with pack's ``frozen``
+        self.plain = tuple((kind == "i", o, e, shape if len(shape) > 1 else None)
+                           for kind, o, e, shape in rows)
+        self.frozen = tuple((b + 2 * (not work), o, e, shape)
+                            for (b, o, e, shape), work in zip(self.plain, _WORK))
         self.float_fields = tuple(i for i, r in enumerate(rows) if r[0] == "f")
         self.int_fields = tuple(i for i, r in enumerate(rows) if r[0] == "i")
 
@@ -241,6 +258,9 @@ class _Layout:
 #: The fields in order: name, storage ('f' or 'i'), dtype, number of dimensions.
 _ORDER = tuple((name, KINDS[name][0], np.dtype(np.float64 if KINDS[name][0] == "f" else np.int64),
                 KINDS[name][1]) for name in FIELDS)
+
+#: Per field: a work array (``w_*``), the kernel's to write.
+_WORK = tuple(name.startswith("w_") for name in FIELDS)
 
 #: The layouts of the sets of shapes met lately (a study's variants share one).
 _LAYOUTS = BoundedCache(16)
