@@ -13,6 +13,11 @@ equations, the base's inputs as functions of time,
 :class:`~flexbed.dynamics.base_inputs.BaseInputs`) and, from them, the
 kernel's flat arrays, packed into two so that a call costs a few
 microseconds (:func:`flexbed.dynamics.kernel_tables.kernel_storage`).
+The Systems of a study's variants share what comes out the same from one
+to the next — the base's compiled inputs, the kernel's tables of them, the
+packed storage's layout, the tables of what the scene lacks
+(:mod:`flexbed.dynamics.shared_parts`) — and build only their values: a
+System is then equal, bit for bit, to one built with nothing kept.
 Compiled callers (:mod:`flexbed.dynamics.steppers`) call the kernel through
 :attr:`System.kernel`; :attr:`System.data` holds NumPy views of every
 array of the packed storage. :meth:`System.observe`
