@@ -42,10 +42,16 @@ def content(obj):
         return (obj.dtype.str, obj.shape, obj.tobytes())
     if isinstance(obj, (tuple, list)):
         return tuple(content(v) for v in obj)
-    if dataclasses.is_dataclass(obj):
-        return (type(obj),) + tuple(content(getattr(obj, f.name))
-                                    for f in dataclasses.fields(obj))
+    names = _FIELD_NAMES.get(type(obj))
+    if names is None and dataclasses.is_dataclass(obj):
+        names = _FIELD_NAMES[type(obj)] = tuple(f.name for f in dataclasses.fields(obj))
+    if names is not None:
+        return (type(obj),) + tuple(content(getattr(obj, name)) for name in names)
     return (type(obj), obj)
+
+
+#: the fields' names of the dataclasses met by :func:`content`, by type
+_FIELD_NAMES: dict = {}
 
 
 def compiled_shape(shape):

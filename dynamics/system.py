@@ -89,6 +89,18 @@ def _initial_frames(p0: np.ndarray) -> np.ndarray:
 _FRAMES = BoundedCache(16)
 
 
+def _layout(nb: int, base_free: bool, modal: tuple, n_internal: int) -> Layout:
+    """The state's :class:`~flexbed.dynamics.layout.Layout` (frozen), one
+    for equal arguments."""
+    return _STATE_LAYOUTS.get((nb, base_free, modal, n_internal), lambda: Layout(
+        n_bodies=nb, base_free=base_free, rigid=tuple(range(1, nb)), modal=modal,
+        n_internal=n_internal))
+
+
+#: the layouts met lately (:func:`_layout`)
+_STATE_LAYOUTS = BoundedCache(16)
+
+
 def _frozen(a) -> np.ndarray:
     """a, made read-only."""
     a.flags.writeable = False
@@ -133,11 +145,9 @@ class System:
         self.base_motion = base.motion
         flex = dict(scene.flexible)
         self.flex_index = tuple(i for i, b in enumerate(bodies) if b.name in flex)
-        self.layout = Layout(n_bodies=nb, base_free=base.motion == "free",
-                             rigid=tuple(range(1, nb)),
-                             modal=tuple((i, flex[bodies[i].name].n_modes)
-                                         for i in self.flex_index),
-                             n_internal=sum(s.n_states for s in scene.maxwell))
+        self.layout = _layout(nb, base.motion == "free",
+                              tuple((i, flex[bodies[i].name].n_modes) for i in self.flex_index),
+                              sum(s.n_states for s in scene.maxwell))
         lay = self.layout
         self.n_rigid = n = nb - 1
         self.ny = lay.ny
@@ -191,8 +201,8 @@ class System:
         self.initial_p = _frozen(p0)
         self._flex = self._flexible(flex)
         self._packed, self.data = kernel_storage(self)
-        self._F_addr = self._packed[0].ctypes.data
-        self._I_addr = self._packed[1].ctypes.data
+        self._F_addr = self._packed[0].__array_interface__["data"][0]   # as .ctypes.data,
+        self._I_addr = self._packed[1].__array_interface__["data"][0]   # without its object
         self._count = [0]      # nfev: a list, so that counting rebinds nothing
         self._built = True
 

@@ -32,6 +32,7 @@ def fresh(scene, monkeypatch) -> System:
         m.setattr(shared_parts, "_TABLES", BoundedCache(32))
         m.setattr(storage, "_LAYOUTS", BoundedCache(16))
         m.setattr(system_module, "_FRAMES", BoundedCache(16))
+        m.setattr(system_module, "_STATE_LAYOUTS", BoundedCache(16))
         return System(scene)
 
 
