@@ -214,7 +214,8 @@ def pack(fields: dict, ny: int, *, frozen: bool = False):
         bases, which = (F, I, Fr, Ir), lay.frozen
     else:
         bases, which = (F, I), lay.plain
-    views = [bases[b][o:e] if shape is None else bases[b][o:e].reshape(shape)
+    views = [bases[b][o:e] if shape is None else
+             bases[b][o:e].reshape(shape) if o != e else shape   # an empty field: its array
              for b, o, e, shape in which]
     return (F, I), Compiled._make(views)
 
@@ -247,12 +248,23 @@ class _Layout:
         self.rows = tuple(rows)
         # (storage: 0 F, 1 I, 2 F read-only, 3 I read-only; start; end; shape or
         # None for one dimension) without and with pack's ``frozen``
-        self.plain = tuple((kind == "i", o, e, shape if len(shape) > 1 else None)
-                           for kind, o, e, shape in rows)
-        self.frozen = tuple((b + 2 * (not work), o, e, shape)
-                            for (b, o, e, shape), work in zip(self.plain, _WORK))
-        self.float_fields = tuple(i for i, r in enumerate(rows) if r[0] == "f")
-        self.int_fields = tuple(i for i, r in enumerate(rows) if r[0] == "i")
+        # None for one dimension) without and with pack's ``frozen``; an empty
+        # field (nothing to copy, nothing to write) is one array made here
+        self.plain = tuple((kind == "i", o, e, _empty(kind, shape, True) if o == e else
+                            shape if len(shape) > 1 else None) for kind, o, e, shape in rows)
+        self.frozen = tuple((b + 2 * (not work), o, e,
+                             _empty(kind, shape, work) if o == e else view)
+                            for (kind, _, _, shape), (b, o, e, view), work
+                            in zip(rows, self.plain, _WORK))
+        self.float_fields = tuple(i for i, r in enumerate(rows) if r[0] == "f" and r[1] != r[2])
+        self.int_fields = tuple(i for i, r in enumerate(rows) if r[0] == "i" and r[1] != r[2])
+
+
+def _empty(kind: str, shape: tuple, writeable: bool) -> np.ndarray:
+    """An array of no entries of ``shape`` for storage ``kind`` ('f' or 'i')."""
+    a = np.zeros(shape, dtype=np.float64 if kind == "f" else np.int64)
+    a.flags.writeable = writeable
+    return a
 
 
 #: The fields in order: name, storage ('f' or 'i'), dtype, number of dimensions.
