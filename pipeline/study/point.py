@@ -23,6 +23,7 @@ import numpy as np
 from flexbed.errors import NumericalError, one_line
 from flexbed.files.scene import SceneFile
 from flexbed.study.analyses import ANALYSES
+from flexbed.threads import limited
 
 __all__ = ["PointResult", "run_point", "run_batch", "pack", "bed_modes", "Quiet", "WarmUp",
            "warm"]
@@ -66,8 +67,9 @@ def run_point(scene: SceneFile, analyses: tuple, metrics: tuple, modes=None,
             raise modes
         outcomes = {}
         # a value that overflows is caught below as a failed point, not as a
-        # RuntimeWarning line on the worker's stderr
-        with np.errstate(all="ignore"):
+        # RuntimeWarning line on the worker's stderr; the thread pools limited
+        # once for the point's API calls (flexbed.threads.limited)
+        with np.errstate(all="ignore"), limited():
             for name in analyses:
                 outcomes[name] = ANALYSES[name].run(scene, outcomes, modes)
             values = tuple(v for m in metrics for v in m.values(outcomes))
@@ -101,7 +103,9 @@ def run_batch(scenes: list, setup: bytes, modes=None) -> list:
     worker runs. Returns a list of PointResult, one per scene (each point
     keeps its own times and its own failure)."""
     analyses, metrics, keep = pickle.loads(setup)
-    return [run_point(pickle.loads(scene), analyses, metrics, modes, keep) for scene in scenes]
+    with limited():                     # once for the batch, not per point
+        return [run_point(pickle.loads(scene), analyses, metrics, modes, keep)
+                for scene in scenes]
 
 
 def bed_modes(scene: SceneFile):
