@@ -78,10 +78,21 @@ def _run_command(fds: list[int], kind: str, argv: list[str], cwd: str, env: dict
     os.environ.clear()
     os.environ.update(env)
     if kind == "python":
+        _pool_sizes(env)
         _run_python(argv)
     sys.argv = ["flexbed", *argv]
     from flexbed.cli import script
     script()
+
+
+def _pool_sizes(env: dict) -> None:
+    """The BLAS and OpenMP pools at the sizes the client's environment asks
+    (``OPENBLAS_NUM_THREADS``, ``OMP_NUM_THREADS``), as a fresh interpreter
+    would start them: the server's were started before that environment."""
+    from threadpoolctl import threadpool_limits
+    for name, api in (("OPENBLAS_NUM_THREADS", "blas"), ("OMP_NUM_THREADS", "openmp")):
+        if env.get(name, "").isdigit() and int(env[name]) >= 1:
+            threadpool_limits(int(env[name]), user_api=api)
 
 
 def _run_python(argv: list[str]) -> None:
