@@ -33,11 +33,20 @@ import sys
 import types
 from pathlib import Path
 
-#: what every command imports anyway, imported once by the server
+#: what every command imports anyway, imported once by the server: every
+#: command's module and the plotting modules with matplotlib (its Agg
+#: backend, which flexbed.plots.figure selects: about 0.6 s of CPU for each
+#: command that draws a figure). Not Dask's ``distributed``: a study's
+#: command starts its cluster as a fresh process would.
 PRELOAD = ("numpy", "scipy.linalg", "scipy.sparse", "h5py", "numba", "flexbed.cli",
-           "flexbed.commands.modes", "flexbed.commands.static", "flexbed.commands.simulate",
-           "flexbed.commands.post", "flexbed.commands.modal", "flexbed.commands.frf",
-           "flexbed.stages.simulation", "flexbed.dynamics.statics")
+           *(f"flexbed.commands.{name}" for name in (
+               "scene", "modes", "static", "modal", "frf", "random", "simulate", "compare",
+               "post", "stress", "transmitted", "srs", "qualify", "rsa", "synthesise", "run",
+               "sweep", "optimize")),
+           "flexbed.stages.simulation", "flexbed.dynamics.statics",
+           *(f"flexbed.plots.{name}" for name in (
+               "figure", "frequency", "random", "runs", "spectrum", "srs", "stress", "study",
+               "transmitted")))
 
 #: the ``flexbed`` a page's lines call: sends its arguments, folder,
 #: environment and standard streams to the server, exits with the status
