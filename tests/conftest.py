@@ -38,8 +38,9 @@ runs it, in a subprocess as a reader would, under a lock in the run's
 common temporary folder; later ones read what it left (one that comes while
 it runs runs its own rather than wait).
 A test copies its folder before running more commands in it. The other
-command lines of the documentation run forked from a server that has
-imported flexbed once (``forked_flexbed``, :mod:`command_server`).
+command lines of the documentation, its code blocks and its example
+scripts run forked from a server that has imported flexbed once
+(``forked_flexbed``, ``forked_python``, :mod:`command_server`).
 
 Builders of scenes, functions of what a test chooses, are plain modules
 beside this file, not fixtures, since test modules call them at import time
@@ -287,3 +288,13 @@ def forked_flexbed():
     server.terminate()
     server.wait()
     shutil.rmtree(folder, ignore_errors=True)
+
+
+@pytest.fixture(scope="session")
+def forked_python(forked_flexbed):
+    """The path of a ``python`` that runs ``python -c CODE [ARG ...]`` and
+    ``python SCRIPT [ARG ...]`` as the interpreter does, in a process of its
+    own forked from the server of ``forked_flexbed`` (use that environment):
+    for the documentation's code blocks and scripts, whose checks do not
+    depend on a fresh interpreter (about a second of CPU each)."""
+    return str(Path(forked_flexbed["PATH"].split(os.pathsep)[0]) / "python")

@@ -183,9 +183,11 @@ def test_compare_rows(flexible_scene):
 
 
 @pytest.mark.slow
-def test_the_example_runs(tmp_path):
-    cp = subprocess.run([sys.executable, str(ROOT / "docs" / "api_example.py")], cwd=tmp_path,
-                        capture_output=True, text=True, timeout=600)
+def test_the_example_runs(tmp_path, forked_flexbed, forked_python):
+    """The script run whole, forked from a server that has imported flexbed
+    (conftest's ``forked_python``)."""
+    cp = subprocess.run([forked_python, str(ROOT / "docs" / "api_example.py")], cwd=tmp_path,
+                        capture_output=True, text=True, timeout=600, env=forked_flexbed)
     assert cp.returncode == 0, cp.stderr
     lines = [ln for ln in cp.stdout.splitlines() if "peak |dz|" in ln]
     assert len(lines) == 4

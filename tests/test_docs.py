@@ -19,7 +19,8 @@ conftest's ``forked_flexbed``): its arguments, folder, environment, streams
 and exit status are its own; the second of imports is not paid again. The
 tour's ``flexbed run``, which tests/test_cli_modes.py checks too, runs once
 per pytest run (conftest's ``shared_command``), by the installed script.
-Every ```python block runs, in a folder holding the page's named files too.
+Every ```python block runs, in a folder holding the page's named files too,
+as ``python -c BLOCK`` forked from that server too (``forked_python``).
 The quick start
 is exactly two commands, and ``.ci/run`` runs the second.
 """
@@ -126,15 +127,17 @@ def test_every_command_line_runs(page, tmp_path, shared_command, forked_flexbed)
 
 @pytest.mark.slow
 @pytest.mark.parametrize("page", WITH_PYTHON, ids=_id)
-def test_every_python_block_runs(page, tmp_path):
+def test_every_python_block_runs(page, tmp_path, forked_flexbed, forked_python):
+    """Each block run as ``python -c BLOCK``, forked from the server that has
+    imported flexbed (conftest's ``forked_python``)."""
     text = page.read_text()
     for name, body in named_files(text).items():     # the page's files, as for its commands
         (tmp_path / name).write_text(body)
     for shipped in ("pipeline", "docs"):
         (tmp_path / shipped).symlink_to(ROOT / shipped)
     for code in blocks(text, "python"):
-        cp = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
-                            text=True, timeout=600, env=_env())
+        cp = subprocess.run([forked_python, "-c", code], cwd=tmp_path, capture_output=True,
+                            text=True, timeout=600, env=forked_flexbed)
         assert cp.returncode == 0, f"{_id(page)}: python block failed:\n{code}\n{cp.stderr[-2000:]}"
 
 

@@ -1,12 +1,13 @@
 """The documentation's scripts print the figures their pages show
-(issue 29): docs/validation.py's rows are the validation page's."""
+(issue 29): docs/validation.py's rows are the validation page's. Each
+script runs whole, as ``python SCRIPT``, forked from the server that has
+imported flexbed (conftest's ``forked_python``; one BLAS thread, as the
+environment asks)."""
 
 from __future__ import annotations
 
-import os
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -15,9 +16,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.mark.slow
-def test_validation_page_shows_what_its_script_computes(tmp_path):
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    cp = subprocess.run([sys.executable, str(ROOT / "docs" / "validation.py")], cwd=tmp_path,
+def test_validation_page_shows_what_its_script_computes(tmp_path, forked_flexbed, forked_python):
+    env = dict(forked_flexbed, OPENBLAS_NUM_THREADS="1")
+    cp = subprocess.run([forked_python, str(ROOT / "docs" / "validation.py")], cwd=tmp_path,
                         capture_output=True, text=True, timeout=600, env=env)
     assert cp.returncode == 0, cp.stderr[-2000:]
     page = (ROOT / "docs" / "validation.md").read_text().replace("−", "-")
@@ -32,10 +33,12 @@ def test_validation_page_shows_what_its_script_computes(tmp_path):
     assert not list(tmp_path.iterdir())          # the script leaves nothing behind
 
 
-def _run_script(name: str, cwd: Path, *args: str) -> str:
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    cp = subprocess.run([sys.executable, str(ROOT / "docs" / name), *args], cwd=cwd,
-                        capture_output=True, text=True, timeout=900, env=env)
+def _run_script(python: str, env: dict, name: str, cwd: Path, *args: str) -> str:
+    """``python docs/NAME ARGS`` with one BLAS thread, by ``python`` (conftest's
+    ``forked_python``, in its environment ``env``); its stdout."""
+    cp = subprocess.run([python, str(ROOT / "docs" / name), *args], cwd=cwd,
+                        capture_output=True, text=True, timeout=900,
+                        env=dict(env, OPENBLAS_NUM_THREADS="1"))
     assert cp.returncode == 0, cp.stderr[-2000:]
     return cp.stdout
 
@@ -50,8 +53,10 @@ def _shown_output(page: str, command: str) -> list[str]:
 
 
 @pytest.mark.slow
-def test_random_vibration_page_shows_what_its_script_prints(tmp_path):
-    out = _run_script("random_vibration.py", tmp_path, "random-out").splitlines()
+def test_random_vibration_page_shows_what_its_script_prints(tmp_path, forked_flexbed,
+                                                           forked_python):
+    out = _run_script(forked_python, forked_flexbed, "random_vibration.py", tmp_path,
+                      "random-out").splitlines()
     shown = _shown_output("random-vibration.md", "python docs/random_vibration.py random-out")
     assert len(shown) >= 15
     first = shown[0].split("; solve ")[0]
@@ -64,8 +69,10 @@ def test_random_vibration_page_shows_what_its_script_prints(tmp_path):
 
 
 @pytest.mark.slow
-def test_the_optimisation_tutorial_runs_on_a_small_budget(tmp_path):
-    out = _run_script("optimize.py", tmp_path, "try-out", "--max-evaluations", "4")
+def test_the_optimisation_tutorial_runs_on_a_small_budget(tmp_path, forked_flexbed,
+                                                          forked_python):
+    out = _run_script(forked_python, forked_flexbed, "optimize.py", tmp_path, "try-out",
+                      "--max-evaluations", "4")
     heads = [ln for ln in out.splitlines() if " bed: " in ln]
     assert [h.split(" bed:")[0] for h in heads] == ["rigid", "flexible"], out
     for tag in ("rigid", "flexible"):

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import subprocess
-import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -120,17 +119,18 @@ def test_error_estimate_matches_the_nonlinear_model():
     assert np.max(np.abs(np.linalg.norm(p, axis=-1) - 1.0)) < 1e-14
 
 
-def _simulate(tmp_path, *args):
+def _simulate(tmp_path, env, *args):
+    """``flexbed simulate`` of the SDOF scene in a process of its own, forked
+    from the command server (``env``: conftest's ``forked_flexbed``)."""
     out = tmp_path / "r.h5"
-    cp = subprocess.run([sys.executable, "-m", "flexbed.cli", "simulate", str(SDOF), "-o",
-                         str(out), "--no-progress", *args], capture_output=True, text=True,
-                        cwd=tmp_path)
+    cp = subprocess.run(["flexbed", "simulate", str(SDOF), "-o", str(out), "--no-progress",
+                         *args], capture_output=True, text=True, cwd=tmp_path, env=env)
     return cp, out
 
 
 @pytest.mark.slow
-def test_auto_picks_linear_below_the_tolerance(tmp_path):
-    cp, out = _simulate(tmp_path, "--model", "auto")
+def test_auto_picks_linear_below_the_tolerance(tmp_path, forked_flexbed):
+    cp, out = _simulate(tmp_path, forked_flexbed, "--model", "auto")
     assert cp.returncode == 0, cp.stderr
     assert "model auto: linear" in cp.stdout
     attrs = read_results(out).attrs["solver"]
@@ -139,8 +139,8 @@ def test_auto_picks_linear_below_the_tolerance(tmp_path):
 
 
 @pytest.mark.slow
-def test_auto_falls_back_to_nonlinear_above_the_tolerance(tmp_path):
-    cp, out = _simulate(tmp_path, "--model", "auto", "--linear-tol", "1e-20")
+def test_auto_falls_back_to_nonlinear_above_the_tolerance(tmp_path, forked_flexbed):
+    cp, out = _simulate(tmp_path, forked_flexbed, "--model", "auto", "--linear-tol", "1e-20")
     assert cp.returncode == 0, cp.stderr
     assert "model auto: nonlinear" in cp.stdout
     attrs = read_results(out).attrs["solver"]
@@ -148,8 +148,8 @@ def test_auto_falls_back_to_nonlinear_above_the_tolerance(tmp_path):
 
 
 @pytest.mark.slow
-def test_bad_linear_tol_is_one_line(tmp_path):
-    cp, out = _simulate(tmp_path, "--model", "auto", "--linear-tol", "-1")
+def test_bad_linear_tol_is_one_line(tmp_path, forked_flexbed):
+    cp, out = _simulate(tmp_path, forked_flexbed, "--model", "auto", "--linear-tol", "-1")
     assert cp.returncode == 2
     assert cp.stderr.count("\n") == 1 and "linear-tol" in cp.stderr
     assert not out.exists()
