@@ -71,9 +71,9 @@ def _decades(lo: float, hi: float, mantissas=(1.0, 2.0, 5.0)) -> list[float]:
     return out
 
 
-def _angle(ax, fig, slope: float) -> float:
-    """The angle [deg] on screen of a line of log-log ``slope`` in ``ax``."""
-    fig.canvas.draw()
+def _angle(ax, slope: float) -> float:
+    """The angle [deg] on screen of a line of log-log ``slope`` in ``ax`` (its
+    scales and limits set: the data transform needs no drawing)."""
     (x0, y0), (x1, y1) = ax.transData.transform([(1.0, 1.0), (10.0, 10.0 ** slope)])
     return math.degrees(math.atan2(y1 - y0, x1 - x0))
 
@@ -104,7 +104,7 @@ def plot_tripartite(path: Path, title: str, frequency: np.ndarray, curves: dict,
     grey = dict(color="0.55", lw=0.5)
     label = dict(fontsize=7, color="0.3", rotation_mode="anchor")
     ff = np.array([f0, f1])
-    rising, falling = _angle(ax, fig, 1.0), _angle(ax, fig, -1.0)    # one draw each
+    rising, falling = _angle(ax, 1.0), _angle(ax, -1.0)
     # constant displacement d (decades): PV = 2πf d, rising; labelled at the
     # right edge, or the top edge for those that leave through it
     for d in _decades(v0 / (2 * math.pi * f1), v1 / (2 * math.pi * f0), (1.0,)):
