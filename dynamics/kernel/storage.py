@@ -247,7 +247,6 @@ class _Layout:
         self.header = header
         self.rows = tuple(rows)
         # (storage: 0 F, 1 I, 2 F read-only, 3 I read-only; start; end; shape or
-        # None for one dimension) without and with pack's ``frozen``
         # None for one dimension) without and with pack's ``frozen``; an empty
         # field (nothing to copy, nothing to write) is one array made here
         self.plain = tuple((kind == "i", o, e, _empty(kind, shape, True) if o == e else
