@@ -42,15 +42,29 @@ def _skew_into(v0, v1, v2, S):
     S[2, 0], S[2, 1], S[2, 2] = -v1, v0, 0.0
 
 
+# _mul and _mul_t are called with arrays of one type (writeable, C-contiguous,
+# 2-D; a mount's read-only axes copied first): each is compiled once on a
+# first run, not once per flag and per literal of a transpose argument
 @njit(cache=True)
-def _mul(A, B, out, transpose):
-    """out (3, c) = A (3, 3) @ B (3, c), or Aᵀ @ B with ``transpose``;
-    each entry summed left to right."""
+def _mul(A, B, out):
+    """out (3, c) = A (3, 3) @ B (3, c); each entry summed left to right."""
     for r in range(3):
         for c in range(B.shape[1]):
             acc = 0.0
             for k in range(3):
-                acc += (A[k, r] if transpose else A[r, k]) * B[k, c]
+                acc += A[r, k] * B[k, c]
+            out[r, c] = acc
+
+
+@njit(cache=True)
+def _mul_t(A, B, out):
+    """out (3, c) = Aᵀ @ B for A (3, 3), B (3, c); each entry summed left
+    to right."""
+    for r in range(3):
+        for c in range(B.shape[1]):
+            acc = 0.0
+            for k in range(3):
+                acc += A[k, r] * B[k, c]
             out[r, c] = acc
 
 
@@ -92,6 +106,7 @@ def rigid_tangent(A, P, ub, f, F, U, kx, body_i, body_j, K):
     dg = np.empty((3, 12))
     Q = np.empty((6, 12))
     dF = np.empty((M, 3, 12))
+    Um = np.empty((3, 3))            # a mount's axes (U is read-only in a System)
     lam = np.empty(3)
     Fb = np.empty(3)
     for m in range(M):
@@ -106,7 +121,7 @@ def rigid_tangent(A, P, ub, f, F, U, kx, body_i, body_j, K):
                 for r in range(3):
                     E[s, r, r] = 1.0
                 _skew_into(ub[e, 0], ub[e, 1], ub[e, 2], S)
-                _mul(A[b], S, T, False)
+                _mul(A[b], S, T)
                 for r in range(3):
                     for c in range(3):
                         E[s, r, 3 + c] = -T[r, c]
@@ -121,6 +136,9 @@ def rigid_tangent(A, P, ub, f, F, U, kx, body_i, body_j, K):
             for r in range(3):
                 Thi[r, 3 + r] = 1.0
         Ai = A[ends[0]]
+        for r in range(3):
+            for c in range(3):
+                Um[r, c] = U[m, r, c]
         # λ = A_iᵀ (P_j − P_i); F̄ = Uᵀ f
         l0 = P[M + m, 0] - P[m, 0]
         l1 = P[M + m, 1] - P[m, 1]
@@ -129,24 +147,24 @@ def rigid_tangent(A, P, ub, f, F, U, kx, body_i, body_j, K):
             lam[r] = (Ai[0, r] * l0 + Ai[1, r] * l1) + Ai[2, r] * l2
             Fb[r] = (U[m, 0, r] * f[m, 0] + U[m, 1, r] * f[m, 1]) + U[m, 2, r] * f[m, 2]
         # δΔx = U (A_iᵀ dl + λ~ Θ_i);  δf = kx δΔx
-        _mul(Ai, dl, t12, True)
+        _mul_t(Ai, dl, t12)
         _skew_into(lam[0], lam[1], lam[2], S)
-        _mul(S, Thi, u12, False)
+        _mul(S, Thi, u12)
         for r in range(3):
             for c in range(12):
                 t12[r, c] += u12[r, c]
-        _mul(U[m], t12, dDx, False)
+        _mul(Um, t12, dDx)
         for r in range(3):
             for c in range(12):
                 dDx[r, c] *= kx[3 * m + r]
         # δF = A_i (Uᵀ δf − F̄~ Θ_i)
-        _mul(U[m], dDx, t12, True)
+        _mul_t(Um, dDx, t12)
         _skew_into(Fb[0], Fb[1], Fb[2], S)
-        _mul(S, Thi, u12, False)
+        _mul(S, Thi, u12)
         for r in range(3):
             for c in range(12):
                 t12[r, c] -= u12[r, c]
-        _mul(Ai, t12, dF[m], False)
+        _mul(Ai, t12, dF[m])
     for s in range(2):          # the ends i, then j: the scatter's order
         for m in range(M):
             ends = (body_i[m], body_j[m])
@@ -159,14 +177,14 @@ def rigid_tangent(A, P, ub, f, F, U, kx, body_i, body_j, K):
             g0 = (Ab[0, 0] * F[m, 0] + Ab[1, 0] * F[m, 1]) + Ab[2, 0] * F[m, 2]
             g1 = (Ab[0, 1] * F[m, 0] + Ab[1, 1] * F[m, 1]) + Ab[2, 1] * F[m, 2]
             g2 = (Ab[0, 2] * F[m, 0] + Ab[1, 2] * F[m, 1]) + Ab[2, 2] * F[m, 2]
-            _mul(Ab, dF[m], dg, True)
+            _mul_t(Ab, dF[m], dg)
             _skew_into(g0, g1, g2, S)
             for r in range(3):
                 for c in range(3):
                     dg[r, 6 * s + 3 + c] += S[r, c]
             # Q = ± [δF; ū~ δḡ]
             _skew_into(ub[e, 0], ub[e, 1], ub[e, 2], T)
-            _mul(T, dg, u12, False)
+            _mul(T, dg, u12)
             sg = 1.0 if s == 0 else -1.0
             for c in range(12):
                 for r in range(3):
