@@ -25,7 +25,6 @@ returns it, and answers from it; so does a kept results file.
 
 from __future__ import annotations
 
-import math
 from functools import cached_property
 from pathlib import Path
 from typing import Sequence
@@ -48,16 +47,6 @@ _CAPTURED = MOTION_CAPTURED + ("w_dx", "w_f")
 #: (:meth:`System.rhs_batch` ``mounts_only``): the base's motion, which the
 #: bodies' poses need, and the mounts'
 _MOUNTS = ("w_base", "w_dx", "w_f")
-
-
-def _finite_xyz(position) -> np.ndarray | None:
-    """``position`` (3,) [m] when it is a tuple of three finite floats (as a
-    study's metrics hold their points), else None: anything else goes
-    through the API's checks (:meth:`PointRun._point`), which name it."""
-    if type(position) is tuple and len(position) == 3 \
-            and all(isinstance(v, float) and math.isfinite(v) for v in position):
-        return np.array(position)
-    return None
 
 
 class _Frames:
@@ -200,9 +189,7 @@ class PointRun:
         accelerations (:func:`point_path`)."""
         if not self._in_memory(body, relative_to):
             return self.point(body, position, relative_to=relative_to, name=name).position
-        u = _finite_xyz(position)
-        if u is None:                                 # not three finite floats: checked, named
-            u = np.asarray(self._point(body, position, name).position, dtype=float)
+        u = np.asarray(self._point(body, position, name).position, dtype=float)
         r, p = self._pose(body)
         if relative_to is None:
             return point_path(r, p, u, r, p, False)
