@@ -89,6 +89,9 @@ class MountedSystem:
     sparse : (M, K, C) of scipy.sparse CSR matrices, or None
         The same matrices, sparse (block-sparse by the mount graph), for
         the analyses of large systems.
+    mount_rows : (D, Dv, Fq, Fv) of scipy.sparse CSR matrices, or None
+        The mount outputs, sparse (each row touches the two bodies of its
+        mount), from the large systems' linearisation; None on the dense path.
     elastomer : ComplexStiffness or None
         Elastomer mount directions, whose complex stiffness the frequency
         analyses add to ``K`` (:mod:`flexbed.dynamics.frequency.elastomer`);
@@ -116,6 +119,7 @@ class MountedSystem:
     evaluations: int
     sparse: tuple | None = None
     elastomer: ComplexStiffness | None = None
+    mount_rows: tuple | None = None
 
     @property
     def n(self) -> int:
@@ -177,7 +181,7 @@ def _exact_parts(system: System, coords: Coordinates, tg: Tangent):
     oq, ov = tg.outputs_q, tg.outputs_v
     Bq, Bv = (np.einsum("m,mkc->kc", sign, o["w_F"].reshape(system.M, 3, -1)) for o in (oq, ov))
     return (M, -tg.Kq, -tg.Kv, oq["w_dx"], ov["w_dxd"], oq["w_f"], ov["w_f"], Bq, Bv,
-            (sp.csr_matrix(M), sp.csr_matrix(-tg.Kq), sp.csr_matrix(-tg.Kv)))
+            (sp.csr_matrix(M), sp.csr_matrix(-tg.Kq), sp.csr_matrix(-tg.Kv)), None)
 
 
 def _dense_parts(system: System, coords: Coordinates):
@@ -214,7 +218,7 @@ def _dense_parts(system: System, coords: Coordinates):
     sign = (system.body_i == 0).astype(float) - (system.body_j == 0).astype(float)
     Fbase = np.einsum("m,mkc->kc", sign, jac("w_F").reshape(m, 3, 2 * n))
     return (M, K, C, dx[:, :n], dxd[:, n:], f[:, :n], f[:, n:], Fbase[:, :n], Fbase[:, n:],
-            (sp.csr_matrix(M), sp.csr_matrix(K), sp.csr_matrix(C)))
+            (sp.csr_matrix(M), sp.csr_matrix(K), sp.csr_matrix(C)), None)
 
 
 def _sparse_parts(system: System, coords: Coordinates, exact: bool = False):
@@ -241,11 +245,11 @@ def _sparse_parts(system: System, coords: Coordinates, exact: bool = False):
     Ms, Ks, Cs = lin.M, (-lin.Kq).tocsr(), (-lin.Kv).tocsr()
     sign = (system.body_i == 0).astype(float) - (system.body_j == 0).astype(float)
     to_base = sp.kron(sp.csr_matrix(sign[None, :]), sp.identity(3), format="csr")   # (3, 3M)
-    return (Ms.toarray(), Ks.toarray(), Cs.toarray(),
-            lin.outputs_q["w_dx"].toarray(), lin.outputs_v["w_dxd"].toarray(),
-            lin.outputs_q["w_f"].toarray(), lin.outputs_v["w_f"].toarray(),
+    rows = tuple(sp.csr_matrix(m) for m in (lin.outputs_q["w_dx"], lin.outputs_v["w_dxd"],
+                                            lin.outputs_q["w_f"], lin.outputs_v["w_f"]))
+    return (Ms.toarray(), Ks.toarray(), Cs.toarray(), *(r.toarray() for r in rows),
             (to_base @ lin.outputs_q["w_F"]).toarray(), (to_base @ lin.outputs_v["w_F"]).toarray(),
-            (Ms, Ks, Cs))
+            (Ms, Ks, Cs), rows)
 
 
 def mounted_system(system: System, y_eq: np.ndarray, sparse: bool | None = None,
@@ -279,9 +283,9 @@ def mounted_system(system: System, y_eq: np.ndarray, sparse: bool | None = None,
         parts = _exact_parts(system, coords, tg)
     else:
         parts = _sparse_parts(system, coords, exact) if sparse else _dense_parts(system, coords)
-    M, K, C, D, Dv, Fq, Fv, Bq, Bv, mats = parts
-    k_t = _tangent(Fq, D)
-    c_t = _tangent(Fv, Dv)
+    M, K, C, D, Dv, Fq, Fv, Bq, Bv, mats, rows = parts
+    k_t = _tangent(Fq, D) if rows is None else _tangent_sparse(rows[2], rows[0])
+    c_t = _tangent(Fv, Dv) if rows is None else _tangent_sparse(rows[3], rows[1])
     K_el = np.zeros((n, n))
     for fc in system.flex_compiled:
         ia = coords.a_index[fc.qa.start - coords.y_a[0]:fc.qa.stop - coords.y_a[0]] - nb3
@@ -295,7 +299,7 @@ def mounted_system(system: System, y_eq: np.ndarray, sparse: bool | None = None,
                          Bq=Bq, Bv=Bv, iota=iota,
                          moving_mass=float(iota[:, 0] @ M @ iota[:, 0]),
                          y_eq=coords.y_eq, coords=coords, evaluations=system.nfev - nfev0,
-                         sparse=mats)
+                         sparse=mats, mount_rows=rows)
 
 
 def _tangent(F: np.ndarray, D: np.ndarray) -> np.ndarray:
@@ -308,4 +312,14 @@ def _tangent(F: np.ndarray, D: np.ndarray) -> np.ndarray:
         out[ok] = np.einsum("rc,rc->r", F, D)[ok] / dd[ok]
     else:
         out[ok] = np.einsum("rc,rc->r", F[ok], D[ok]) / dd[ok]
+    return out
+
+
+def _tangent_sparse(F: sp.csr_matrix, D: sp.csr_matrix) -> np.ndarray:
+    """:func:`_tangent` of sparse rows (the same sums over their nonzeros)."""
+    dd = np.asarray(D.multiply(D).sum(axis=1)).ravel()
+    fd = np.asarray(F.multiply(D).sum(axis=1)).ravel()
+    out = np.zeros(D.shape[0])
+    ok = dd > 0.0
+    out[ok] = fd[ok] / dd[ok]
     return out

@@ -199,22 +199,30 @@ def star_eig(a: Star, left: bool = False, select=None, group_tol: float = GROUP_
     Ys = Y[:, keep]
     lam = np.empty(n, dtype=complex)
     lam[:n_red] = lam_r[keep]
-    right = np.zeros((nm + H, n), dtype=complex)
-    right[:nm, :n_red] = (V @ (P @ Ys[:n_kept]).reshape(nL, s, n_red)).reshape(nm, n_red)
-    right[nm:, :n_red] = Ys[n_kept:]
+    # written as rows (one per pair), returned as their transpose: the columns
+    # the callers gather by mode come out contiguous
+    rows_r = np.zeros((n, nm + H), dtype=complex)
+    rows_r[:n_red, :nm] = (V @ (P @ Ys[:n_kept]).reshape(nL, s, n_red)).reshape(nm, n_red).T
+    rows_r[:n_red, nm:] = Ys[n_kept:].T
+    st = rows_r.strides                  # the leaf columns as (pair, leaf, state), a view
+    by_leaf = np.lib.stride_tricks.as_strided(rows_r, (n, nL, s), (st[0], s * st[1], st[1]))
     col = n_red
     for idx, Q2, mean in elim:           # leaf ℓ's states: V_ℓ[:, k] Q₂[(ℓ, k), :]
         k = Q2.shape[1]
         leaf, mode = np.divmod(idx, s)
-        rows = (leaf[:, None] * s + np.arange(s)[None, :])[..., None]          # (g, s, 1)
         vals = V[leaf, :, mode][..., None] * Q2[:, None, :]                     # (g, s, k)
-        cols = np.arange(col, col + k)[None, None, :]
-        if np.unique(leaf).size == leaf.size:
-            right[rows, cols] = vals
+        step = leaf[1] - leaf[0] if leaf.size > 1 else 1
+        if step > 0 and np.all(np.diff(leaf) == step):       # evenly spaced: a slice
+            by_leaf[col:col + k, leaf[0]:leaf[-1] + 1:step, :] = vals.transpose(2, 0, 1)
+        elif np.unique(leaf).size == leaf.size:
+            by_leaf[col:col + k, leaf, :] = vals.transpose(2, 0, 1)
         else:                            # two of one leaf's modes in the group
-            np.add.at(right, (rows, cols), vals)
+            at = (leaf[:, None] * s + np.arange(s)[None, :])[None]              # (1, g, s)
+            np.add.at(rows_r, (np.arange(col, col + k)[:, None, None], at),
+                      vals.transpose(2, 0, 1))
         lam[col:col + k] = mean
         col += k
+    right = rows_r.T
 
     L = None
     if left:

@@ -38,12 +38,21 @@ def plan_of(ms: MountedSystem) -> BlockPlan | None:
     if ms.sparse is None:
         return None
     Ms, Ks, Cs = ms.sparse
-    if any(np.any(S.toarray() != D) for S, D in ((Ms, ms.M), (Ks, ms.K), (Cs, ms.C))):
+    if not all(_equal(S, D) for S, D in ((Ms, ms.M), (Ks, ms.K), (Cs, ms.C))):
         return None
     plan = block_plan(Ks, Ms, Cs, ms.body)
     if plan is None or np.any(plan.LH[1]) or np.any(plan.HL[1]):
         return None
     return plan
+
+
+def _equal(S, D: np.ndarray) -> bool:
+    """Whether the sparse S equals the dense D entry for entry: D holds S's
+    values at S's positions and no other nonzero (without densifying S)."""
+    S = S.tocoo()
+    nz = S.data != 0.0
+    return (S.shape == D.shape and np.count_nonzero(D) == np.count_nonzero(nz)
+            and bool(np.all(D[S.row[nz], S.col[nz]] == S.data[nz])))
 
 
 def _perm(plan: BlockPlan) -> np.ndarray:
@@ -54,7 +63,8 @@ def _perm(plan: BlockPlan) -> np.ndarray:
 def undamped(ms: MountedSystem, plan: BlockPlan):
     """(λ, vl, vr) of ``K φ = λ M φ`` as ``_standard_eig`` gives them: vr
     (n, n) right vectors (columns), vl (n, n) with ``vl_kᴴ K = λ_k vl_kᴴ M``
-    and ``vl_kᴴ M vr_l = δ_kl``; or None."""
+    and ``vl_kᴴ M vr_l = δ_kl``; or None. Both are transposes of arrays of
+    rows (Fortran order: a column is contiguous)."""
     K, M = plan.LL[0], plan.LL[1]
     MH = plan.HH[1]
     star = Star(np.linalg.solve(M, K), np.linalg.solve(M, plan.LH[0]),
@@ -65,21 +75,31 @@ def undamped(ms: MountedSystem, plan: BlockPlan):
     nL, w = plan.leaf_index.shape
     nm = nL * w
     n = got.values.size
-    psi = np.empty((ms.n, n), dtype=complex)                     # ψ = conj(M⁻ᵀ wᵀ), by body
-    psi[:nm] = np.linalg.solve(M.transpose(0, 2, 1),
-                               got.left[:, :nm].T.reshape(nL, w, n)).reshape(nm, n)
-    psi[nm:] = np.linalg.solve(MH.T, got.left[:, nm:].T)
     perm = _perm(plan)
-    vr = np.empty_like(got.right)
-    vr[perm] = got.right
-    vl = np.empty_like(psi)
-    vl[perm] = psi.conj()
-    return got.values, vl, vr
+    # ψ = conj(M⁻ᵀ wᵀ): its rows conj(w M⁻¹), body by body
+    left = np.empty((n, nm + MH.shape[0]), dtype=complex)
+    left[:, :nm] = (got.left[:, :nm].reshape(n, nL, 1, w) @ np.linalg.inv(M)).reshape(n, nm)
+    left[:, nm:] = got.left[:, nm:] @ np.linalg.inv(MH)
+    np.conjugate(left, out=left)
+    # rows (one per pair) in the coordinates' order, returned as columns
+    return got.values, _in_order(left, perm).T, _in_order(got.right.T, perm).T
+
+
+def _in_order(rows: np.ndarray, perm: np.ndarray) -> np.ndarray:
+    """(m, n) ``out`` with ``out[:, perm] = rows`` (rows (m, n) in the star's
+    order), copied by runs of consecutive coordinates (a plan's bodies are
+    runs of them: a few block copies rather than a scatter of every entry)."""
+    out = np.empty(rows.shape, dtype=rows.dtype)
+    cut = np.flatnonzero(np.diff(perm) != 1) + 1
+    for a, b in zip(np.r_[0, cut], np.r_[cut, perm.size]):
+        out[:, perm[a]:perm[a] + b - a] = rows[:, a:b]
+    return out
 
 
 def damped(ms: MountedSystem, plan: BlockPlan):
     """(λ (2n,), V (n, 2n)): the first-order eigenvalues and the position
-    halves of their vectors, coordinates in order; or None."""
+    halves of their vectors (columns, Fortran order), coordinates in order;
+    or None."""
     nL, w = plan.leaf_index.shape
     h = plan.hub.size
     K, M, C = plan.LL
@@ -102,8 +122,8 @@ def damped(ms: MountedSystem, plan: BlockPlan):
     got = star_eig(Star(leaf, leaf_hub, hub_leaf, hub), select=upper)
     if got is None:
         return None
-    rows = np.concatenate([(2 * w * np.arange(nL)[:, None] + np.arange(w)).reshape(-1),
-                           2 * w * nL + np.arange(h)])                # position states
-    V = np.empty((ms.n, got.values.size), dtype=complex)
-    V[_perm(plan)] = got.right[rows]
-    return got.values, V
+    R = got.right.T                                          # rows, states in the star's order
+    m = R.shape[0]
+    pos = np.concatenate([R[:, :2 * w * nL].reshape(m, nL, 2 * w)[:, :, :w].reshape(m, nL * w),
+                          R[:, 2 * w * nL:2 * w * nL + h]], axis=1)   # their position states
+    return got.values, _in_order(pos, _perm(plan)).T

@@ -123,8 +123,7 @@ def section_scaling(ctx: BenchContext) -> str:
     tiles = QUICK_TILES if ctx.quick else TILES
     rows_data = []
     for c in tiles:
-        repeats = 3 if equipment_count(c) <= 8 else 1
-        rows_data.append(stage_times(c, repeats=repeats, log=ctx.log))
+        rows_data.append(stage_times(c, repeats=3, log=ctx.log))
     ctx.results["scaling"] = rows_data
     rows = []
     for r in rows_data:
@@ -149,7 +148,7 @@ def section_scaling(ctx: BenchContext) -> str:
         "The built-in scene tiled c × c times (`flexbed.bench.tiling`: one bed of 0.8c × "
         "4.8c m carrying c² copies of the two pieces of equipment on their 4 mounts each, "
         "each copy on its own 4 mounts to the base), rigid bed: N = 2c² pieces of "
-        "equipment. CPU seconds (median of 3 up to N = 8, one run above) of: statics "
+        "equipment. CPU seconds (median of 3 runs) of: statics "
         "(Newton–Raphson from the scene's positions), static (`flexbed static`'s solve: "
         "the statics and the stability check of the equilibrium), simulate (the first "
         f"{SIMULATE_T_END:g} s, the base's force burst, the scene's integrator and "
