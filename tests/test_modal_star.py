@@ -155,8 +155,9 @@ def test_lowest_modes_of_pieces_on_a_bed_are_the_structured_ones_cut(tiled8, mon
 
 def test_structured_left_and_right_vectors_biorthogonal(tiled8):
     ms = tiled8
-    lam, vl, vr = star_modes.undamped(ms, star_modes.plan_of(ms))
+    lam, vl, vr, mu = star_modes.undamped(ms, star_modes.plan_of(ms))
     assert np.abs(vl.conj().T @ ms.M @ vr - np.eye(ms.n)).max() < 1e-9
+    assert np.abs(mu - np.einsum("ik,ij,jk->k", vl.conj(), ms.M, vr)).max() < 1e-12
     residual = ms.K @ vr - (ms.M @ vr) * lam[None, :]
     assert np.abs(residual).max() <= 1e-9 * np.abs(ms.K @ vr).max()
     lam_d, V = star_modes.damped(ms, star_modes.plan_of(ms))

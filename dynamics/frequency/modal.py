@@ -98,10 +98,14 @@ class Modes:
         return np.cumsum(self.effective_mass, axis=0) / self.moving_mass
 
 
+def _pivot(phi: np.ndarray) -> np.ndarray:
+    """Each row's component of largest modulus (m,)."""
+    return phi[np.arange(phi.shape[0]), np.argmax(np.abs(phi), axis=1)]
+
+
 def _unit_phase(phi: np.ndarray) -> np.ndarray:
     """Rows scaled so that their largest |component| is 1 + 0i."""
-    k = np.argmax(np.abs(phi), axis=1)
-    return phi / phi[np.arange(phi.shape[0]), k][:, None]
+    return phi / _pivot(phi)[:, None]
 
 
 def _bilinear(a: np.ndarray, B, c: np.ndarray, large: bool) -> np.ndarray:
@@ -155,18 +159,24 @@ def _undamped(ms: MountedSystem, plan=None):
     large = ms.n > DENSE_LIMIT
     got = star_modes.undamped(ms, plan) if plan is not None else None
     if got is not None:
-        lam, vl, vr = got
+        lam, vl, vr, mu = got
     elif large:
         lam, vl, vr = _standard_eig(ms)
     else:
         lam, vl, vr = scipy.linalg.eig(ms.K, ms.M, left=True, right=True)
     order = np.argsort(lam.real)
     lam, vl, vr = lam[order], vl[:, order], vr[:, order]
-    phi = _unit_phase(vr.T)                       # (n, n), real up to round-off
-    psi = _unit_phase(vl.T)
-    if np.abs(phi.imag).max() <= 1e-9 * max(np.abs(phi).max(), 1.0):
+    p, q = _pivot(vr.T), _pivot(vl.T)
+    phi = vr.T / p[:, None]                       # (n, n), real up to round-off
+    psi = vl.T / q[:, None]
+    real = np.abs(phi.imag).max() <= 1e-9 * max(np.abs(phi).max(), 1.0)
+    if real:
         phi, psi = phi.real, psi.real
-    mu = _bilinear(psi, _sparse(ms, "M") if large else ms.M, phi, large)     # ψᴴ M φ
+    if got is not None:          # ψᴴ M φ of the structured vectors, given, over the pivots
+        mu = mu[order] / (q.conj() * p)
+        mu = mu.real if real else mu
+    else:
+        mu = _bilinear(psi, _sparse(ms, "M") if large else ms.M, phi, large)     # ψᴴ M φ
     s = np.sqrt(np.abs(mu))
     phi = phi / s[:, None]
     psi = psi / (mu / s)[:, None].conj()          # now ψ_kᴴ M φ_k = 1

@@ -61,10 +61,11 @@ def _perm(plan: BlockPlan) -> np.ndarray:
 
 
 def undamped(ms: MountedSystem, plan: BlockPlan):
-    """(λ, vl, vr) of ``K φ = λ M φ`` as ``_standard_eig`` gives them: vr
-    (n, n) right vectors (columns), vl (n, n) with ``vl_kᴴ K = λ_k vl_kᴴ M``
-    and ``vl_kᴴ M vr_l = δ_kl``; or None. Both are transposes of arrays of
-    rows (Fortran order: a column is contiguous)."""
+    """(λ, vl, vr, μ) of ``K φ = λ M φ``: λ (n,) and vr (n, n) right vectors
+    (columns) as ``_standard_eig`` gives them, vl (n, n) with
+    ``vl_kᴴ K = λ_k vl_kᴴ M`` and ``vl_kᴴ M vr_l = δ_kl`` (both transposes of
+    arrays of rows: Fortran order, a column is contiguous), μ (n,) the
+    products ``vl_kᴴ M vr_k`` as computed (1 but for round-off); or None."""
     K, M = plan.LL[0], plan.LL[1]
     MH = plan.HH[1]
     star = Star(np.linalg.solve(M, K), np.linalg.solve(M, plan.LH[0]),
@@ -81,8 +82,9 @@ def undamped(ms: MountedSystem, plan: BlockPlan):
     left[:, :nm] = (got.left[:, :nm].reshape(n, nL, 1, w) @ np.linalg.inv(M)).reshape(n, nm)
     left[:, nm:] = got.left[:, nm:] @ np.linalg.inv(MH)
     np.conjugate(left, out=left)
+    mu = np.einsum("ki,ki->k", got.left, got.right.T)     # ψₖᴴ M φₖ = wₖ φₖ (1 but for round-off)
     # rows (one per pair) in the coordinates' order, returned as columns
-    return got.values, _in_order(left, perm).T, _in_order(got.right.T, perm).T
+    return got.values, _in_order(left, perm).T, _in_order(got.right.T, perm).T, mu
 
 
 def _in_order(rows: np.ndarray, perm: np.ndarray) -> np.ndarray:
