@@ -16,7 +16,11 @@ isolation crossings equal the dense solutions.
    projector's diagonal ``Σ_k φ_k ⊙ (M ψ_k)`` to 1e-9, the damped shapes'
    span to 1e-6; the energy and strain tables of the modes at least 1e-4
    apart from their neighbours (whose shapes are well defined) to 1e-9.
-3. The isolation crossings found for all outputs at once equal Brent's,
+3. The energy tables the structured solution writes from its structure
+   (a mode with the hub at rest: a vector per leaf times a coefficient)
+   equal the general products on the same shapes, every mode (repeated
+   frequencies included), to 1e-13 of the largest entry.
+4. The isolation crossings found for all outputs at once equal Brent's,
    and the exact r = √2 of a base-excited oscillator.
 """
 
@@ -24,11 +28,12 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 from scipy.optimize import linear_sum_assignment
 
 from flexbed.bench.tiling import tiled_scene
 from flexbed.dynamics.frequency import frf as dfrf
-from flexbed.dynamics.frequency import modal, star_modes
+from flexbed.dynamics.frequency import modal, shares, star_modes
 from flexbed.dynamics.frequency.modal import solve_modes
 from flexbed.dynamics.frequency.mounted import mounted_system
 from flexbed.dynamics.frequency.star import Star, star_eig
@@ -99,8 +104,8 @@ def _compare(ms):
     assert _matched(lam(structured), lam(dense)) < 1e-9
     assert structured.undamped_frequency == pytest.approx(dense.undamped_frequency, rel=1e-9)
     # undamped clusters: effective masses' sums and the projector's diagonal
-    _, phi_s, psi_s = modal._undamped(ms, star_modes.plan_of(ms))
-    _, phi_d, psi_d = modal._undamped(replace(ms, sparse=None))
+    _, phi_s, psi_s, _ = modal._undamped(ms, star_modes.plan_of(ms))
+    _, phi_d, psi_d, _ = modal._undamped(replace(ms, sparse=None))
     f = dense.undamped_frequency
     cl = _clusters(f, CLUSTER)
     for k in np.unique(cl):
@@ -155,15 +160,51 @@ def test_lowest_modes_of_pieces_on_a_bed_are_the_structured_ones_cut(tiled8, mon
 
 def test_structured_left_and_right_vectors_biorthogonal(tiled8):
     ms = tiled8
-    lam, vl, vr, mu = star_modes.undamped(ms, star_modes.plan_of(ms))
+    lam, vl, vr, mu, _ = star_modes.undamped(ms, star_modes.plan_of(ms))
     assert np.abs(vl.conj().T @ ms.M @ vr - np.eye(ms.n)).max() < 1e-9
     assert np.abs(mu - np.einsum("ik,ij,jk->k", vl.conj(), ms.M, vr)).max() < 1e-12
     residual = ms.K @ vr - (ms.M @ vr) * lam[None, :]
     assert np.abs(residual).max() <= 1e-9 * np.abs(ms.K @ vr).max()
-    lam_d, V = star_modes.damped(ms, star_modes.plan_of(ms))
+    lam_d, V, _ = star_modes.damped(ms, star_modes.plan_of(ms))
     assert lam_d.size == ms.n                            # one of each conjugate pair
     residual = ms.K @ V + (ms.C @ V) * lam_d + (ms.M @ V) * lam_d ** 2
     assert np.abs(residual).max() <= 1e-9 * np.abs(ms.K @ V).max()
+
+
+def _tables_agree(ms, structured, picked):
+    raw = structured.energies(ms, picked)
+    assert raw is not None and structured.got.eliminated > 0
+    phi = structured.rows[picked]
+    general = (shares.kinetic(ms, phi), *shares.strain(ms, phi))
+    for a, b in zip(raw, general):
+        assert a.shape == b.shape
+        assert np.abs(a - b).max() <= 1e-13 * np.abs(b).max()
+
+
+def test_structured_energy_tables_equal_the_general_products(tiled8):
+    ms = tiled8
+    plan = star_modes.plan_of(ms)
+    lam, V, structured = star_modes.damped(ms, plan)
+    picked = modal._damped_from(lam, V, ms.n)[5]
+    assert picked.size == ms.n                           # every mode, oscillating
+    _tables_agree(ms, structured, picked)
+    lam, _, _, _, structured = star_modes.undamped(ms, plan)
+    _tables_agree(ms, structured, np.argsort(lam.real)[::-1])     # any order of the pairs
+
+
+def test_undamped_system_tables_from_the_structure(tiled8, monkeypatch):
+    """Without damping the tables come from the undamped structured solution."""
+    monkeypatch.setattr(modal, "DENSE_LIMIT", 0)
+    Ms, Ks, _ = tiled8.sparse
+    ms = replace(tiled8, C=np.zeros_like(tiled8.C), sparse=(Ms, Ks, sp.csr_matrix(Ks.shape)))
+    plan = star_modes.plan_of(ms)
+    assert not ms.damped and plan is not None
+    assert modal._undamped(ms, plan, tables=True)[3] is not None
+    md = solve_modes(ms)
+    mounts, elastic = shares.strain_shares(ms, md.shapes)
+    assert np.abs(md.energy - shares.energy_shares(ms, md.shapes)).max() < 1e-13
+    assert np.abs(md.strain_mounts - mounts).max() < 1e-13
+    assert np.abs(md.strain_elastic - elastic).max() < 1e-13
 
 
 def test_no_leaves_no_plan(tiled8):

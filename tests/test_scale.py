@@ -462,7 +462,7 @@ def test_large_systems_undamped_modes_by_the_standard_problem(tiled8, monkeypatc
     qr = solve_modes(ms)
     assert qr.undamped_frequency == pytest.approx(qz.undamped_frequency, rel=1e-11)
     assert np.abs(qr.effective_mass - qz.effective_mass).max() <= 1e-11 * ms.moving_mass
-    f, phi, psi = modal._undamped(ms)
+    f, phi, psi, _ = modal._undamped(ms)
     T = psi.conj() @ ms.M @ phi.T
     assert np.abs(T - np.eye(ms.n)).max() < 1e-9
     w2 = (2 * np.pi * f) ** 2

@@ -36,10 +36,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
-import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigs, splu
 
 from . import star_modes
+from .shares import bilinear, kinetic, shares, sparse_of, strain
 from .mounted import DENSE_LIMIT, MountedSystem
 
 __all__ = ["Modes", "solve_modes"]
@@ -108,39 +108,6 @@ def _unit_phase(phi: np.ndarray) -> np.ndarray:
     return phi / _pivot(phi)[:, None]
 
 
-def _bilinear(a: np.ndarray, B, c: np.ndarray, large: bool) -> np.ndarray:
-    """aₖᴴ B cₖ for each row k of a and c (m, n), B (n, n) dense or sparse.
-    A large system's by a sparse product (B block-sparse by the mount graph);
-    a small one's by the einsum, whose sums its results were made with."""
-    if large:
-        return np.sum(a.conj() * _times(B, c), axis=1)
-    return np.einsum("ki,ij,kj->k", a.conj(), B, c)
-
-
-def _times(B, c: np.ndarray) -> np.ndarray:
-    """Rows of ``c @ Bᵀ`` (m, r) for B (r, n) sparse and real, c (m, n) real
-    or complex (a complex c as its real and imaginary parts side by side:
-    one real product, half the work of a complex one)."""
-    ct = np.ascontiguousarray(c.T)
-    if np.iscomplexobj(c):
-        return (B @ ct.view(float)).view(complex).T
-    return (B @ ct).T
-
-
-#: modes per block of a large system's strain table (its temporaries stay small)
-_BLOCK = 128
-
-
-def _sparse(ms: MountedSystem, name: str):
-    """``ms``'s matrix ``name`` as CSR (M from ``ms.sparse``, D from
-    ``ms.mount_rows``)."""
-    if name == "M" and ms.sparse is not None:
-        return ms.sparse[0]
-    if name == "D" and ms.mount_rows is not None:
-        return ms.mount_rows[0]
-    return sp.csr_matrix(getattr(ms, name))
-
-
 def _standard_eig(ms: MountedSystem):
     """(λ, left, right) of K φ = λ M φ for a large system as
     ``scipy.linalg.eig(K, M, left=True, right=True)`` gives them, from the
@@ -155,11 +122,14 @@ def _standard_eig(ms: MountedSystem):
     return lam, vl, vr
 
 
-def _undamped(ms: MountedSystem, plan=None):
+def _undamped(ms: MountedSystem, plan=None, tables: bool = False):
+    """(f (n,), φ (n, n), ψ (n, n), raw): the undamped modes, ascending, and
+    with ``tables`` their raw energy tables from the structured solution
+    (:meth:`~flexbed.dynamics.frequency.star_modes.Structured.energies`), or None."""
     large = ms.n > DENSE_LIMIT
     got = star_modes.undamped(ms, plan) if plan is not None else None
     if got is not None:
-        lam, vl, vr, mu = got
+        lam, vl, vr, mu, structured = got
     elif large:
         lam, vl, vr = _standard_eig(ms)
     else:
@@ -176,36 +146,42 @@ def _undamped(ms: MountedSystem, plan=None):
         mu = mu[order] / (q.conj() * p)
         mu = mu.real if real else mu
     else:
-        mu = _bilinear(psi, _sparse(ms, "M") if large else ms.M, phi, large)     # ψᴴ M φ
+        mu = bilinear(psi, sparse_of(ms, "M") if large else ms.M, phi, large)     # ψᴴ M φ
     s = np.sqrt(np.abs(mu))
     phi = phi / s[:, None]
     psi = psi / (mu / s)[:, None].conj()          # now ψ_kᴴ M φ_k = 1
     w2 = lam.real
     f = np.where(w2 >= 0.0, np.sqrt(np.abs(w2)), np.nan) / (2.0 * np.pi)
-    return f, phi, psi
+    raw = structured.energies(ms, order) if tables and got is not None else None
+    return f, phi, psi, raw
 
 
 def _damped(ms: MountedSystem, plan=None):
+    """:func:`_damped_from`'s modes and their raw energy tables from the
+    structured solution, or None."""
     n = ms.n
     got = star_modes.damped(ms, plan) if plan is not None else None
     if got is not None:
-        return _damped_from(got[0], got[1], n)
+        *modes, picked = _damped_from(got[0], got[1], n)
+        return (*modes, got[2].energies(ms, picked))
     Minv = np.linalg.solve(ms.M, np.hstack([ms.K, ms.C]))
     S = np.zeros((2 * n, 2 * n))
     S[:n, n:] = np.eye(n)
     S[n:, :n] = -Minv[:, :n]
     S[n:, n:] = -Minv[:, n:]
     lam, V = np.linalg.eig(S)
-    return _damped_from(lam, V[:n], n)
+    return (*_damped_from(lam, V[:n], n)[:5], None)
 
 
 def _damped_from(lam: np.ndarray, V: np.ndarray, n: int):
     """Modes from the first-order eigenvalues λ (r,) and the position halves
-    of their vectors V (n, r): (ωₙ, ζ, ω_d, shapes, overdamped rates)."""
+    of their vectors V (n, r): (ωₙ, ζ, ω_d, shapes, overdamped rates, the
+    columns of V the modes are, in their order)."""
     scale = np.abs(lam).max() if lam.size else 1.0
     osc = lam.imag > 1e-12 * scale
     real = np.abs(lam.imag) <= 1e-12 * scale
     rates = np.sort(-lam[real].real)
+    picked = np.flatnonzero(osc)
     lam, V = lam[osc], V[:, osc]
     wn = np.abs(lam)
     # a decay rate at the eigensolver's round-off (|Re λ| ≤ 1e-12 max|λ|, the
@@ -213,41 +189,8 @@ def _damped_from(lam: np.ndarray, V: np.ndarray, n: int):
     # such a mode is undamped (ζ = 0), not damped or growing by ±1e-16
     zeta = np.where(np.abs(lam.real) <= 1e-12 * scale, 0.0, -lam.real / wn)
     order = np.argsort(wn, kind="stable")
-    return wn[order], zeta[order], lam.imag[order], _unit_phase(V[:, order].T), rates
-
-
-def energy_shares(ms: MountedSystem, phi: np.ndarray) -> np.ndarray:
-    """Kinetic energy share of each coordinate (m, n) for shapes φ (m, n)."""
-    Mphi = _times(_sparse(ms, "M"), phi) if ms.n > DENSE_LIMIT else phi @ ms.M.T
-    e = (phi.conj() * Mphi).real
-    return e / e.sum(axis=1, keepdims=True)
-
-
-def strain_shares(ms: MountedSystem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Strain energy shares (m, M, 3) of the mount axes and (m,) of the
-    flexible bodies' deformation for shapes φ (m, n)."""
-    large = ms.n > DENSE_LIMIT
-    if large:                                # by blocks of modes, into one array
-        D = _sparse(ms, "D")
-        half_k = 0.5 * ms.k_tangent
-        mounts = np.empty((phi.shape[0], D.shape[0]))
-        for a in range(0, phi.shape[0], _BLOCK):
-            dx = _times(D, phi[a:a + _BLOCK])                              # (b, 3M)
-            mounts[a:a + _BLOCK] = (dx.real ** 2 + dx.imag ** 2) * half_k
-    else:
-        dx = phi @ ms.D.T                                                  # (m, 3M)
-        mounts = 0.5 * ms.k_tangent[None, :] * np.abs(dx) ** 2
-    if large and not ms.K_elastic.any():                          # a rigid bed
-        elastic = np.zeros(phi.shape[0])
-    else:
-        elastic = 0.5 * _bilinear(phi, _sparse(ms, "K_elastic") if large else ms.K_elastic,
-                                  phi, large).real
-    total = mounts.sum(axis=1) + elastic
-    total = np.where(total != 0.0, total, 1.0)
-    if large:
-        mounts /= total[:, None]
-        return mounts.reshape(phi.shape[0], -1, 3), elastic / total
-    return (mounts / total[:, None]).reshape(phi.shape[0], -1, 3), elastic / total
+    return (wn[order], zeta[order], lam.imag[order], _unit_phase(V[:, order].T), rates,
+            picked[order])
 
 
 def _krylov_size(n: int, count: int) -> int:
@@ -307,7 +250,7 @@ def _lowest_damped(ms: MountedSystem, count: int):
     mu, V = eigs(op, k=k, which="LM", v0=np.cos(np.arange(2 * n) + 0.5),
                  ncv=_krylov_size(2 * n, k))
     lam = 1.0 / mu
-    return _damped_from(lam, V[:n], n)
+    return (*_damped_from(lam, V[:n], n)[:5], None)
 
 
 def solve_modes(ms: MountedSystem, count: int | None = None) -> Modes:
@@ -343,25 +286,30 @@ def solve_modes(ms: MountedSystem, count: int | None = None) -> Modes:
             damped = _lowest_damped(ms, count) if ms.damped else None
         except ArpackNoConvergence:
             lowest = False
+    raw = None
     if not lowest:
-        f0, phi0, psi0 = _undamped(ms, plan)
+        f0, phi0, psi0, raw = _undamped(ms, plan, tables=not ms.damped)
         damped = _damped(ms, plan) if ms.damped else None
         if count is not None:
             f0, phi0, psi0 = f0[:count], phi0[:count], psi0[:count]
+            raw = None if raw is None else tuple(t[:count] for t in raw)
     if damped is not None:
-        wn, zeta, wd, shapes, rates = damped
+        wn, zeta, wd, shapes, rates, raw = damped
         if count is not None:
             keep = np.argsort(wn, kind="stable")[:count]
             wn, zeta, wd, shapes = wn[keep], zeta[keep], wd[keep], shapes[keep]
+            raw = None if raw is None else tuple(t[keep] for t in raw)
         freq, fd = wn / (2.0 * np.pi), wd / (2.0 * np.pi)
     else:
         freq, zeta, fd, shapes = f0, np.zeros_like(f0), f0, _unit_phase(phi0 + 0j)
         rates = np.zeros(0)
     Mi = ms.M @ ms.iota                                           # (n, 3)
     eff = ((psi0.conj() @ Mi) * (phi0 @ Mi)).real                 # (n, 3)
-    mounts, elastic = strain_shares(ms, shapes)
+    if raw is None:
+        raw = (kinetic(ms, shapes), *strain(ms, shapes))
+    energy, mounts, elastic = shares(*raw)
     return Modes(frequency=freq, damping_ratio=zeta, damped_frequency=fd, shapes=shapes,
                  undamped_frequency=f0, undamped_shapes=np.asarray(phi0),
-                 energy=energy_shares(ms, shapes), strain_mounts=mounts,
+                 energy=energy, strain_mounts=mounts,
                  strain_elastic=elastic, effective_mass=eff, moving_mass=ms.moving_mass,
                  overdamped_rates=rates)

@@ -101,7 +101,11 @@ class StarEig:
     ``left @ right = I``; ``reduced``: size of the dense eigen-solution;
     ``eliminated``: pairs found with the hub at rest; ``bound``: ‖E‖₂
     bound of the perturbation solved exactly; ``residual``: largest
-    relative residual of the pairs."""
+    relative residual of the pairs; ``groups``: those pairs' right vectors
+    by group, each ``(first, leaves (g,), vectors (g, s), coefficients (g, k))``:
+    pair ``first + j`` is ``vectors[i] · coefficients[i, j]`` on leaf
+    ``leaves[i]`` and zero elsewhere (None when a group holds two modes of
+    one leaf, whose vectors add)."""
 
     values: np.ndarray
     right: np.ndarray
@@ -110,6 +114,7 @@ class StarEig:
     eliminated: int
     bound: float
     residual: float
+    groups: tuple | None = None
 
 
 def _groups(mu: np.ndarray, radius: float) -> list[np.ndarray]:
@@ -207,10 +212,16 @@ def star_eig(a: Star, left: bool = False, select=None, group_tol: float = GROUP_
     st = rows_r.strides                  # the leaf columns as (pair, leaf, state), a view
     by_leaf = np.lib.stride_tricks.as_strided(rows_r, (n, nL, s), (st[0], s * st[1], st[1]))
     col = n_red
+    groups = []
     for idx, Q2, mean in elim:           # leaf ℓ's states: V_ℓ[:, k] Q₂[(ℓ, k), :]
         k = Q2.shape[1]
         leaf, mode = np.divmod(idx, s)
-        vals = V[leaf, :, mode][..., None] * Q2[:, None, :]                     # (g, s, k)
+        vectors = V[leaf, :, mode]                                              # (g, s)
+        vals = vectors[..., None] * Q2[:, None, :]                              # (g, s, k)
+        if groups is not None and np.unique(leaf).size == leaf.size:
+            groups.append((col, leaf, vectors, Q2))
+        else:
+            groups = None
         step = leaf[1] - leaf[0] if leaf.size > 1 else 1
         if step > 0 and np.all(np.diff(leaf) == step):       # evenly spaced: a slice
             by_leaf[col:col + k, leaf[0]:leaf[-1] + 1:step, :] = vals.transpose(2, 0, 1)
@@ -248,4 +259,5 @@ def star_eig(a: Star, left: bool = False, select=None, group_tol: float = GROUP_
     worst = max(float(res.max()) if res.size else 0.0, bound / norm)
     if not worst <= RESIDUAL_TOL:
         return None
-    return StarEig(lam, right, L, nr, n_el, bound, worst)
+    return StarEig(lam, right, L, nr, n_el, bound, worst,
+                   None if groups is None else tuple(groups))

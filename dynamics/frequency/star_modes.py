@@ -16,18 +16,105 @@ mass coupling between a leaf and the hub, checked here),
 
 Both return what :mod:`flexbed.dynamics.frequency.modal` takes from its
 dense solutions, in the coordinates' own order; None when the plan does
-not apply or the structured solution's residual is too large.
+not apply or the structured solution's residual is too large. Both also
+return a :class:`Structured`, whose :meth:`Structured.energies` writes the
+modes' raw energy tables (:mod:`flexbed.dynamics.frequency.shares`): a
+mode with the hub at rest is one vector per leaf of its group times a
+coefficient (:attr:`flexbed.dynamics.frequency.star.StarEig.groups`), so
+its kinetic energy on a leaf, its strain energy in a leaf's mounts and its
+leaf's deformation are that leaf's own, once per group, times the squared
+coefficient: outer products the size of the tables, where the general
+products cost a pass over every mount row's coordinates for every mode.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from . import shares
 from .blocks import BlockPlan, block_plan
 from .mounted import MountedSystem
-from .star import Star, star_eig
+from .star import Star, StarEig, star_eig
 
-__all__ = ["plan_of", "undamped", "damped"]
+__all__ = ["plan_of", "undamped", "damped", "Structured"]
+
+
+@dataclass(frozen=True)
+class Structured:
+    """A structured solution's modes: ``got`` the star's pairs, ``rows``
+    (m, n) their shapes (position states) in the coordinates' order,
+    ``plan`` the block plan."""
+
+    got: StarEig
+    rows: np.ndarray
+    plan: BlockPlan
+
+    def energies(self, ms: MountedSystem, picked: np.ndarray):
+        """The raw kinetic (k, n), mount-axis (k, 3M) and deformation (k,)
+        energies (:func:`flexbed.dynamics.frequency.shares.kinetic`,
+        :func:`~flexbed.dynamics.frequency.shares.strain`) of the pairs
+        ``picked`` (k,) in that order, or None (a group with two modes of
+        one leaf, or a mount row on two leaves)."""
+        got, plan = self.got, self.plan
+        if got.groups is None:
+            return None
+        nL, w = plan.leaf_index.shape
+        D = shares.sparse_of(ms, "D").tocoo()
+        leaf_of = np.full(ms.n, nL)                       # coordinate → leaf (nL: none)
+        leaf_of[plan.leaf_index] = np.arange(nL)[:, None]
+        low = np.full(D.shape[0], nL)
+        high = np.full(D.shape[0], -1)
+        np.minimum.at(low, D.row, leaf_of[D.col])
+        np.maximum.at(high, D.row, np.where(leaf_of[D.col] < nL, leaf_of[D.col], -1))
+        if np.any((high >= 0) & (low != high)):
+            return None
+        row_leaf = np.where(high >= 0, high, nL)          # each mount row's leaf (nL: none)
+        m = got.values.size
+        dest = np.full(m, -1)
+        dest[picked] = np.arange(picked.size)
+        first = m - got.eliminated                        # pairs before: the dense solution's
+        general = np.flatnonzero(dest[:first] >= 0)
+        energy = np.zeros((picked.size, ms.n))
+        mounts = np.zeros((picked.size, D.shape[0]))
+        elastic = np.zeros(picked.size)
+        if general.size:
+            phi = self.rows[general]
+            energy[dest[general]] = shares.kinetic(ms, phi)
+            mounts[dest[general]], elastic[dest[general]] = shares.strain(ms, phi)
+        Dc = D.tocsr()
+        half_k = 0.5 * ms.k_tangent
+        M_leaf = plan.LL[1]
+        K_el = ms.K_elastic[plan.leaf_index[:, :, None], plan.leaf_index[:, None, :]]
+        flexible = bool(K_el.any())
+        for start, leaves, vectors, coef in got.groups:
+            cols = start + np.arange(coef.shape[1])
+            to = dest[cols]
+            if not np.any(to >= 0):
+                continue
+            coef, to = coef[:, to >= 0], to[to >= 0]
+            v = vectors[:, :w]                                             # position states
+            weight = (coef.real ** 2 + coef.imag ** 2).T                   # (k, g)
+            kin = (v.conj() * (M_leaf[leaves] @ v[..., None])[..., 0]).real    # (g, w)
+            energy[to[:, None], plan.leaf_index[leaves].reshape(1, -1)] = (
+                weight[:, :, None] * kin[None]).reshape(to.size, -1)
+            y = np.zeros(ms.n, dtype=complex)
+            y[plan.leaf_index[leaves]] = v
+            dx = Dc @ y                                                    # (3M,)
+            per_leaf = np.zeros((to.size, nL + 1))
+            per_leaf[:, leaves] = weight
+            own = half_k * (dx.real ** 2 + dx.imag ** 2)
+            if to[-1] - to[0] == to.size - 1 and np.all(np.diff(to) == 1):   # one run of rows
+                block = mounts[to[0]:to[-1] + 1]
+                np.take(per_leaf, row_leaf, axis=1, out=block)
+                block *= own
+            else:
+                mounts[to] = per_leaf[:, row_leaf] * own
+            if flexible:
+                bent = 0.5 * (v.conj() * (K_el[leaves] @ v[..., None])[..., 0]).sum(1).real
+                elastic[to] = weight @ bent
+        return energy, mounts, elastic
 
 
 def plan_of(ms: MountedSystem) -> BlockPlan | None:
@@ -61,11 +148,12 @@ def _perm(plan: BlockPlan) -> np.ndarray:
 
 
 def undamped(ms: MountedSystem, plan: BlockPlan):
-    """(λ, vl, vr, μ) of ``K φ = λ M φ``: λ (n,) and vr (n, n) right vectors
-    (columns) as ``_standard_eig`` gives them, vl (n, n) with
+    """(λ, vl, vr, μ, structured) of ``K φ = λ M φ``: λ (n,) and vr (n, n)
+    right vectors (columns) as ``_standard_eig`` gives them, vl (n, n) with
     ``vl_kᴴ K = λ_k vl_kᴴ M`` and ``vl_kᴴ M vr_l = δ_kl`` (both transposes of
     arrays of rows: Fortran order, a column is contiguous), μ (n,) the
-    products ``vl_kᴴ M vr_k`` as computed (1 but for round-off); or None."""
+    products ``vl_kᴴ M vr_k`` as computed (1 but for round-off), a
+    :class:`Structured` of the vr; or None."""
     K, M = plan.LL[0], plan.LL[1]
     MH = plan.HH[1]
     star = Star(np.linalg.solve(M, K), np.linalg.solve(M, plan.LH[0]),
@@ -84,7 +172,8 @@ def undamped(ms: MountedSystem, plan: BlockPlan):
     np.conjugate(left, out=left)
     mu = np.einsum("ki,ki->k", got.left, got.right.T)     # ψₖᴴ M φₖ = wₖ φₖ (1 but for round-off)
     # rows (one per pair) in the coordinates' order, returned as columns
-    return got.values, _in_order(left, perm).T, _in_order(got.right.T, perm).T, mu
+    rows = _in_order(got.right.T, perm)
+    return got.values, _in_order(left, perm).T, rows.T, mu, Structured(got, rows, plan)
 
 
 def _in_order(rows: np.ndarray, perm: np.ndarray) -> np.ndarray:
@@ -99,9 +188,9 @@ def _in_order(rows: np.ndarray, perm: np.ndarray) -> np.ndarray:
 
 
 def damped(ms: MountedSystem, plan: BlockPlan):
-    """(λ (2n,), V (n, 2n)): the first-order eigenvalues and the position
-    halves of their vectors (columns, Fortran order), coordinates in order;
-    or None."""
+    """(λ (2n,), V (n, 2n), structured): the first-order eigenvalues, the
+    position halves of their vectors (columns, Fortran order), coordinates
+    in order, and their :class:`Structured`; or None."""
     nL, w = plan.leaf_index.shape
     h = plan.hub.size
     K, M, C = plan.LL
@@ -128,4 +217,5 @@ def damped(ms: MountedSystem, plan: BlockPlan):
     m = R.shape[0]
     pos = np.concatenate([R[:, :2 * w * nL].reshape(m, nL, 2 * w)[:, :, :w].reshape(m, nL * w),
                           R[:, 2 * w * nL:2 * w * nL + h]], axis=1)   # their position states
-    return got.values, _in_order(pos, _perm(plan)).T
+    rows = _in_order(pos, _perm(plan))
+    return got.values, rows.T, Structured(got, rows, plan)
