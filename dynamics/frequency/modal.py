@@ -135,10 +135,10 @@ def _undamped(ms: MountedSystem, plan=None, tables: bool = False):
     else:
         lam, vl, vr = scipy.linalg.eig(ms.K, ms.M, left=True, right=True)
     order = np.argsort(lam.real)
-    lam, vl, vr = lam[order], vl[:, order], vr[:, order]
-    p, q = _pivot(vr.T), _pivot(vl.T)
-    phi = vr.T / p[:, None]                       # (n, n), real up to round-off
-    psi = vl.T / q[:, None]
+    lam, phi, psi = lam[order], vr[:, order].T, vl[:, order].T     # rows, fresh copies
+    p, q = _pivot(phi), _pivot(psi)
+    phi /= p[:, None]                             # (n, n), real up to round-off
+    psi /= q[:, None]
     real = np.abs(phi.imag).max() <= 1e-9 * max(np.abs(phi).max(), 1.0)
     if real:
         phi, psi = phi.real, psi.real
@@ -182,15 +182,17 @@ def _damped_from(lam: np.ndarray, V: np.ndarray, n: int):
     real = np.abs(lam.imag) <= 1e-12 * scale
     rates = np.sort(-lam[real].real)
     picked = np.flatnonzero(osc)
-    lam, V = lam[osc], V[:, osc]
+    lam = lam[osc]
     wn = np.abs(lam)
     # a decay rate at the eigensolver's round-off (|Re λ| ≤ 1e-12 max|λ|, the
     # bound that tells oscillating from real eigenvalues above) is no damping:
     # such a mode is undamped (ζ = 0), not damped or growing by ±1e-16
     zeta = np.where(np.abs(lam.real) <= 1e-12 * scale, 0.0, -lam.real / wn)
     order = np.argsort(wn, kind="stable")
-    return (wn[order], zeta[order], lam.imag[order], _unit_phase(V[:, order].T), rates,
-            picked[order])
+    picked = picked[order]
+    shapes = V[:, picked].T                       # rows, a fresh copy: scaled in place
+    shapes /= _pivot(shapes)[:, None]
+    return wn[order], zeta[order], lam.imag[order], shapes, rates, picked
 
 
 def _krylov_size(n: int, count: int) -> int:

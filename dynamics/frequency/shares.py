@@ -82,14 +82,14 @@ def strain(ms: MountedSystem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def shares(energy: np.ndarray, mounts: np.ndarray, elastic: np.ndarray):
-    """The tables from the raw energies (m, n), (m, 3M), (m,) (``mounts``
-    divided in place): kinetic shares (m, n), mount axes' (m, M, 3), the
-    deformation's (m,)."""
+    """The tables from the raw energies (m, n), (m, 3M), (m,) (``energy`` and
+    ``mounts`` divided in place): kinetic shares (m, n), mount axes' (m, M, 3),
+    the deformation's (m,)."""
     total = mounts.sum(axis=1) + elastic
     total = np.where(total != 0.0, total, 1.0)
     mounts /= total[:, None]
-    return (energy / energy.sum(axis=1, keepdims=True),
-            mounts.reshape(mounts.shape[0], -1, 3), elastic / total)
+    energy /= energy.sum(axis=1, keepdims=True)
+    return energy, mounts.reshape(mounts.shape[0], -1, 3), elastic / total
 
 
 def energy_shares(ms: MountedSystem, phi: np.ndarray) -> np.ndarray:
