@@ -54,6 +54,30 @@ DENSE_LIMIT = 100
 DOF_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")
 
 
+class _MountMatrix:
+    """A dense mount-matrix field of :class:`MountedSystem` (a dataclass
+    field with a descriptor, as :mod:`dataclasses` documents them): the
+    array given, or, given None, ``mount_rows[k]`` made dense on first use
+    and kept in the instance."""
+
+    def __init__(self, k: int):
+        self.k = k
+
+    def __set_name__(self, owner, name: str):
+        self.key = "_" + name
+
+    def __get__(self, obj, objtype=None):
+        if obj is None:                  # no default: the field must be given
+            raise AttributeError(self.key[1:])
+        got = obj.__dict__[self.key]
+        if got is None:
+            got = obj.__dict__[self.key] = obj.mount_rows[self.k].toarray()
+        return got
+
+    def __set__(self, obj, value):       # __init__'s, once (the class is frozen)
+        obj.__dict__[self.key] = value
+
+
 @dataclass(frozen=True)
 class MountedSystem:
     """``M q̈ + C q̇ + K q = f`` about the equilibrium, base held.
@@ -73,7 +97,11 @@ class MountedSystem:
         Mount deflections [m] per unit q, rates [m/s] per unit q̇, rows
         (mount, axis) in scene order.
     Fq, Fv : (3 n_mounts, n) arrays
-        Mount forces along their axes [N] per unit q and q̇.
+        Mount forces along their axes [N] per unit q and q̇. D, Dv, Fq and
+        Fv may be given as None with ``mount_rows`` (the large systems'
+        path): then made dense from those on first use and kept
+        (:class:`_MountMatrix`; the modes need none of them dense, 4 × 14 MB
+        at 128 pieces of equipment).
     k_tangent, c_tangent : (3 n_mounts,) arrays
         ∂f/∂Δx [N/m] and ∂f/∂Δẋ [N s/m] of each mount axis at rest.
     Bq, Bv : (3, n) arrays
@@ -104,10 +132,10 @@ class MountedSystem:
     K: np.ndarray
     C: np.ndarray
     K_elastic: np.ndarray
-    D: np.ndarray
-    Dv: np.ndarray
-    Fq: np.ndarray
-    Fv: np.ndarray
+    D: np.ndarray = _MountMatrix(0)
+    Dv: np.ndarray = _MountMatrix(1)
+    Fq: np.ndarray = _MountMatrix(2)
+    Fv: np.ndarray = _MountMatrix(3)
     k_tangent: np.ndarray
     c_tangent: np.ndarray
     Bq: np.ndarray
@@ -247,7 +275,7 @@ def _sparse_parts(system: System, coords: Coordinates, exact: bool = False):
     to_base = sp.kron(sp.csr_matrix(sign[None, :]), sp.identity(3), format="csr")   # (3, 3M)
     rows = tuple(sp.csr_matrix(m) for m in (lin.outputs_q["w_dx"], lin.outputs_v["w_dxd"],
                                             lin.outputs_q["w_f"], lin.outputs_v["w_f"]))
-    return (Ms.toarray(), Ks.toarray(), Cs.toarray(), *(r.toarray() for r in rows),
+    return (Ms.toarray(), Ks.toarray(), Cs.toarray(), None, None, None, None,
             (to_base @ lin.outputs_q["w_F"]).toarray(), (to_base @ lin.outputs_v["w_F"]).toarray(),
             (Ms, Ks, Cs), rows)
 
