@@ -17,8 +17,7 @@ import scipy.sparse as sp
 
 from .mounted import DENSE_LIMIT, MountedSystem
 
-__all__ = ["sparse_of", "times", "bilinear", "kinetic", "strain", "shares",
-           "energy_shares", "strain_shares"]
+__all__ = ["sparse_of", "times", "bilinear", "kinetic", "strain", "shares"]
 
 #: modes per block of a large system's strain table (its temporaries stay small)
 _BLOCK = 128
@@ -90,17 +89,3 @@ def shares(energy: np.ndarray, mounts: np.ndarray, elastic: np.ndarray):
     mounts /= total[:, None]
     energy /= energy.sum(axis=1, keepdims=True)
     return energy, mounts.reshape(mounts.shape[0], -1, 3), elastic / total
-
-
-def energy_shares(ms: MountedSystem, phi: np.ndarray) -> np.ndarray:
-    """Kinetic energy share of each coordinate (m, n) for shapes φ (m, n)."""
-    e = kinetic(ms, phi)
-    return e / e.sum(axis=1, keepdims=True)
-
-
-def strain_shares(ms: MountedSystem, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Strain energy shares (m, M, 3) of the mount axes and (m,) of the
-    flexible bodies' deformation for shapes φ (m, n)."""
-    mounts, elastic = strain(ms, phi)
-    _, m, el = shares(np.ones((phi.shape[0], 1)), mounts, elastic)
-    return m, el
