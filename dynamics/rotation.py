@@ -102,11 +102,25 @@ def rotvec_to_p(theta: np.ndarray) -> np.ndarray:
 
 
 def p_from_angles(roll: float, pitch: float, yaw: float) -> np.ndarray:
-    """Euler parameters of ``A = Rx(roll) Ry(pitch) Rz(yaw)`` (radians) -> (4,)."""
-    qx = np.array([np.cos(roll / 2), np.sin(roll / 2), 0.0, 0.0])
-    qy = np.array([np.cos(pitch / 2), 0.0, np.sin(pitch / 2), 0.0])
-    qz = np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
-    return normalised(quat_mul(quat_mul(qx, qy), qz))
+    """Euler parameters of ``A = Rx(roll) Ry(pitch) Rz(yaw)`` (radians) -> (4,)
+    (a new array; remembered by the angles' bits: a scene's mounts repeat a
+    few orientations, and a study's variants all of them)."""
+    key = np.array([roll, pitch, yaw], dtype=float).tobytes()
+    got = _ANGLES.get(key)
+    if got is None:
+        qx = np.array([np.cos(roll / 2), np.sin(roll / 2), 0.0, 0.0])
+        qy = np.array([np.cos(pitch / 2), 0.0, np.sin(pitch / 2), 0.0])
+        qz = np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
+        got = normalised(quat_mul(quat_mul(qx, qy), qz))
+        if len(_ANGLES) >= _ANGLES_KEPT:
+            _ANGLES.clear()
+        _ANGLES[key] = got
+    return got.copy()
+
+
+#: :func:`p_from_angles`'s results by the bits of (roll, pitch, yaw)
+_ANGLES: dict = {}
+_ANGLES_KEPT = 1024
 
 
 def angles_from_A(a: np.ndarray) -> np.ndarray:
