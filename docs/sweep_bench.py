@@ -101,15 +101,33 @@ def parts_table(parts: dict) -> list:
               f"**{parts['run_point'] / solve:.2f}×** |",
               f"| the solve alone (`simulate_system`, the same points) | {1e3 * solve:.1f} ms | "
               f"1.00× |"]
+    if "plan" in parts:                  # the client's work per point, before the run
+        plan = parts["plan"]
+        whole = parts["run_point"] + plan
+        lines += [f"| planning, on the client before the run (each point's scene built and "
+                  f"checked, `make_plan`) | {1e3 * plan:.1f} ms | {plan / solve:.2f}× |",
+                  f"| `run_point` and its planning | {1e3 * whole:.1f} ms | "
+                  f"**{whole / solve:.2f}×** |"]
     return lines
+
+
+def planned(study):
+    """(plan, CPU seconds of :func:`make_plan` per point): every point's scene
+    built and checked on the client, before anything runs (timed the second
+    time: the first also pays the process's one-time imports and caches)."""
+    from flexbed.study.plan import make_plan
+    make_plan(study)
+    c0 = time.thread_time()
+    plan = make_plan(study)
+    return plan, (time.thread_time() - c0) / len(plan.points)
 
 
 def parts_only(count: int) -> None:
     """``--parts [COUNT]``: :func:`sweep_measure.point_parts` alone, printed
     as a table and as JSON (for side-by-side runs of two versions)."""
-    from flexbed.study.plan import make_plan
     from flexbed.study.spec import read_study
-    parts = point_parts(make_plan(read_study(HERE / "sweep-study.toml")), count)
+    plan, per_point = planned(read_study(HERE / "sweep-study.toml"))
+    parts = dict(point_parts(plan, count), plan=per_point)
     print("\n".join(parts_table(parts)))
     print(json.dumps({k: round(v, 6) for k, v in parts.items()}))
 
@@ -136,7 +154,7 @@ def main() -> None:
     study = read_study(HERE / "sweep-study.toml")
     if n != study.samples:
         study = dataclasses.replace(study, samples=n)
-    plan = make_plan(study)
+    plan, plan_cpu = planned(study)
     workers = 2
     began = time.perf_counter()
     loads = [os.getloadavg()[0]]
@@ -149,7 +167,7 @@ def main() -> None:
         s.append(study_round(plan, workers))
         loads.append(os.getloadavg()[0])
     a.append(in_process(plan))
-    parts = point_parts(plan)
+    parts = dict(point_parts(plan), plan=plan_cpu)
     idle = idle_cost(workers)
     # the serial parts per task, measured with short points (0.01 s of
     # motion each) so that the study is short and the processes' idle
