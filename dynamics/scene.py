@@ -32,9 +32,9 @@ def _vector(where: str, name: str, value, shape) -> np.ndarray:
         raise SceneError(f"{where}: {name} = {value!r} must be numbers of shape {shape}") from None
     if a.shape != shape:
         raise SceneError(f"{where}: {name} has shape {a.shape}, expected {shape}")
-    bad = np.argwhere(~np.isfinite(a))
-    if bad.size:
-        idx = tuple(int(i) for i in bad[0])
+    finite = np.isfinite(a)
+    if not finite.all():
+        idx = tuple(int(i) for i in np.argwhere(~finite)[0])
         sub = "".join(f"[{i}]" for i in idx)
         raise SceneError(f"{where}: {name}{sub} = {float(a[idx])!r} must be finite")
     a.setflags(write=False)
