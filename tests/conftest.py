@@ -63,8 +63,28 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-import pytest
+
+def _one_thread_per_pool() -> None:
+    """Start this process's BLAS and OpenMP pools, and its subprocesses',
+    at one thread each (unless the environment already sizes them), as
+    ``flexbed``'s command line does (:mod:`flexbed.threads`): set before
+    NumPy is imported. Two pytest-xdist workers each with a pool of one
+    thread per core put four threads on two cores; OpenBLAS's waiting
+    threads spin, and the workers' FE solves and the benchmark's report
+    spent their CPU waiting on each other (the quick report: about 78 s of
+    CPU in a suite run, 31 s with one thread). The Python API holds the
+    pools at ``FLEXBED_THREADS`` inside its calls anyway; this covers the
+    library functions the tests call directly. Tests that need pools of
+    another size set them themselves (threadpoolctl)."""
+    for name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+                 "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS"):
+        os.environ.setdefault(name, "1")
+
+
+_one_thread_per_pool()
+
+import numpy as np  # noqa: E402  (after the pools' sizes are set)
+import pytest  # noqa: E402
 
 SCENES = Path(__file__).parent / "scenes"
 
