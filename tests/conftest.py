@@ -257,14 +257,16 @@ def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
     folder, once per pytest run: the first caller runs it, later callers (in
     any worker) read its exit code and output. A caller that comes while
     another worker is running it runs its own rather than leave its worker
-    idle."""
+    idle, but for those of :data:`WAIT_FOR`, which it waits for."""
     folder = _shared_root(tmp_path_factory) / f"shared-{name}"
     record = folder.with_suffix(".json")
     with open(folder.with_suffix(".lock"), "w") as lock:
         try:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)    # released when the file closes
         except BlockingIOError:
-            return _run_in(_with_its_files(tmp_path_factory.mktemp(name), name), cmd)
+            if name not in WAIT_FOR:
+                return _run_in(_with_its_files(tmp_path_factory.mktemp(name), name), cmd)
+            fcntl.flock(lock, fcntl.LOCK_EX)
         if not record.exists():
             shutil.rmtree(folder, ignore_errors=True)     # an attempt that timed out
             folder.mkdir()
@@ -283,6 +285,11 @@ def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
 SHARED_COMMANDS = {"flexbed run": "reference-run",
                    "flexbed compare -o compare-out": "reference-compare",
                    "flexbed sweep stiffness.toml -o stiffness --no-progress": "tour-sweep"}
+#: shared commands that keep both cores busy themselves (a local cluster of
+#: two worker processes): a worker that comes while another runs one waits
+#: for it rather than run a second (in one suite run, the tour's sweep and
+#: tests/test_sweep.py's came together, and each ran it)
+WAIT_FOR = {"tour-sweep"}
 #: the files a shared command reads, as its page shows them (a ```toml block
 #: naming its file): written into its folder before it runs
 SHARED_FILES = {"tour-sweep": ("docs/tour.md", ("stiffness.toml",))}
