@@ -29,11 +29,13 @@ the 20-mode β-damped flexible bed of ``scenes/hard_beta20.toml``. They are
 shared: a test must not change them (their state arrays are read-only;
 copy one to perturb it).
 
-Two commands are shared across the pytest-xdist workers too: ``flexbed run``
+Three commands are shared across the pytest-xdist workers too: ``flexbed run``
 of the built-in scene (about 20 s of CPU), which the tour page's command
-lines and ``tests/test_cli_modes.py`` both check, and the tour's ``flexbed
-compare`` (about 7 s), whose numbers ``tests/test_compare.py`` checks
-(:data:`SHARED_COMMANDS`). The first worker to ask
+lines and ``tests/test_cli_modes.py`` both check, the tour's ``flexbed
+compare`` (about 7 s), whose numbers ``tests/test_compare.py`` checks, and
+the tour's ``flexbed sweep`` on the default local cluster (about 10 s),
+whose table ``tests/test_sweep.py`` checks (:data:`SHARED_COMMANDS`, with
+the files they read from their page, :data:`SHARED_FILES`). The first worker to ask
 runs it, in a subprocess as a reader would, under a lock in the run's
 common temporary folder; later ones read what it left (one that comes while
 it runs runs its own rather than wait).
@@ -63,8 +65,29 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-import pytest
+
+def _one_thread_per_pool() -> None:
+    """Start this process's BLAS and OpenMP pools, and its subprocesses',
+    at one thread each (unless the environment already sizes them), as
+    ``flexbed``'s command line does (:mod:`flexbed.threads`): set before
+    NumPy is imported. Two pytest-xdist workers each with a pool of one
+    thread per core put four threads on two cores; OpenBLAS's waiting
+    threads spin, and the workers' FE solves and the benchmark's report
+    spent their CPU waiting on each other (the bench's quick report in its
+    test profile: 64 s of CPU with the default pools, 31 s with one thread,
+    on the same loaded machine). The Python API holds the
+    pools at ``FLEXBED_THREADS`` inside its calls anyway; this covers the
+    library functions the tests call directly. Tests that need pools of
+    another size set them themselves (threadpoolctl)."""
+    for name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+                 "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS"):
+        os.environ.setdefault(name, "1")
+
+
+_one_thread_per_pool()
+
+import numpy as np  # noqa: E402  (after the pools' sizes are set)
+import pytest  # noqa: E402
 
 SCENES = Path(__file__).parent / "scenes"
 
@@ -234,18 +257,20 @@ def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
     folder, once per pytest run: the first caller runs it, later callers (in
     any worker) read its exit code and output. A caller that comes while
     another worker is running it runs its own rather than leave its worker
-    idle."""
+    idle, but for those of :data:`WAIT_FOR`, which it waits for."""
     folder = _shared_root(tmp_path_factory) / f"shared-{name}"
     record = folder.with_suffix(".json")
     with open(folder.with_suffix(".lock"), "w") as lock:
         try:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)    # released when the file closes
         except BlockingIOError:
-            return _run_in(tmp_path_factory.mktemp(name), cmd)
+            if name not in WAIT_FOR:
+                return _run_in(_with_its_files(tmp_path_factory.mktemp(name), name), cmd)
+            fcntl.flock(lock, fcntl.LOCK_EX)
         if not record.exists():
             shutil.rmtree(folder, ignore_errors=True)     # an attempt that timed out
             folder.mkdir()
-            run = _run_in(folder, cmd)
+            run = _run_in(_with_its_files(folder, name), cmd)
             record.write_text(json.dumps([run.returncode, run.stdout, run.stderr]))
     code, out, err = json.loads(record.read_text())
     return CommandRun(folder, code, out, err)
@@ -253,10 +278,34 @@ def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
 
 #: command lines that several tests check, run once per pytest run
 #: (:func:`shared_command`): the tour's ``flexbed run``, also checked by
-#: tests/test_cli_modes.py, and its ``flexbed compare``, whose results
-#: tests/test_compare.py checks against the paper
+#: tests/test_cli_modes.py, its ``flexbed compare``, whose results
+#: tests/test_compare.py checks against the paper, and its ``flexbed sweep``
+#: on the default local cluster, whose table tests/test_sweep.py checks
+#: against single runs
 SHARED_COMMANDS = {"flexbed run": "reference-run",
-                   "flexbed compare -o compare-out": "reference-compare"}
+                   "flexbed compare -o compare-out": "reference-compare",
+                   "flexbed sweep stiffness.toml -o stiffness --no-progress": "tour-sweep"}
+#: shared commands that keep both cores busy themselves (a local cluster of
+#: two worker processes): a worker that comes while another runs one waits
+#: for it rather than run a second (in one suite run, the tour's sweep and
+#: tests/test_sweep.py's came together, and each ran it)
+WAIT_FOR = {"tour-sweep"}
+#: the files a shared command reads, as its page shows them (a ```toml block
+#: naming its file): written into its folder before it runs
+SHARED_FILES = {"tour-sweep": ("docs/tour.md", ("stiffness.toml",))}
+
+
+def _with_its_files(folder: Path, name: str) -> Path:
+    """``folder`` with the files of :data:`SHARED_FILES` that the shared
+    command ``name`` reads written into it, from its page."""
+    from doc_pages import named_files
+
+    page, names = SHARED_FILES.get(name, ("", ()))
+    if names:
+        files = named_files((Path(__file__).parents[1] / page).read_text())
+        for file in names:
+            (folder / file).write_text(files[file])
+    return folder
 
 
 @pytest.fixture(scope="session")

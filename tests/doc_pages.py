@@ -1,7 +1,8 @@
 """The parts of a documentation page that the tests run: its fenced
 blocks of one language and its ``$ `` command lines with their expected
 exit codes (see ``test_docs``); ``test_machinery_example`` runs a page's
-command lines too.
+command lines too; the files a page names (conftest's shared commands
+write them too).
 
 A plain module, not fixtures. It imports by its plain name because pytest
 puts this folder on ``sys.path`` (see ``conftest.py``)."""
@@ -34,3 +35,13 @@ def commands(text: str) -> list[tuple[str, int]]:
                 cmds.append((cmd, int(m.group(1)) if m else 0))
             i += 1
     return cmds
+
+
+def named_files(text: str) -> dict[str, str]:
+    """The ```toml blocks that name their file on their first line."""
+    files = {}
+    for block in blocks(text, "toml"):
+        m = re.match(r"# ([\w.-]+\.toml)\n", block)
+        if m:
+            files[m.group(1)] = block
+    return files

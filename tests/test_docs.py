@@ -17,8 +17,9 @@ Each ``flexbed`` of those lines runs whole, in a process of its own, but
 forked from a server that has imported flexbed once (``command_server``,
 conftest's ``forked_flexbed``): its arguments, folder, environment, streams
 and exit status are its own; the second of imports is not paid again. The
-tour's ``flexbed run``, which tests/test_cli_modes.py checks too, runs once
-per pytest run (conftest's ``shared_command``), by the installed script.
+tour's ``flexbed run``, ``compare`` and ``sweep``, which other tests check
+too, run once per pytest run (conftest's ``shared_command``), by the
+installed script.
 Every ```python block runs, in a folder holding the page's named files too,
 as ``python -c BLOCK`` forked from that server too (``forked_python``).
 The quick start
@@ -36,23 +37,13 @@ from pathlib import Path
 
 import pytest
 
-from doc_pages import blocks, commands
+from doc_pages import blocks, commands, named_files
 
 pytestmark = pytest.mark.readme
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
 PAGES = [ROOT / "README.md"] + sorted((ROOT / "docs").rglob("*.md"))
-
-
-def named_files(text: str) -> dict[str, str]:
-    """The ```toml blocks that name their file on their first line."""
-    files = {}
-    for block in blocks(text, "toml"):
-        m = re.match(r"# ([\w.-]+\.toml)\n", block)
-        if m:
-            files[m.group(1)] = block
-    return files
 
 
 def _id(page: Path) -> str:
@@ -102,8 +93,9 @@ def _env() -> dict:
 @pytest.mark.parametrize("page", RUNNABLE, ids=_id)
 def test_every_command_line_runs(page, tmp_path, shared_command, forked_flexbed):
     """A line that other tests check too (conftest's ``SHARED_COMMANDS``:
-    the tour's ``flexbed run``) is run once per pytest run, the same way, in
-    a folder of its own; its outputs are copied here for the lines after."""
+    the tour's ``flexbed run``, ``compare`` and ``sweep``) is run once per
+    pytest run, the same way, in a folder of its own; its outputs are copied
+    here for the lines after."""
     text = page.read_text()
     for name, body in named_files(text).items():
         (tmp_path / name).write_text(body)

@@ -325,24 +325,27 @@ values = [[1.0e5, 1.0e5, 1.0e5], [2.0e5, 2.0e5, 2.0e5]]
 
 
 @pytest.mark.slow
-def test_the_local_cluster_is_the_default(tmp_path, capsys):
+def test_the_local_cluster_is_the_default(shared_command):
     """No --scheduler: a local cluster of processes, one per core, started
-    and stopped by the command; plots of each metric against the varied
-    parameter."""
-    body = """sampling = "grid"
-
-[[parameter]]
-path = "bed.thickness"
-values = [0.1, 0.12]
-"""
-    study = study_file(tmp_path, body, metrics='[[metric]]\nkind = "max_static_deflection"\n')
-    out = tmp_path / "out"
-    assert main(["sweep", str(study), "-o", str(out), "--no-progress"]) == 0
+    and stopped by the command; every metric equals the single in-process
+    run's, bit for bit; plots of each metric against the varied parameter.
+    Checked on the tour page's study (docs/tour.md's ``stiffness.toml``:
+    M5's stiffness at 4 points over 0.5 s), whose ``flexbed sweep`` line
+    runs once per pytest run for both (conftest's ``shared_command``)."""
+    cp = shared_command("flexbed sweep stiffness.toml -o stiffness --no-progress")
+    assert cp.returncode == 0, cp.stderr
+    assert "--scheduler" not in cp.stdout and "4 points" in cp.stdout
+    out = cp.cwd / "stiffness"
     cols, attrs = table_columns(out)
-    assert attrs["complete"] and list(cols["status"]) == ["ok", "ok"]
-    assert cols["max_static_deflection"][1] == expected(
-        {"bed.thickness": 0.12})["max_static_deflection"]
-    assert (out / "plots" / "max_static_deflection--bed.thickness.png").stat().st_size > 0
+    assert attrs["complete"] and list(cols["status"]) == ["ok"] * 4
+    assert [cols["mount.M5.k[0]"][i] for i in (0, 3)] == [5e4, 2e5]
+    for i in (0, 3):
+        k = [cols[f"mount.M5.k[{j}]"][i] for j in range(3)]
+        single = expected({"solver.t_end": 0.5, "mount.M5.k": k})
+        for name in ("peak_mount_force.M5", "peak_displacement.A top@bed"):
+            assert cols[name][i] == single[name], (i, name)          # exactly
+    for name in ("peak_mount_force.M5", "peak_displacement.A_top@bed"):
+        assert (out / "plots" / f"{name}--mount.M5.k_0.png").stat().st_size > 0
 
 
 # --------------------------------------------------- refused before anything runs
