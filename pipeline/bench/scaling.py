@@ -27,8 +27,8 @@ Stages, CPU seconds (``time.process_time``, every thread of the process):
 Each stage is timed ``repeats`` times after one untimed call (statics,
 modal, frf) or compiling (simulate), and the median kept: a process's
 first call of a large system's modal solution also pays the operating
-system's page faults on the memory it is the first to use (about 30 % more
-at N = 128).
+system's page faults on the memory it is the first to use (at N = 128 a
+quarter to a half more than the third call).
 
 Growth exponents: log(t_b / t_a) / log(N_b / N_a) between the last two sizes.
 """
