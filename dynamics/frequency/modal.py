@@ -270,7 +270,8 @@ def solve_modes(ms: MountedSystem, count: int | None = None) -> Modes:
         equipment on one bed), by the structured eigen-solution of
         :mod:`~flexbed.dynamics.frequency.star` (identical pieces of
         equipment's modes with the bed at rest found exactly, a dense solve
-        of the rest: 774 coordinates in ~0.3 s), else by dense
+        of the rest, the energy tables of the modes with the bed at rest from
+        their structure: 774 coordinates in ~0.2 s), else by dense
         eigen-solutions (O(n³), seconds at that size). With ``count`` and
         such a structure, that solution cut to ``count`` (exact where
         identical pieces repeat a frequency exactly). Arnoldi converges
