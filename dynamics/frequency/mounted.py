@@ -312,8 +312,8 @@ def mounted_system(system: System, y_eq: np.ndarray, sparse: bool | None = None,
     else:
         parts = _sparse_parts(system, coords, exact) if sparse else _dense_parts(system, coords)
     M, K, C, D, Dv, Fq, Fv, Bq, Bv, mats, rows = parts
-    k_t = _tangent(Fq, D) if rows is None else _tangent_sparse(rows[2], rows[0])
-    c_t = _tangent(Fv, Dv) if rows is None else _tangent_sparse(rows[3], rows[1])
+    k_t = _tangent(Fq, D) if rows is None else _tangent(rows[2], rows[0])
+    c_t = _tangent(Fv, Dv) if rows is None else _tangent(rows[3], rows[1])
     K_el = np.zeros((n, n))
     for fc in system.flex_compiled:
         ia = coords.a_index[fc.qa.start - coords.y_a[0]:fc.qa.stop - coords.y_a[0]] - nb3
@@ -330,24 +330,22 @@ def mounted_system(system: System, y_eq: np.ndarray, sparse: bool | None = None,
                          sparse=mats, mount_rows=rows)
 
 
-def _tangent(F: np.ndarray, D: np.ndarray) -> np.ndarray:
+def _tangent(F, D) -> np.ndarray:
     """Per row, the factor k with F_row = k D_row (a mount axis's force
-    depends on that axis's deflection alone): least squares over the row."""
-    dd = np.einsum("rc,rc->r", D, D)
+    depends on that axis's deflection alone): least squares over the row.
+    F, D (rows, n) dense, or sparse (the sums over their nonzeros)."""
+    if sp.issparse(D):
+        dd = np.asarray(D.multiply(D).sum(axis=1)).ravel()
+        fd = np.asarray(F.multiply(D).sum(axis=1)).ravel()
+    else:
+        dd = np.einsum("rc,rc->r", D, D)
+        fd = None
     out = np.zeros(D.shape[0])
     ok = dd > 0.0
-    if D.shape[1] > DENSE_LIMIT:             # every row, no copies of the selected ones
+    if fd is not None:
+        out[ok] = fd[ok] / dd[ok]
+    elif D.shape[1] > DENSE_LIMIT:           # every row, no copies of the selected ones
         out[ok] = np.einsum("rc,rc->r", F, D)[ok] / dd[ok]
     else:
         out[ok] = np.einsum("rc,rc->r", F[ok], D[ok]) / dd[ok]
-    return out
-
-
-def _tangent_sparse(F: sp.csr_matrix, D: sp.csr_matrix) -> np.ndarray:
-    """:func:`_tangent` of sparse rows (the same sums over their nonzeros)."""
-    dd = np.asarray(D.multiply(D).sum(axis=1)).ravel()
-    fd = np.asarray(F.multiply(D).sum(axis=1)).ravel()
-    out = np.zeros(D.shape[0])
-    ok = dd > 0.0
-    out[ok] = fd[ok] / dd[ok]
     return out

@@ -61,7 +61,8 @@ class Structured:
         if got.groups is None:
             return None
         nL, w = plan.leaf_index.shape
-        D = shares.sparse_of(ms, "D").tocoo()
+        Dc = shares.sparse_of(ms, "D")                    # CSR
+        D = Dc.tocoo()
         leaf_of = np.full(ms.n, nL)                       # coordinate → leaf (nL: none)
         leaf_of[plan.leaf_index] = np.arange(nL)[:, None]
         low = np.full(D.shape[0], nL)
@@ -83,7 +84,6 @@ class Structured:
             phi = self.rows[general]
             energy[dest[general]] = shares.kinetic(ms, phi)
             mounts[dest[general]], elastic[dest[general]] = shares.strain(ms, phi)
-        Dc = D.tocsr()
         half_k = 0.5 * ms.k_tangent
         M_leaf = plan.LL[1]
         K_el = ms.K_elastic[plan.leaf_index[:, :, None], plan.leaf_index[:, None, :]]
