@@ -11,6 +11,7 @@ import types
 import pytest
 
 from flexbed import threads
+from flexbed.errors import InputError
 from flexbed.files.scene import load_scene, parse_scene, scene_data
 from flexbed.files.variants import vary
 
@@ -27,6 +28,43 @@ def test_a_variant_is_the_scene_its_text_makes(changes):
     again = parse_scene(v.text, v.source)
     assert pickle.dumps(v) == pickle.dumps(again)             # every field, arrays too
     assert v.digest == again.digest and v.statics_digest == again.statics_digest
+
+
+@pytest.mark.parametrize("changes", [
+    {"mount.M5.k": [6.1e4, 7.3e4, 1.9e5], "bed.thickness": 0.0913},
+    {"body.equipment A.mass": 612.5, "base.force[0].amplitude": 2.5e4},
+    {"mount.M9.axes_deg": [0.0, 10.0, 0.0], "solver.t_end": 0.5},
+])
+def test_a_variant_from_kept_entries_is_the_one_read_afresh(changes, monkeypatch):
+    """The entries a variant leaves unchanged come from the scene read before
+    (the reader's and the TOML writer's kept results): the variant must be
+    the one read with nothing kept, field by field and byte by byte, and
+    share exactly the unchanged entries with the base."""
+    from flexbed.dynamics.bounded_cache import BoundedCache
+    from flexbed.files import scene as scene_module
+    from flexbed.files import toml_text
+    base = load_scene()
+    kept = vary(base, changes)
+    for module, name in ((scene_module, "_CHECKED"), (toml_text, "_WRITTEN")):
+        monkeypatch.setattr(module, name, BoundedCache(4096))
+    afresh = vary(load_scene(), changes)
+    assert kept.text == afresh.text
+    assert pickle.dumps(kept) == pickle.dumps(afresh)
+    assert (kept.digest, kept.statics_digest) == (afresh.digest, afresh.statics_digest)
+    changed = {p.split(".")[1] for p in changes if p.startswith("mount.")}
+    for m, b in zip(kept.scene.mounts, base.scene.mounts):
+        assert (m is b) == (m.name not in changed), m.name
+    assert (kept.scene.base is base.scene.base) == (not any(p.startswith("base.")
+                                                            for p in changes))
+
+
+def test_a_refused_entry_is_refused_again_after_a_good_one():
+    base = load_scene()
+    vary(base, {"mount.M5.k": [6.1e4, 7.3e4, 1.9e5]})
+    for _ in range(2):
+        with pytest.raises(InputError, match=r"lee1999\.toml: mount 'M5': k\[0\] = -1\.0 must "
+                                             r"be > 0"):
+            vary(base, {"mount.M5.k": [-1.0, 7.3e4, 1.9e5]})
 
 
 def test_scene_data_is_the_parse_and_a_fresh_copy():

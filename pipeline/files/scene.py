@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from flexbed.dynamics.bounded_cache import BoundedCache
 from flexbed.dynamics.errors import SceneError
 from flexbed.dynamics.integrate import MAX_OUTPUT_SAMPLES, METHODS, Settings, output_samples
 from flexbed.dynamics.laws import CurveLaw, LinearLaw, PolynomialLaw
@@ -66,6 +67,12 @@ _SOLVER_KEYS = ("t_end", "integrator", "dt", "rtol", "atol", "output_dt", "start
                 "allow_unstable")
 MODELS = ("nonlinear", "linear", "auto")
 _POINT_KEYS = ("name", "body", "position", "relative_to")
+
+#: entries of recently read scene files, checked, by their raw tables: a
+#: study's variants share all but the entries they change, and those alone
+#: are checked again (a body not the bed's, a mount without an elastomer,
+#: a base without data files: what their tables alone decide)
+_CHECKED = BoundedCache(4096)
 
 
 @dataclass(frozen=True, slots=True)
@@ -197,11 +204,16 @@ class _Reader(ShapeReader):
             self.fail("", "no [[body]] tables: body 1, the base, is required")
         bed = read_bed(data.get("bed", {}), f"{self.label}: bed", self.folder)
         at = _bed_index(bodies_raw, bed) if "bed" in data else None
-        bodies = [self.body(i, b, bed if i == at else None) for i, b in enumerate(bodies_raw)]
+        bodies = [self.body(i, b, bed) if i == at else self.checked("body", self.body, i, b)
+                  for i, b in enumerate(bodies_raw)]
         names = [b.name for b in bodies]
-        base = self.base(data.get("base", {}))
+        base_raw = data.get("base", {})
+        base = (self.base(base_raw) if _reads_files(base_raw)
+                else self.checked("base", self.base, base_raw))
         self.elastomers = []
-        mounts = [self.mount(i, m, names)
+        mounts = [self.mount(i, m, names) if isinstance(m, dict) and any(
+                      k in m for k in ELASTOMER_KEYS)
+                  else self.checked("mount", self.mount, i, m, names)
                   for i, m in enumerate(self.tables("mount", data.get("mount", [])))]
         report_fits(self.label, [(mounts[i].name, e) for i, e in self.elastomers])
         if bed.body is not None and bed.body not in names:
@@ -210,7 +222,8 @@ class _Reader(ShapeReader):
         points = self.points(data.get("point", []), names)
         limits = read_limits(self, data, names, names[at] if at is not None else None,
                              _off_bed(bed))
-        mounts = [replace(m, stops=limits.mount(m.name).stops) for m in mounts]
+        mounts = [m if m.stops == limits.mount(m.name).stops
+                  else replace(m, stops=limits.mount(m.name).stops) for m in mounts]
         if at is not None:
             ends = [getattr(m, f"point_{k}") for m in mounts for k in "ij"
                     if getattr(m, f"body_{k}") == names[at]]
@@ -241,6 +254,15 @@ class _Reader(ShapeReader):
                          source=path, text=text, digest=digest,
                          statics_digest=_digest(statics, {}), limits=limits,
                          elastomers=tuple(self.elastomers), has_bed="bed" in data)
+
+    def checked(self, kind: str, read, *args):
+        """``read(*args)``, or its result for the same arguments kept from a
+        scene read before (:data:`_CHECKED`; a table by its ``repr``, so
+        ``1`` and ``1.0`` stay apart as the checks keep them). Only for
+        readers whose result their arguments alone decide; a refusal is
+        never kept, so it is raised again, naming this file."""
+        key = (kind,) + tuple(repr(a) if isinstance(a, (dict, list)) else a for a in args)
+        return _CHECKED.get(key, lambda: read(*args))
 
     def resolve_auto_modes(self, scene: Scene, bed: BedSection, solver) -> BedSection:
         """``[bed] modes = "auto"`` → fmax = f_cut (see :mod:`flexbed.stages.modes_auto`)."""
@@ -458,6 +480,20 @@ def _bed_index(bodies: list, bed: BedSection) -> int | None:
         if isinstance(t, dict) and t.get("name") == bed.body:
             return i if i > 0 else None
     return None
+
+
+def _reads_files(base: Any) -> bool:
+    """Whether a ``[base]`` table names a data file (a drive or force from
+    a CSV file, whose text the scene's digest holds), or is not as the
+    checks expect (then read, and refused, every time)."""
+    if not isinstance(base, dict):
+        return True
+    for kind in ("drive", "force"):
+        tables = base.get(kind, [])
+        if not isinstance(tables, list) or any(not isinstance(t, dict) or "file" in t
+                                               for t in tables):
+            return True
+    return False
 
 
 def _off_bed(bed: BedSection):

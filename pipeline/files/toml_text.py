@@ -9,9 +9,16 @@ import math
 import re
 from typing import Any
 
+from flexbed.dynamics.bounded_cache import BoundedCache
+
 __all__ = ["dumps"]
 
 _BARE = re.compile(r"^[A-Za-z0-9_-]+$")
+
+#: the text of recently written top-level tables (a ``[bed]``, one
+#: ``[[mount]]``) by their name and ``repr``: a study's variants share all
+#: but the tables they change, and those alone are written again
+_WRITTEN = BoundedCache(4096)
 
 
 def _key(k: str) -> str:
@@ -62,6 +69,14 @@ def _table(lines: list[str], prefix: str, table: dict) -> None:
                 _table(lines, name, item)
 
 
+def _top(name: str, table: dict, array: bool) -> str:
+    """The lines of one top-level table (``[name]``, or one ``[[name]]``),
+    with the blank line before it."""
+    lines = ["", f"[[{name}]]" if array else f"[{name}]"]
+    _table(lines, name, table)
+    return "\n".join(lines)
+
+
 def dumps(data: dict) -> str:
     """TOML text whose :func:`tomllib.loads` equals ``data``.
 
@@ -70,6 +85,12 @@ def dumps(data: dict) -> str:
     >>> tomllib.loads(dumps(d)) == d
     True
     """
-    lines: list[str] = []
-    _table(lines, "", data)
+    lines = [f"{_key(k)} = {_value(v)}" for k, v in data.items()
+             if not (isinstance(v, dict) or _is_table_array(v))]
+    for k, v in data.items():
+        if isinstance(v, dict) or _is_table_array(v):
+            name, array = _key(k), not isinstance(v, dict)
+            for item in (v if array else [v]):
+                lines.append(_WRITTEN.get((name, array, repr(item)),
+                                          lambda: _top(name, item, array)))
     return "\n".join(lines).lstrip("\n") + "\n"
