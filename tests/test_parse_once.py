@@ -58,6 +58,17 @@ def test_a_variant_from_kept_entries_is_the_one_read_afresh(changes, monkeypatch
                                                             for p in changes))
 
 
+def test_table_keys_part_what_the_checks_part():
+    import datetime
+    from flexbed.files.scene_text import table_key
+    values = [1, 1.0, True, -0.0, 0.0, "1", [1.0], {"k": 1.0}, {"k": 1},
+              {"t": datetime.date(2026, 11, 27)}]
+    keys = [table_key(v) for v in values]
+    assert len(set(keys)) == len(values)
+    assert table_key({"k": [1.0, 2.0], "n": "M5"}) == table_key(tomllib.loads(
+        'k = [1.0, 2.0]\nn = "M5"\n'))
+
+
 def test_a_refused_entry_is_refused_again_after_a_good_one():
     base = load_scene()
     vary(base, {"mount.M5.k": [6.1e4, 7.3e4, 1.9e5]})

@@ -48,7 +48,7 @@ def warn_far_points(label: str, scene: Scene, bed_body: str | None, bed: BedSect
                                  ("point_j", m.body_j, m.point_j)):
             if body not in sizes:
                 continue
-            d = float(np.linalg.norm(point))
+            d = math.hypot(*point.tolist())
             if d > FAR_POINT * sizes[body]:
                 warnings.warn(FlexbedWarning(
                     f"{label}: mount {m.name!r}: {key} = {np.asarray(point).tolist()} is "

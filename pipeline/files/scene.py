@@ -38,7 +38,7 @@ from flexbed.errors import InputError
 from flexbed.files.destination import check_source
 from flexbed.files.loads import read_loads
 from flexbed.files.scene_text import keep as _keep
-from flexbed.files.scene_text import scene_data
+from flexbed.files.scene_text import scene_data, table_key
 from flexbed.files.elastomer import ELASTOMER_KEYS, read_elastomer, report_fits
 from flexbed.files.limits import (BODY_LIMIT_KEYS, JUDGED_ONLY_KEYS, MOUNT_LIMIT_KEYS, Limits,
                                   read_limits)
@@ -257,11 +257,12 @@ class _Reader(ShapeReader):
 
     def checked(self, kind: str, read, *args):
         """``read(*args)``, or its result for the same arguments kept from a
-        scene read before (:data:`_CHECKED`; a table by its ``repr``, so
-        ``1`` and ``1.0`` stay apart as the checks keep them). Only for
-        readers whose result their arguments alone decide; a refusal is
-        never kept, so it is raised again, naming this file."""
-        key = (kind,) + tuple(repr(a) if isinstance(a, (dict, list)) else a for a in args)
+        scene read before (:data:`_CHECKED`; a table by its
+        :func:`~flexbed.files.scene_text.table_key`, so ``1`` and ``1.0``
+        stay apart as the checks keep them). Only for readers whose result
+        their arguments alone decide; a refusal is never kept, so it is
+        raised again, naming this file."""
+        key = (kind,) + tuple(table_key(a) if isinstance(a, (dict, list)) else a for a in args)
         return _CHECKED.get(key, lambda: read(*args))
 
     def resolve_auto_modes(self, scene: Scene, bed: BedSection, solver) -> BedSection:

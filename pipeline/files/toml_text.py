@@ -4,20 +4,22 @@ arrays, strings, booleans, integers, floats and arrays)."""
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import re
 from typing import Any
 
 from flexbed.dynamics.bounded_cache import BoundedCache
+from flexbed.files.scene_text import table_key
 
 __all__ = ["dumps"]
 
 _BARE = re.compile(r"^[A-Za-z0-9_-]+$")
 
 #: the text of recently written top-level tables (a ``[bed]``, one
-#: ``[[mount]]``) by their name and ``repr``: a study's variants share all
-#: but the tables they change, and those alone are written again
+#: ``[[mount]]``) by their name and :func:`table_key`: a study's variants
+#: share all but the tables they change, and those alone are written again
 _WRITTEN = BoundedCache(4096)
 
 
@@ -91,6 +93,6 @@ def dumps(data: dict) -> str:
         if isinstance(v, dict) or _is_table_array(v):
             name, array = _key(k), not isinstance(v, dict)
             for item in (v if array else [v]):
-                lines.append(_WRITTEN.get((name, array, repr(item)),
-                                          lambda: _top(name, item, array)))
+                lines.append(_WRITTEN.get((name, array, table_key(item)),
+                                          functools.partial(_top, name, item, array)))
     return "\n".join(lines).lstrip("\n") + "\n"
