@@ -10,7 +10,9 @@ __all__ = ["BoundedCache"]
 
 
 class BoundedCache:
-    """Values by key, at most ``keep`` of them (the oldest dropped first).
+    """Values by key, at most ``keep`` of them (the least recently used
+    dropped first: a value every call asks for stays while others come and
+    go, as a study's base entries stay while each point's own pass).
 
     Safe where threads race: two may make the same value once each, and
     whichever is stored last is kept; nothing raises.
@@ -23,7 +25,10 @@ class BoundedCache:
     def get(self, key: Hashable, make: Callable[[], object]):
         """The value stored for ``key``, made by ``make()`` and stored if absent."""
         found = self._values.get(key)
-        if found is None:
+        if found is not None:                       # used: now the most recent
+            self._values.pop(key, None)
+            self._values[key] = found
+        else:
             found = make()
             while len(self._values) >= self.keep:
                 try:

@@ -100,3 +100,19 @@ def test_a_changed_topology_shares_nothing_it_should_not(base, monkeypatch):
     assert shared.data.poly_k[:, 3].tolist() == [3.0e9] * 3      # a cubic hardening
     assert not shared.laws.all_linear and template.laws.all_linear
     same(template, fresh(base.scene, monkeypatch))
+
+
+def test_the_cache_drops_the_least_recently_used():
+    cache, made = BoundedCache(3), []
+
+    def get(key):
+        return cache.get(key, lambda: made.append(key) or key.upper())
+    for key in ("a", "b", "c"):
+        get(key)
+    assert get("a") == "A"                  # used: "b" is now the oldest
+    get("d")
+    assert len(cache) == 3 and made == ["a", "b", "c", "d"]
+    get("a"), get("c")
+    assert made == ["a", "b", "c", "d"]     # kept
+    get("b")
+    assert made[-1] == "b" and len(cache) == 3

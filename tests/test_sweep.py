@@ -620,3 +620,60 @@ def test_kept_results_are_the_commands_files_of_each_point(tmp_path, client, cap
             if s.endswith(".xdmf"):                         # it names itself and its .h5
                 text = text.replace("modal-shapes", "point-0000-modal-shapes")
             assert mine.read_text(encoding="utf-8") == text, s
+
+
+def equal(a, b, where="scene") -> None:
+    """a and b equal in every field, arrays bit for bit (their pickles may
+    differ where one holds the same object twice and the other two copies)."""
+    import dataclasses
+    assert type(a) is type(b), where
+    if dataclasses.is_dataclass(a):
+        for f in dataclasses.fields(a):
+            equal(getattr(a, f.name), getattr(b, f.name), f"{where}.{f.name}")
+    elif isinstance(a, (tuple, list)):
+        assert len(a) == len(b), where
+        for i, (x, y) in enumerate(zip(a, b)):
+            equal(x, y, f"{where}[{i}]")
+    elif isinstance(a, dict):
+        assert list(a) == list(b), where
+        for k in a:
+            equal(a[k], b[k], f"{where}[{k!r}]")
+    elif isinstance(a, np.ndarray):
+        assert (a.dtype, a.shape, a.tobytes()) == (b.dtype, b.shape, b.tobytes()), where
+    elif hasattr(a, "__dict__") and not callable(a):
+        equal(vars(a), vars(b), where)
+    else:
+        assert a == b or (a != a and b != b), where
+
+
+def test_a_point_is_sent_without_what_it_shares_with_the_base():
+    """A study's point is pickled against the base scene's shared parts (its
+    bodies, mounts and base, which the variant holds as they are): the
+    unpickled scene equals the point's own, field by field, and its bytes
+    are a fraction of a whole scene's."""
+    import pickle
+
+    from flexbed.files.scene import load_scene
+    from flexbed.files.variants import vary
+    from flexbed.study.point import pack, shared_parts, unpack
+    base = load_scene()
+    point = vary(base, {"mount.M5.k": [6.1e4, 7.3e4, 1.9e5], "bed.thickness": 0.0913})
+    parts = shared_parts(base)
+    blob = pack(point, parts)
+    copies = pickle.loads(pack(parts))                  # as a worker has them
+    again = unpack(blob, copies)
+    equal(again, point)
+    assert len(blob) < 0.4 * len(pack(point))
+    kept = {id(c) for c in copies}
+    assert [m.name for m in again.scene.mounts if id(m) not in kept] == ["M5"]
+    assert again.scene.base is copies[-1]
+    assert unpack(pack(point), ()).digest == point.digest      # nothing shared: whole
+
+
+def test_submissions_keep_each_graph_under_the_limit():
+    from flexbed.study.runner import submissions
+    assert submissions([3, 3, 3, 3, 3], 7) == [[0, 1], [2, 3], [4]]
+    assert submissions([10, 1, 1], 7) == [[0], [1, 2]]              # too large: alone
+    assert submissions([], 7) == []
+    runs = submissions([1] * 50, 7)
+    assert [i for r in runs for i in r] == list(range(50)) and max(map(len, runs)) == 7

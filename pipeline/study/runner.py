@@ -10,6 +10,13 @@ one-line message; a point whose worker died is re-run by the scheduler on
 another worker (Dask's ``allowed-failures``), and if every try is lost its
 row says so.
 
+A point's scene goes to its worker without what it shares with the base
+scene (:func:`flexbed.study.point.shared_parts`: the bodies, mounts and base
+a variant leaves as they are, sent to each worker once): a few kB a point
+instead of ~26 kB for the reference scene, so that a study of thousands of
+points keeps the client's memory and each graph it submits small (several
+submissions of at most :data:`GRAPH_BYTES`).
+
 Several points per task: the scheduler and the client spend ~5 ms of CPU
 on every task (docs/sweep-benchmark.md), so points of 0.1 s on tens of
 workers would wait on them; a task runs a batch of points (the same bed's
@@ -31,7 +38,7 @@ from pathlib import Path
 from flexbed.errors import one_line
 from flexbed.interrupts import Interrupted, held
 from flexbed.study.plan import Plan, modes_scene
-from flexbed.study.point import PointResult, bed_modes, pack, run_batch
+from flexbed.study.point import PointResult, bed_modes, pack, run_batch, shared_parts
 from flexbed.study.table import Row, StudyTable, build_table, folder_lock, read_done, \
     write_table
 
@@ -46,6 +53,11 @@ WRITE_EVERY = 5.0
 #: of the table (rows done since the last write are in memory; Ctrl-C or
 #: an error writes them)
 WRITE_RATIO = 50.0
+
+#: the points' bytes a submission sends at most (the tasks go to the
+#: scheduler in as few submissions as keep each under it: Dask warns of a
+#: graph over 10 MB, ``distributed.admin.large-graph-warning-threshold``)
+GRAPH_BYTES = 4_000_000
 
 #: ``batch = "auto"``: each batch holds the points left divided by this
 #: many per worker ...
@@ -285,18 +297,24 @@ def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint, siz
             if p.modes_key is not None and p.modes_key not in modes:
                 modes[p.modes_key] = client.submit(bed_modes, modes_scene(p.scene),
                                                    key=f"flexbed-modes-{p.modes_key}")
-        # one graph for all the batches (a submission each would cost the
-        # scheduler several times the CPU per task), run in this order
+        # few graphs for all the batches (a submission each would cost the
+        # scheduler several times the CPU per task), run in this order; the
+        # parts the points share with the base sent to each worker once
         setup = pack((plan.analyses, plan.metrics, keep_folder is not None))
+        parts = shared_parts(plan.base)
+        shared = client.scatter(pack(parts), broadcast=True)
         groups = batches(todo, {k: pts[0].modes_key for k, pts in todo.items()}, size,
                          len(client.scheduler_info().get("workers", {})))
         names = [f"flexbed-batch-{hashlib.sha256(''.join(keys).encode()).hexdigest()[:24]}"
                  f"-{plan.signature}" for keys in groups]
-        futures = client.map(run_batch, [[pack(todo[k][0].scene) for k in keys]
-                                         for keys in groups],
-                             [setup] * len(groups), [modes.get(todo[keys[0]][0].modes_key)
-                                                     for keys in groups],
-                             key=names, retries=1)
+        blobs = [[pack(todo[k][0].scene, parts) for k in keys] for keys in groups]
+        futures = []
+        for part in submissions([sum(map(len, b)) for b in blobs], GRAPH_BYTES):
+            futures += client.map(run_batch, [blobs[i] for i in part], [setup] * len(part),
+                                  [modes.get(todo[groups[i][0]][0].modes_key) for i in part],
+                                  [shared] * len(part), key=[names[i] for i in part],
+                                  retries=1)
+        del blobs
         owner = dict(zip(names, groups))
         failed = sum(r.status != "ok" for r in rows.values())
         bar.update(len(rows), failed, force=True)
@@ -322,6 +340,19 @@ def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint, siz
         except KeyboardInterrupt:
             client.cancel(futures + list(modes.values()))
             raise
+
+
+def submissions(sizes: list, limit: float) -> list:
+    """Consecutive runs of task indices whose ``sizes`` [bytes] add up to at
+    most ``limit`` (a task larger than it alone), in order."""
+    runs, run, total = [], [], 0
+    for i, size in enumerate(sizes):
+        if run and total + size > limit:
+            runs.append(run)
+            run, total = [], 0
+        run.append(i)
+        total += size
+    return runs + [run] if run else runs
 
 
 def _keep(folder: Path, index: int, files: dict) -> None:
