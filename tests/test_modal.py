@@ -293,3 +293,16 @@ def test_modal_and_frf_commands_write_their_files(tmp_path):
     assert header.startswith("frequency_Hz,edge@base ax |H| [1],edge@base ax phase [deg]")
     assert main(["frf", str(scene), "--input", "force z", "-o", str(tmp_path / "g")]) == 2
     assert main(["frf", str(scene), "--band", "5,1", "-o", str(tmp_path / "g")]) == 2
+
+
+def test_table_rows_are_the_values_formatted_one_by_one():
+    """The modal tables' rows (one ``%`` over a row) are exactly each value's
+    ``format(v, fmt)``: signs of zero, infinities, NaN, subnormals, every
+    magnitude."""
+    from flexbed.analyses.modal import _row
+    rng = np.random.default_rng(1)
+    v = np.concatenate([rng.normal(size=500) * 10.0 ** rng.integers(-30, 30, 500),
+                        [0.0, -0.0, np.inf, -np.inf, np.nan, 1e300, 5e-324, 123456789012.5]])
+    for fmt in (".8f", ".10g", ".12g", ".6f"):
+        assert _row(v, fmt) == ",".join(format(float(x), fmt) for x in v), fmt
+    assert _row([], ".8f") == ""
