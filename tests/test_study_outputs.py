@@ -149,3 +149,19 @@ def test_a_flexible_bed_s_points_equal_the_results_bit_for_bit():
     scene = flexbed.vary(flexbed.load_scene(), {"bed.model": "flexible"})
     lazy, full = _pair(scene, modes=flexbed.modes(scene))
     _same_points_and_mounts(lazy, full)
+
+
+def test_a_point_asked_again_is_checked_as_the_api_checks_it(rigid):
+    """A run keeps the points it was asked for, checked: asked again (a
+    study's metric, every point) it answers the same; a value the API
+    refuses is refused even where an equal-comparing one was kept (True
+    == 1, 1 == 1.0)."""
+    lazy, full = rigid
+    body, xyz, rel = POINTS[0]
+    first = lazy.point_position(body, xyz, relative_to=rel)
+    _same(lazy.point_position(body, tuple(xyz), relative_to=rel), first)
+    lazy.point_position(body, (1, 0, 0))
+    with pytest.raises(flexbed.InputError, match="position"):
+        lazy.point_position(body, (True, 0, 0))
+    with pytest.raises(flexbed.InputError, match="position"):
+        lazy.point_position(body, (float("nan"), 0.0, 0.0))
