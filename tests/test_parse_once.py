@@ -46,7 +46,7 @@ def test_a_variant_from_kept_entries_is_the_one_read_afresh(changes, monkeypatch
     base = load_scene()
     kept = vary(base, changes)
     for module, name in ((scene_module, "_CHECKED"), (toml_text, "_WRITTEN")):
-        monkeypatch.setattr(module, name, BoundedCache(4096))
+        monkeypatch.setattr(module, name, BoundedCache(512))
     afresh = vary(load_scene(), changes)
     assert kept.text == afresh.text
     assert pickle.dumps(kept) == pickle.dumps(afresh)

@@ -71,8 +71,9 @@ _POINT_KEYS = ("name", "body", "position", "relative_to")
 #: entries of recently read scene files, checked, by their raw tables: a
 #: study's variants share all but the entries they change, and those alone
 #: are checked again (a body not the bed's, a mount without an elastomer,
-#: a base without data files: what their tables alone decide)
-_CHECKED = BoundedCache(4096)
+#: a base without data files: what their tables alone decide); the least
+#: recently used dropped first, so the entries every point shares stay
+_CHECKED = BoundedCache(512)
 
 
 @dataclass(frozen=True, slots=True)

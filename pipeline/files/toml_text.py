@@ -20,7 +20,7 @@ _BARE = re.compile(r"^[A-Za-z0-9_-]+$")
 #: the text of recently written top-level tables (a ``[bed]``, one
 #: ``[[mount]]``) by their name and :func:`table_key`: a study's variants
 #: share all but the tables they change, and those alone are written again
-_WRITTEN = BoundedCache(4096)
+_WRITTEN = BoundedCache(512)
 
 
 def _key(k: str) -> str:
