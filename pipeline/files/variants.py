@@ -7,7 +7,10 @@ an array of tables (``body``, ``mount``, ``point``, ``base.drive``,
 ``base.force``) is an entry's ``name`` or an index in brackets (0-based);
 ``key[i]`` also indexes an array value. The variant is checked as a whole,
 exactly as a scene file is (:func:`flexbed.files.scene.parse_scene`): its
-text, digests and every rule are those of the file it would be.
+text, digests and every rule are those of the file it would be. The
+entries it leaves unchanged are not checked again: the reader keeps what it
+checked by the entries' tables, so they are the base scene's own objects
+(what a study's points share, :func:`flexbed.study.point.shared_parts`).
 """
 
 from __future__ import annotations

@@ -104,7 +104,7 @@ def make_plan(study: Study, progress=None) -> Plan:
     """Check the study against its scene; build every point's scene.
 
     ``progress(i, n)``, optional, is called after each of the ``n`` points'
-    scenes is built (a large study takes tens of ms a point to plan).
+    scenes is built (a few ms a point: a large study takes seconds to plan).
 
     Raises InputError (one line naming the study file, the entry and the
     value) on an unknown parameter path, analysis or metric, a metric
