@@ -113,15 +113,58 @@ def _read_only(a: np.ndarray) -> np.ndarray:
 
 def _compile_jobs() -> list:
     """numba's compiled code in parts (name, function): the right-hand side,
-    each compiled stepper with the batch evaluations, the linear path; all
-    of flexbed's compiled functions (:data:`flexbed.dynamics.jitcache.COMPILED`)
+    each compiled stepper with the batch evaluations, the linear path, the
+    statics of rigid bodies, and the rest the suite reaches (:func:`_compile_the_rest`);
+    all of flexbed's compiled functions (:data:`flexbed.dynamics.jitcache.COMPILED`)
     for the argument types the runs pass them."""
     from flexbed.dynamics import precompile
     from flexbed.dynamics.kernel import rhs_function
 
     return ([("rhs", rhs_function)]
             + [(m, lambda m=m: precompile.compile_callers((m,))) for m in precompile.STEPPERS]
-            + [("linear", precompile.compile_linear_path)])
+            + [("linear", precompile.compile_linear_path),
+               ("statics", precompile.compile_statics),
+               ("rest", _compile_the_rest)])
+
+
+def _compile_the_rest() -> None:
+    """Compile (or load) the compiled functions the suite calls outside
+    :mod:`flexbed.dynamics.precompile`'s parts, for the argument types it
+    passes them (numba's ``Dispatcher.compile``, nothing called): a study's
+    point paths and peaks (:mod:`flexbed.dynamics.sample_passes`, in every
+    worker process of a local cluster), the linear estimate's modal rows and
+    norm, and the linear maps' second layouts (a sliced output, read-only
+    states). About 5 s of CPU on an empty cache, which each process that met
+    them first paid again until one had written the cache: both pytest-xdist
+    workers, and the local clusters' worker processes of the sweeps and
+    optimisations started meanwhile (about 10 s more of CPU with the
+    statics' parts, in a first run, than compiled once here). The list is
+    the one a whole suite run leaves in numba's cache; a signature missing
+    here is compiled on first use, as before."""
+    from numba import types
+
+    from flexbed.dynamics import sample_passes
+    from flexbed.dynamics.linear import defect, phi, sweep
+
+    f8, i8, b1 = types.float64, types.int64, types.boolean
+
+    def arr(dtype, ndim, layout="C", readonly=False):
+        return types.Array(dtype, ndim, layout, readonly=readonly)
+
+    F1, F2, F3, I1, I2r = arr(f8, 1), arr(f8, 2), arr(f8, 3), arr(i8, 1), arr(i8, 2, "C", True)
+    FA2, FA3 = arr(f8, 2, "A"), arr(f8, 3, "A")
+    for fn, argtypes in (
+            (sample_passes.point_path, (FA2, FA2, F1, FA2, FA2, b1)),
+            (sample_passes.point_path, (FA2, FA2, F1, FA2, F2, b1)),
+            (sample_passes.peak_norms, (F3,)),
+            (sample_passes.peak_norms, (FA3,)),
+            (defect.modal_point_rows, (I1, I1, F2, F3, arr(i8, 1, "C", True), F3)),
+            (phi.norm1, (F2,)),
+            (sweep.poly_derivatives, (arr(f8, 2, "C", True), arr(f8, 1, "C", True), I1, F1, F1,
+                                      FA2)),
+            (sweep.states_to_deviations, (arr(f8, 2, "C", True), F1, I2r, I2r, I2r, I2r, F2,
+                                          F2))):
+        fn.compile(argtypes)
 
 
 @pytest.fixture(scope="session", autouse=True)
