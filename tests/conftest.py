@@ -36,13 +36,17 @@ compare`` (about 7 s), whose numbers ``tests/test_compare.py`` checks, and
 the tour's ``flexbed sweep`` on the default local cluster (about 10 s),
 whose table ``tests/test_sweep.py`` checks (:data:`SHARED_COMMANDS`, with
 the files they read from their page, :data:`SHARED_FILES`). The first worker to ask
-runs it, in a subprocess as a reader would, under a lock in the run's
+runs it, in a process of its own as the documentation's other command lines
+(``forked_flexbed``), under a lock in the run's
 common temporary folder; later ones read what it left (one that comes while
 it runs runs its own rather than wait).
-A test copies its folder before running more commands in it. The other
+A test copies its folder before running more commands in it. The
 command lines of the documentation, its code blocks and its example
 scripts run forked from a server that has imported flexbed once
-(``forked_flexbed``, ``forked_python``, :mod:`command_server`).
+(``forked_flexbed``, ``forked_python``, :mod:`command_server`): the
+shared commands too, each about 3 s of CPU less than in a fresh interpreter
+(``flexbed compare``: 3.3-3.8 s against 6.5-8.3 s of CPU, the server's
+start-up subtracted).
 
 Builders of scenes, functions of what a test chooses, are plain modules
 beside this file, not fixtures, since test modules call them at import time
@@ -289,14 +293,15 @@ def _shared_root(tmp_path_factory) -> Path:
     return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
 
 
-def _run_in(folder: Path, cmd: str) -> CommandRun:
+def _run_in(folder: Path, cmd: str, env: dict) -> CommandRun:
     cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=folder,
-                        env=command_env(), capture_output=True, text=True, timeout=600)
+                        env=env, capture_output=True, text=True, timeout=600)
     return CommandRun(folder, cp.returncode, cp.stdout, cp.stderr)
 
 
-def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
-    """``cmd`` run by bash in the folder ``name`` of the shared temporary
+def run_once(tmp_path_factory, name: str, cmd: str, env: dict) -> CommandRun:
+    """``cmd`` run by bash with the environment ``env`` in the folder
+    ``name`` of the shared temporary
     folder, once per pytest run: the first caller runs it, later callers (in
     any worker) read its exit code and output. A caller that comes while
     another worker is running it runs its own rather than leave its worker
@@ -308,12 +313,12 @@ def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)    # released when the file closes
         except BlockingIOError:
             if name not in WAIT_FOR:
-                return _run_in(_with_its_files(tmp_path_factory.mktemp(name), name), cmd)
+                return _run_in(_with_its_files(tmp_path_factory.mktemp(name), name), cmd, env)
             fcntl.flock(lock, fcntl.LOCK_EX)
         if not record.exists():
             shutil.rmtree(folder, ignore_errors=True)     # an attempt that timed out
             folder.mkdir()
-            run = _run_in(_with_its_files(folder, name), cmd)
+            run = _run_in(_with_its_files(folder, name), cmd, env)
             record.write_text(json.dumps([run.returncode, run.stdout, run.stderr]))
     code, out, err = json.loads(record.read_text())
     return CommandRun(folder, code, out, err)
@@ -352,13 +357,14 @@ def _with_its_files(folder: Path, name: str) -> Path:
 
 
 @pytest.fixture(scope="session")
-def shared_command(tmp_path_factory):
+def shared_command(tmp_path_factory, forked_flexbed):
     """``shared_command(cmd)``: the :class:`CommandRun` of the command line
     ``cmd`` if it is one of :data:`SHARED_COMMANDS` (run on first use in
-    this pytest run), else None."""
+    this pytest run, its ``flexbed`` forked from the command server of
+    ``forked_flexbed``), else None."""
     def get(cmd: str) -> CommandRun | None:
         name = SHARED_COMMANDS.get(cmd)
-        return None if name is None else run_once(tmp_path_factory, name, cmd)
+        return None if name is None else run_once(tmp_path_factory, name, cmd, forked_flexbed)
     return get
 
 
