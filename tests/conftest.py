@@ -36,13 +36,17 @@ compare`` (about 7 s), whose numbers ``tests/test_compare.py`` checks, and
 the tour's ``flexbed sweep`` on the default local cluster (about 10 s),
 whose table ``tests/test_sweep.py`` checks (:data:`SHARED_COMMANDS`, with
 the files they read from their page, :data:`SHARED_FILES`). The first worker to ask
-runs it, in a subprocess as a reader would, under a lock in the run's
+runs it, in a process of its own as the documentation's other command lines
+(``forked_flexbed``), under a lock in the run's
 common temporary folder; later ones read what it left (one that comes while
 it runs runs its own rather than wait).
-A test copies its folder before running more commands in it. The other
+A test copies its folder before running more commands in it. The
 command lines of the documentation, its code blocks and its example
 scripts run forked from a server that has imported flexbed once
-(``forked_flexbed``, ``forked_python``, :mod:`command_server`).
+(``forked_flexbed``, ``forked_python``, :mod:`command_server`): the
+shared commands too, each about 3 s of CPU less than in a fresh interpreter
+(``flexbed compare``: 3.3-3.8 s against 6.5-8.3 s of CPU, the server's
+start-up subtracted).
 
 Builders of scenes, functions of what a test chooses, are plain modules
 beside this file, not fixtures, since test modules call them at import time
@@ -113,15 +117,65 @@ def _read_only(a: np.ndarray) -> np.ndarray:
 
 def _compile_jobs() -> list:
     """numba's compiled code in parts (name, function): the right-hand side,
-    each compiled stepper with the batch evaluations, the linear path; all
-    of flexbed's compiled functions (:data:`flexbed.dynamics.jitcache.COMPILED`)
+    each compiled stepper with the batch evaluations, the linear path, the
+    statics of rigid bodies, and the rest the suite reaches (:func:`_compile_the_rest`);
+    all of flexbed's compiled functions (:data:`flexbed.dynamics.jitcache.COMPILED`)
     for the argument types the runs pass them."""
     from flexbed.dynamics import precompile
     from flexbed.dynamics.kernel import rhs_function
 
     return ([("rhs", rhs_function)]
             + [(m, lambda m=m: precompile.compile_callers((m,))) for m in precompile.STEPPERS]
-            + [("linear", precompile.compile_linear_path)])
+            + [("linear", precompile.compile_linear_path),
+               ("statics", precompile.compile_statics),
+               ("rest", _compile_the_rest)])
+
+
+def _compile_the_rest() -> None:
+    """Compile (or load) the compiled functions the suite calls outside
+    :mod:`flexbed.dynamics.precompile`'s parts, for the argument types it
+    passes them (numba's ``Dispatcher.compile``, nothing called): a study's
+    point paths and peaks (:mod:`flexbed.dynamics.sample_passes`, in every
+    worker process of a local cluster), the linear estimate's modal rows and
+    norm, and the linear maps' second layouts (a sliced output, read-only
+    states). About 5 s of CPU on an empty cache, which each process that met
+    them first paid again until one had written the cache: both pytest-xdist
+    workers, and the local clusters' worker processes of the sweeps and
+    optimisations started meanwhile (about 10 s more of CPU with the
+    statics' parts, in a first run, than compiled once here). The list is
+    the one a whole suite run leaves in numba's cache; a signature missing
+    here is compiled on first use, as before, and one that no longer fits
+    its function (after an edit of it) is a warning, not an error: the
+    function is then compiled on first use too."""
+    import warnings
+    from numba import types
+
+    from flexbed.dynamics import sample_passes
+    from flexbed.dynamics.linear import defect, phi, sweep
+
+    f8, i8, b1 = types.float64, types.int64, types.boolean
+
+    def arr(dtype, ndim, layout="C", readonly=False):
+        return types.Array(dtype, ndim, layout, readonly=readonly)
+
+    F1, F2, F3, I1, I2r = arr(f8, 1), arr(f8, 2), arr(f8, 3), arr(i8, 1), arr(i8, 2, "C", True)
+    FA2, FA3 = arr(f8, 2, "A"), arr(f8, 3, "A")
+    for fn, argtypes in (
+            (sample_passes.point_path, (FA2, FA2, F1, FA2, FA2, b1)),
+            (sample_passes.point_path, (FA2, FA2, F1, FA2, F2, b1)),
+            (sample_passes.peak_norms, (F3,)),
+            (sample_passes.peak_norms, (FA3,)),
+            (defect.modal_point_rows, (I1, I1, F2, F3, arr(i8, 1, "C", True), F3)),
+            (phi.norm1, (F2,)),
+            (sweep.poly_derivatives, (arr(f8, 2, "C", True), arr(f8, 1, "C", True), I1, F1, F1,
+                                      FA2)),
+            (sweep.states_to_deviations, (arr(f8, 2, "C", True), F1, I2r, I2r, I2r, I2r, F2,
+                                          F2))):
+        try:
+            fn.compile(argtypes)
+        except Exception as exc:        # noqa: BLE001 - a warm-up, never a test failure
+            warnings.warn(f"conftest: {fn.__name__}{argtypes} not compiled ahead "
+                          f"({type(exc).__name__}); compiled on first use", stacklevel=1)
 
 
 @pytest.fixture(scope="session", autouse=True)
@@ -246,14 +300,15 @@ def _shared_root(tmp_path_factory) -> Path:
     return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
 
 
-def _run_in(folder: Path, cmd: str) -> CommandRun:
+def _run_in(folder: Path, cmd: str, env: dict) -> CommandRun:
     cp = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd], cwd=folder,
-                        env=command_env(), capture_output=True, text=True, timeout=600)
+                        env=env, capture_output=True, text=True, timeout=600)
     return CommandRun(folder, cp.returncode, cp.stdout, cp.stderr)
 
 
-def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
-    """``cmd`` run by bash in the folder ``name`` of the shared temporary
+def run_once(tmp_path_factory, name: str, cmd: str, env: dict) -> CommandRun:
+    """``cmd`` run by bash with the environment ``env`` in the folder
+    ``name`` of the shared temporary
     folder, once per pytest run: the first caller runs it, later callers (in
     any worker) read its exit code and output. A caller that comes while
     another worker is running it runs its own rather than leave its worker
@@ -265,12 +320,12 @@ def run_once(tmp_path_factory, name: str, cmd: str) -> CommandRun:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)    # released when the file closes
         except BlockingIOError:
             if name not in WAIT_FOR:
-                return _run_in(_with_its_files(tmp_path_factory.mktemp(name), name), cmd)
+                return _run_in(_with_its_files(tmp_path_factory.mktemp(name), name), cmd, env)
             fcntl.flock(lock, fcntl.LOCK_EX)
         if not record.exists():
             shutil.rmtree(folder, ignore_errors=True)     # an attempt that timed out
             folder.mkdir()
-            run = _run_in(_with_its_files(folder, name), cmd)
+            run = _run_in(_with_its_files(folder, name), cmd, env)
             record.write_text(json.dumps([run.returncode, run.stdout, run.stderr]))
     code, out, err = json.loads(record.read_text())
     return CommandRun(folder, code, out, err)
@@ -309,13 +364,14 @@ def _with_its_files(folder: Path, name: str) -> Path:
 
 
 @pytest.fixture(scope="session")
-def shared_command(tmp_path_factory):
+def shared_command(tmp_path_factory, forked_flexbed):
     """``shared_command(cmd)``: the :class:`CommandRun` of the command line
     ``cmd`` if it is one of :data:`SHARED_COMMANDS` (run on first use in
-    this pytest run), else None."""
+    this pytest run, its ``flexbed`` forked from the command server of
+    ``forked_flexbed``), else None."""
     def get(cmd: str) -> CommandRun | None:
         name = SHARED_COMMANDS.get(cmd)
-        return None if name is None else run_once(tmp_path_factory, name, cmd)
+        return None if name is None else run_once(tmp_path_factory, name, cmd, forked_flexbed)
     return get
 
 

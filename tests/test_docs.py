@@ -18,8 +18,8 @@ forked from a server that has imported flexbed once (``command_server``,
 conftest's ``forked_flexbed``): its arguments, folder, environment, streams
 and exit status are its own; the second of imports is not paid again. The
 tour's ``flexbed run``, ``compare`` and ``sweep``, which other tests check
-too, run once per pytest run (conftest's ``shared_command``), by the
-installed script.
+too, run once per pytest run (conftest's ``shared_command``), forked from
+that server too.
 Every ```python block runs, in a folder holding the page's named files too,
 as ``python -c BLOCK`` forked from that server too (``forked_python``).
 The quick start
