@@ -367,16 +367,18 @@ class System:
 
     # ------------------------------------------------------------ the states
     def poses(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Every body's pose in the state y (ny,): positions (nb, 3) [m] of the
-        frame origins and Euler parameters (nb, 4), the base's (and any
-        body's without a state) from the scene."""
+        """Every body's pose in the state y (ny,), or in each of a stack of
+        states (..., ny): positions (..., nb, 3) [m] of the frame origins
+        and Euler parameters (..., nb, 4), the base's (and any body's
+        without a state) from the scene."""
         parts = self.layout.split(y)
-        pos = np.array(self.initial_r, dtype=float)
-        pos[1:] = parts["r"]
+        lead = np.shape(y)[:-1]
+        pos = np.broadcast_to(self.initial_r, lead + self.initial_r.shape).astype(float)
+        pos[..., 1:, :] = parts["r"]
         if parts["r_base"] is not None:
-            pos[0] = parts["r_base"]
-        p = np.array(self.initial_p, dtype=float)
-        p[1:] = parts["p"]
+            pos[..., 0, :] = parts["r_base"]
+        p = np.broadcast_to(self.initial_p, lead + self.initial_p.shape).astype(float)
+        p[..., 1:, :] = parts["p"]
         return pos, p
 
     def initial_state(self, positions: np.ndarray | None = None) -> np.ndarray:

@@ -81,3 +81,27 @@ def test_the_frf_file_stores_the_crossing(isolator, tmp_path):
         assert list(f["isolation/output"][()]) == [t.column("c az")]
         assert f["isolation/frequency"][0] == t.result.isolation_from[t.column("c az")]
         assert f["isolation/frequency"].attrs["units"] == "Hz"
+
+
+def test_stacked_states_and_poses_are_each_row_s():
+    """The point Jacobians' perturbed states made in one pass
+    (``MountedSystem.states``, ``System.poses`` of a stack) are, row by
+    row, the single state's numbers bit for bit (rotations included, with
+    the compiled pass above 8 rows)."""
+    from flexbed.analyses.modal import mounted
+    from flexbed.dynamics.statics import solve_statics
+    from flexbed.files.scene import load_scene
+    from flexbed.stages.system import compile_scene
+    sf = load_scene()
+    system = compile_scene(sf)
+    ms = mounted(sf, system, y_eq=solve_statics(system, tol=sf.solver.static_tol).y).ms
+    rng = np.random.default_rng(3)
+    for k in (3, 12):                                    # NumPy's path, the compiled one
+        Q = rng.normal(scale=1e-3, size=(k, ms.n))
+        Y = ms.states(Q)
+        pos, p = system.poses(Y)
+        for i in range(k):
+            y = ms.state(Q[i])
+            assert Y[i].tobytes() == y.tobytes()
+            r1, p1 = system.poses(y)
+            assert pos[i].tobytes() == r1.tobytes() and p[i].tobytes() == p1.tobytes()

@@ -167,6 +167,14 @@ class MountedSystem:
             z[self.coords.n_pos + nb3:] = qd
         return self.coords.to_y(z)
 
+    def states(self, Q: np.ndarray) -> np.ndarray:
+        """The states (k, ny) of the deviations Q (k, n), rates zero: each
+        row's :meth:`state` (the same numbers), in one pass."""
+        Q = np.asarray(Q, dtype=float)
+        Z = np.zeros((Q.shape[0], self.coords.nz))
+        Z[:, self.coords.base_index.size:self.coords.n_pos] = Q
+        return self.coords.to_y(Z)
+
 
 def _labels(system: System, coords: Coordinates) -> tuple[tuple, np.ndarray]:
     bodies = system.scene.bodies

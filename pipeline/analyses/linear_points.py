@@ -44,27 +44,22 @@ class PointJacobians:
         h = np.where(_rotation_mask(ms.labels), _H_ROTATION, _H_LINEAR)
         cols = 3 + n
         k = 2 * cols
-        pos = np.empty((k, system.nb, 3))
-        eul = np.empty((k, system.nb, 4))
-        na = system.layout.n_modal
-        modal = np.zeros((k, na))
+        # the 2 (3 + n) perturbed states at once, row 2c + side: the
+        # equilibrium for the base's columns (c < 3, the base then moved
+        # below), q = ±h e_(c−3) for the others (MountedSystem.state of each
+        # row, in one pass; the same numbers row by row)
+        Q = np.zeros((k, n))
+        Q[2 * np.arange(3, cols), np.arange(n)] = h
+        Q[2 * np.arange(3, cols) + 1, np.arange(n)] = -h
+        Y = ms.states(Q)
+        pos, eul = system.poses(Y)
+        axes = np.arange(3)
+        pos[2 * axes, 0, axes] += _H_LINEAR
+        pos[2 * axes + 1, 0, axes] += -_H_LINEAR
+        modal = Y[:, system.layout.q_modal]
         step = np.empty(cols)
-        for c in range(cols):
-            for side, sgn in ((0, 1.0), (1, -1.0)):
-                q = np.zeros(n)
-                if c >= 3:
-                    q[c - 3] = sgn * h[c - 3]
-                y = ms.state(q)
-                r, p = system.poses(y)
-                if c < 3:
-                    r = r.copy()
-                    r[0, c] += sgn * _H_LINEAR
-                pos[2 * c + side], eul[2 * c + side] = r, p
-                modal[2 * c + side] = y[system.layout.q_modal]
-            if c < 3:
-                step[c] = pos[2 * c, 0, c] - pos[2 * c + 1, 0, c]
-            else:
-                step[c] = 2.0 * h[c - 3]
+        step[:3] = pos[2 * axes, 0, axes] - pos[2 * axes + 1, 0, axes]
+        step[3:] = 2.0 * h
         # translations and modal coordinates: the step the state really took
         for c in range(3, cols):
             lab = ms.labels[c - 3]
