@@ -100,8 +100,7 @@ class PointJacobians:
     def jacobian(self, point: Point, relative_to: str | None = None) -> np.ndarray:
         """(3, 3 + n): the point's position [m] (inertial, or in the frame of
         ``relative_to``) per unit base translation and per unit q."""
-        m = self.run.relative(point, relative_to) if relative_to else self.run.absolute(point)
-        P = m.position
+        P = self.run.position(point, relative_to or None)
         return ((P[0::2] - P[1::2]) / self.step[:, None]).T
 
 

@@ -290,21 +290,11 @@ class Run:
 
     def absolute(self, point: Point) -> PointMotion:
         """Inertial position, velocity and acceleration of a point."""
-        b = self.body_index(point.body, f"point '{point.name}': body")
-        s = np.asarray(point.position, dtype=float)
-        if self.names[b] == self.bed_body:
-            s = s - self.bed_centre                    # drawing frame -> bed frame
+        b, u, phi = self._offset(point)
         k = self.t.size
-        u = np.broadcast_to(s, (k, 3)).copy()
         ud = np.zeros((k, 3))
         udd = np.zeros((k, 3))
-        if self.shapes is not None and self.names[b] == self.bed_name:
-            try:
-                trans, _ = self.shapes.at(s[None, :])
-            except OutsidePlateError as exc:
-                raise InputError(f"point '{point.name}': {exc}") from None
-            phi = trans[:, 0, :].T                                       # (3, n)
-            u += self.a @ phi.T
+        if phi is not None:
             ud = self.ad @ phi.T
             udd = self.add @ phi.T
         A = self.A[:, b]
@@ -314,6 +304,35 @@ class Run:
         acc_body = np.cross(wd, u) + np.cross(w, np.cross(w, u)) + 2.0 * np.cross(w, ud) + udd
         Acc = self.rdd[:, b] + np.einsum("kij,kj->ki", A, acc_body)
         return PointMotion(point, "inertial", R, V, Acc)
+
+    def position(self, point: Point, relative_to: str | None = None) -> np.ndarray:
+        """(k, 3) [m]: ``absolute(point).position``, or with ``relative_to``
+        ``relative(point, relative_to).position``, the same numbers,
+        without the velocities and accelerations."""
+        b, u, _ = self._offset(point)
+        R = self.r[:, b] + apply(self.A[:, b], u)
+        if relative_to is None:
+            return R
+        B = self.body_index(relative_to, "--relative-to body")
+        return apply_t(self.A[:, B], R - self.r[:, B])
+
+    def _offset(self, point: Point) -> tuple:
+        """(body index, u (k, 3) [m] the point in its body's frame at each
+        sample, the bed's mode shapes there (3, n) or None)."""
+        b = self.body_index(point.body, f"point '{point.name}': body")
+        s = np.asarray(point.position, dtype=float)
+        if self.names[b] == self.bed_body:
+            s = s - self.bed_centre                    # drawing frame -> bed frame
+        u = np.broadcast_to(s, (self.t.size, 3)).copy()
+        phi = None
+        if self.shapes is not None and self.names[b] == self.bed_name:
+            try:
+                trans, _ = self.shapes.at(s[None, :])
+            except OutsidePlateError as exc:
+                raise InputError(f"point '{point.name}': {exc}") from None
+            phi = trans[:, 0, :].T                                       # (3, n)
+            u += self.a @ phi.T
+        return b, u, phi
 
     def relative(self, point: Point, body: str) -> PointMotion:
         """Motion of a point relative to ``body``, in that body's frame."""
