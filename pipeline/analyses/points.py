@@ -175,6 +175,25 @@ def _rigid_bed_centre(table: dict, path: Path, source: str = "") -> np.ndarray:
         raise InputError(f"{exc}; cannot place the points on the bed") from None
 
 
+class Frames:
+    """The rotation matrices (k, 3, 3) of the bodies' frames over a run,
+    ``frames[:, b]``, each body's computed when first indexed (the numbers
+    of ``rotation.A(p)[:, b]``: the same operations on each quaternion): a
+    post-processing reads one or two bodies' of many. p : (k, nb, 4)."""
+
+    def __init__(self, p: np.ndarray):
+        self.p, self._done = p, {}
+
+    def __getitem__(self, index: tuple) -> np.ndarray:
+        whole, b = index
+        if whole != slice(None) or not isinstance(b, (int, np.integer)):
+            raise IndexError(f"frames[{index!r}]: only frames[:, body] is kept")
+        b = int(b)
+        if b not in self._done:
+            self._done[b] = rotation_matrix(self.p[:, b])
+        return self._done[b]
+
+
 class Run:
     """A run opened for post-processing: a results file, or its contents in
     memory (:class:`flexbed.files.store.Contents`), and the modes of a
@@ -203,7 +222,7 @@ class Run:
         self.rdd = numeric(c, "bodies/acceleration", (k, nb, 3))
         self.w = numeric(c, "bodies/angular_velocity", (k, nb, 3))
         self.wd = numeric(c, "bodies/angular_acceleration", (k, nb, 3))
-        self.A = rotation_matrix(self.p)                                  # (k, nb, 3, 3)
+        self.A = Frames(self.p)                                  # [:, b] (k, 3, 3), on first use
         self.mount_names = [str(n) for n in np.atleast_1d(c.datasets.get("mounts/names", []))]
         self.mount_body_i, self.mount_body_j = (
             [str(n) for n in np.atleast_1d(c.datasets.get(f"mounts/{key}", []))]

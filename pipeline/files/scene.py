@@ -264,6 +264,8 @@ class _Reader(ShapeReader):
         their arguments alone decide; a refusal is never kept, so it is
         raised again, naming this file."""
         key = (kind,) + tuple(table_key(a) if isinstance(a, (dict, list)) else a for a in args)
+        if None in key:                               # not to be kept: read every time
+            return read(*args)
         return _CHECKED.get(key, lambda: read(*args))
 
     def resolve_auto_modes(self, scene: Scene, bed: BedSection, solver) -> BedSection:

@@ -37,15 +37,28 @@ def scene_data(text: str) -> dict:
     return pickle.loads(raw)
 
 
-def table_key(value) -> bytes:
+def table_key(value) -> bytes | None:
     """A key of parsed TOML data (a table, an array, a value) that two
     values share only when they are equal, types included (``1``, ``1.0``
     and ``true`` apart; floats by their bits): what the scene reader and
     writer keep their recent results by. ``marshal``'s version 2 (no
     references between objects, so equal data give equal bytes; ~5× faster
     than ``repr``), or ``pickle`` for what marshal does not take (TOML's
-    dates and times)."""
+    dates and times); None for what neither takes (a value no TOML holds,
+    given through the API: it is then checked, and refused, every time),
+    or for a table longer than :data:`KEY_BYTES` (a long inline curve:
+    read again rather than kept)."""
     try:
-        return marshal.dumps(value, 2)
+        key = marshal.dumps(value, 2)
     except ValueError:
-        return pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL)
+        try:
+            key = pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL)
+        except Exception:                   # noqa: BLE001 - not a TOML value
+            return None
+    return key if len(key) <= KEY_BYTES else None
+
+
+#: the longest table (its key's bytes) the reader and writer keep: with
+#: 512 entries each, what they hold stays within some tens of MB whatever
+#: a study varies
+KEY_BYTES = 16384

@@ -93,6 +93,7 @@ def dumps(data: dict) -> str:
         if isinstance(v, dict) or _is_table_array(v):
             name, array = _key(k), not isinstance(v, dict)
             for item in (v if array else [v]):
-                lines.append(_WRITTEN.get((name, array, table_key(item)),
-                                          functools.partial(_top, name, item, array)))
+                key = table_key(item)
+                write = functools.partial(_top, name, item, array)
+                lines.append(write() if key is None else _WRITTEN.get((name, array, key), write))
     return "\n".join(lines).lstrip("\n") + "\n"

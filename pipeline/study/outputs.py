@@ -31,12 +31,11 @@ from typing import Sequence
 
 import numpy as np
 
-from flexbed.analyses.points import Point, PointMotion, Run
+from flexbed.analyses.points import Frames, Point, PointMotion, Run
 from flexbed.api.arguments import Arguments
 from flexbed.api.results import Results
 from flexbed.dynamics.sample_passes import point_path
 from flexbed.dynamics.history import MOTION_CAPTURED, body_motion
-from flexbed.dynamics.rotation import A as rotation_matrix
 
 __all__ = ["PointRun"]
 
@@ -54,22 +53,6 @@ _MOUNTS = ("w_base", "w_dx", "w_f")
 _CHECKED_POINTS: dict = {}
 
 
-class _Frames:
-    """The rotation matrices (k, 3, 3) of the bodies' frames, each computed
-    when first indexed (``frames[:, b]``, as :class:`Run` reads its ``A``):
-    a metric's point needs one or two bodies' of nb."""
-
-    def __init__(self, p: np.ndarray):
-        self.p, self._done = p, {}
-
-    def __getitem__(self, index: tuple) -> np.ndarray:
-        whole, b = index
-        assert whole == slice(None), index
-        if b not in self._done:
-            self._done[b] = rotation_matrix(self.p[:, b])
-        return self._done[b]
-
-
 class _Kinematics(Run):
     """:class:`Run`'s point kinematics over the bodies' motion in memory
     (rigid frames only: no point on the bed, whose frame the results file
@@ -82,7 +65,7 @@ class _Kinematics(Run):
         self.r, self.p = motion["position"], motion["euler_parameters"]
         self.rd, self.rdd = motion.get("velocity"), motion.get("acceleration")
         self.w, self.wd = motion.get("angular_velocity"), motion.get("angular_acceleration")
-        self.A = _Frames(self.p)                                          # [:, b] (k, 3, 3)
+        self.A = Frames(self.p)                                           # [:, b] (k, 3, 3)
         self.bed_body = self.bed_name = self.shapes = None
         self.bed_centre = np.zeros(3)
 
@@ -178,17 +161,19 @@ class PointRun:
                                                          and relative_to not in names))
 
     def _point(self, body: str, position: Sequence[float], name: str) -> Point:
-        try:
-            key = (body, name, tuple((type(v), v) for v in position))   # 1, 1.0, True apart
+        try:          # by type and repr: 1, 1.0 and True apart, and -0.0 from 0.0
+            key = (body, name, tuple((type(v), repr(v)) for v in position))
             hash(key)
         except TypeError:                        # refused below, as the API words it
             key = None
-        if key is not None and key in _CHECKED_POINTS:
-            return _CHECKED_POINTS[key]
+        pt = _CHECKED_POINTS.get(key) if key is not None else None
+        if pt is not None:
+            return pt
         check = Arguments("Results.point")
         pt = Point(name=check.name(name, "name"), body=body,
                    position=check.position(position, "position"))
         if key is not None:                      # a metric asks for the same point every run
+            pt.position.flags.writeable = False  # shared by the runs that ask for it
             if len(_CHECKED_POINTS) >= 64:
                 _CHECKED_POINTS.clear()
             _CHECKED_POINTS[key] = pt

@@ -27,7 +27,7 @@ from flexbed.study.analyses import ANALYSES
 from flexbed.threads import limited
 
 __all__ = ["PointResult", "run_point", "run_batch", "pack", "unpack", "shared_parts",
-           "bed_modes", "Quiet", "WarmUp", "warm"]
+           "parts_of", "bed_modes", "Quiet", "WarmUp", "warm"]
 
 
 @dataclass(frozen=True)
@@ -119,10 +119,18 @@ def shared_parts(base: SceneFile) -> tuple:
     """The parts of a study's base scene that its points' scenes hold as
     they are (the same objects: the scene reader keeps an entry a variant
     does not change, :mod:`flexbed.files.scene`): its bodies, mounts and
-    base (with its inputs' samples, most of a scene's bytes). Sent to each
-    worker once, and left out of every point's :func:`pack`."""
+    base (with its inputs' samples, most of a scene's bytes). Fetched by
+    each worker once (:func:`parts_of`), and left out of every point's
+    :func:`pack`."""
     sc = base.scene
     return tuple(sc.bodies) + tuple(sc.mounts) + (sc.base,)
+
+
+def parts_of(blob: bytes) -> bytes:
+    """The task that holds ``pack(shared_parts(base))`` on the cluster (its
+    result is its argument): a result the scheduler can compute again where
+    scattered data would be lost with its worker."""
+    return blob
 
 
 def run_batch(scenes: list, setup: bytes, modes=None, shared: bytes | None = None) -> list:

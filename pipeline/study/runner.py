@@ -12,7 +12,8 @@ row says so.
 
 A point's scene goes to its worker without what it shares with the base
 scene (:func:`flexbed.study.point.shared_parts`: the bodies, mounts and base
-a variant leaves as they are, sent to each worker once): a few kB a point
+a variant leaves as they are, one task whose result each worker fetches
+once): a few kB a point
 instead of ~26 kB for the reference scene, so that a study of thousands of
 points keeps the client's memory and each graph it submits small (several
 submissions of at most :data:`GRAPH_BYTES`).
@@ -38,7 +39,8 @@ from pathlib import Path
 from flexbed.errors import one_line
 from flexbed.interrupts import Interrupted, held
 from flexbed.study.plan import Plan, modes_scene
-from flexbed.study.point import PointResult, bed_modes, pack, run_batch, shared_parts
+from flexbed.study.point import PointResult, bed_modes, pack, parts_of, run_batch, \
+    shared_parts
 from flexbed.study.table import Row, StudyTable, build_table, folder_lock, read_done, \
     write_table
 
@@ -302,7 +304,12 @@ def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint, siz
         # parts the points share with the base sent to each worker once
         setup = pack((plan.analyses, plan.metrics, keep_folder is not None))
         parts = shared_parts(plan.base)
-        shared = client.scatter(pack(parts), broadcast=True)
+        blob = pack(parts)
+        # a task holding the parts' bytes, not scattered data: the scheduler
+        # can run it again on another worker if its holder is lost, and it
+        # needs no worker yet when the study is submitted
+        shared = client.submit(parts_of, blob, pure=True,
+                               key=f"flexbed-parts-{hashlib.sha256(blob).hexdigest()[:24]}")
         groups = batches(todo, {k: pts[0].modes_key for k, pts in todo.items()}, size,
                          len(client.scheduler_info().get("workers", {})))
         names = [f"flexbed-batch-{hashlib.sha256(''.join(keys).encode()).hexdigest()[:24]}"
@@ -338,7 +345,7 @@ def _run(plan, todo, rows, scheduler, workers, keep_folder, bar, checkpoint, siz
                 bar.update(len(rows), failed)
                 checkpoint()
         except KeyboardInterrupt:
-            client.cancel(futures + list(modes.values()))
+            client.cancel(futures + list(modes.values()) + [shared])
             raise
 
 
