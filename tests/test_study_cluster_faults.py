@@ -73,19 +73,11 @@ class _Cluster:
                                        "--local-directory", str(self.where)]))
 
     def close(self):
-        from distributed import Client
-        try:
-            with Client(self.address, timeout="10s") as client:
-                client.shutdown()
-        except Exception:
-            pass
-        deadline = time.monotonic() + 3.0
+        """Stop every process at once (a test's cluster: nothing to save)."""
         for p in self.procs:
-            try:
-                p.wait(timeout=max(0.1, deadline - time.monotonic()))
-            except subprocess.TimeoutExpired:
+            if p.poll() is None:
                 os.killpg(p.pid, signal.SIGKILL)
-                p.wait(timeout=20)
+            p.wait(timeout=20)
         self.log.close()
 
 
@@ -137,15 +129,15 @@ def test_a_study_waits_for_workers_that_join_later(tmp_path, cluster):
     """A scheduler with no worker yet (a batch system's workers still
     queued): the study's tasks, its shared parts' among them, wait for a
     worker, past the client's connect timeout (15 s for ``--scheduler``;
-    3 s here)."""
+    1 s here, the worker joining after 3 s)."""
     from distributed import Client
 
     study = tmp_path / "study.toml"
     study.write_text(STUDY.format(num=4, t_end=0.05), encoding="utf-8")
-    timer = threading.Timer(6.0, cluster.worker, args=("late",))
+    timer = threading.Timer(3.0, cluster.worker, args=("late",))
     timer.start()
     try:
-        with Client(cluster.address, timeout="3s") as client:
+        with Client(cluster.address, timeout="1s") as client:
             table = flexbed.sweep(study, client, plots=False)
     finally:
         timer.cancel()
