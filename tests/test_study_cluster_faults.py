@@ -18,12 +18,12 @@ import socket
 import subprocess
 import sys
 import threading
-import time
 from pathlib import Path
 
 import pytest
 
 import flexbed
+from row_killer import kill_after_the_first_row
 
 T_END = 0.3
 STUDY = """[study]
@@ -103,19 +103,7 @@ def test_the_only_worker_lost_mid_study_has_its_points_run_again(tmp_path, clust
     study = tmp_path / "study.toml"
     study.write_text(STUDY.format(num=24, t_end=T_END), encoding="utf-8")
     csv_path = tmp_path / "out" / "table.csv"
-    killed = []
-
-    def kill_after_the_first_row():
-        deadline = time.monotonic() + 120
-        while time.monotonic() < deadline:
-            if csv_path.exists() and len(csv_path.read_text().splitlines()) > 1:
-                killed.append(len(csv_path.read_text().splitlines()) - 1)
-                os.kill(victim, signal.SIGKILL)
-                return
-            time.sleep(0.02)
-
-    killer = threading.Thread(target=kill_after_the_first_row, daemon=True)
-    killer.start()
+    killer, killed = kill_after_the_first_row(csv_path, victim)
     table = flexbed.sweep(study, cluster.address, output=tmp_path / "out", plots=False,
                           batch=1)
     killer.join(timeout=5)

@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 import flexbed
+from row_killer import kill_after_the_first_row
 from flexbed.cli import main
 from flexbed.errors import InputError
 from flexbed.files.store import read_file
@@ -230,8 +231,6 @@ num = 240
 def test_a_worker_lost_mid_study_has_its_points_run_again(tmp_path, scheduler):
     """SIGKILL to one worker process once the first row is in: its points
     are run again on the other worker (or its restart); every row ok."""
-    import threading
-
     from distributed import Client
 
     with Client(scheduler, timeout="30s") as c:
@@ -241,19 +240,7 @@ def test_a_worker_lost_mid_study_has_its_points_run_again(tmp_path, scheduler):
     study = study_file(tmp_path, body, t_end=0.3,
                        metrics='[[metric]]\nkind = "peak_mount_force"\nmounts = ["M5"]\n')
     csv_path = tmp_path / "out" / "table.csv"
-    killed = []
-
-    def kill_after_the_first_row():
-        deadline = time.monotonic() + 120
-        while time.monotonic() < deadline:
-            if csv_path.exists() and len(csv_path.read_text().splitlines()) > 1:
-                killed.append(len(csv_path.read_text().splitlines()) - 1)
-                os.kill(victim, signal.SIGKILL)
-                return
-            time.sleep(0.02)
-
-    killer = threading.Thread(target=kill_after_the_first_row, daemon=True)
-    killer.start()
+    killer, killed = kill_after_the_first_row(csv_path, victim)
     table = flexbed.sweep(study, scheduler, output=tmp_path / "out", plots=False)
     killer.join(timeout=5)
     assert killed and killed[0] < 24                   # killed while points were left
