@@ -13,10 +13,9 @@ row says so.
 A point's scene goes to its worker without what it shares with the base
 scene (:func:`flexbed.study.point.shared_parts`: the bodies, mounts and base
 a variant leaves as they are, one task whose result each worker fetches
-once): a few kB a point
-instead of ~26 kB for the reference scene, so that a study of thousands of
-points keeps the client's memory and each graph it submits small (several
-submissions of at most :data:`GRAPH_BYTES`).
+once): a few kB a point instead of ~26 kB for the reference scene, so that
+a study of thousands of points keeps the client's memory and each graph it
+submits small (several submissions of at most :data:`GRAPH_BYTES`).
 
 Several points per task: the scheduler and the client spend ~5 ms of CPU
 on every task (docs/sweep-benchmark.md), so points of 0.1 s on tens of
