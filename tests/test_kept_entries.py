@@ -27,25 +27,29 @@ def test_vary_names_a_value_toml_cannot_hold(value):
         flexbed.vary(base, {"mount.M5.k": value})
 
 
-def test_a_kept_point_keeps_its_signed_zero():
+def test_a_kept_point_keeps_its_signed_zero(monkeypatch):
     """A point at x = -0.0 asked after one at x = 0.0 is its own (the kept
     points' keys hold each coordinate's type and repr; ``-0.0 == 0.0``)."""
-    from flexbed.study.outputs import _CHECKED_POINTS, PointRun
+    from flexbed.dynamics.bounded_cache import BoundedCache
+    from flexbed.study import outputs
+    from flexbed.study.outputs import PointRun
 
-    _CHECKED_POINTS.clear()
+    monkeypatch.setattr(outputs, "_CHECKED_POINTS", BoundedCache(64))
     PointRun._point(None, "equipment A", [0.0, 0.0, 0.15], "p")
     pt = PointRun._point(None, "equipment A", [-0.0, 0.0, 0.15], "p")
     assert math.copysign(1.0, pt.position[0]) == -1.0, pt.position
 
 
-def test_a_kept_point_cannot_be_changed_for_the_next_run():
+def test_a_kept_point_cannot_be_changed_for_the_next_run(monkeypatch):
     """A kept Point is shared by every later run in the process (every
     point of a study's batches): its position must be read-only, as the
     scene's arrays are, or a metric writing into it would move the point
     of every run after."""
-    from flexbed.study.outputs import _CHECKED_POINTS, PointRun
+    from flexbed.dynamics.bounded_cache import BoundedCache
+    from flexbed.study import outputs
+    from flexbed.study.outputs import PointRun
 
-    _CHECKED_POINTS.clear()
+    monkeypatch.setattr(outputs, "_CHECKED_POINTS", BoundedCache(64))
     pt = PointRun._point(None, "equipment A", [0.0, 0.0, 0.15], "p")
     assert not pt.position.flags.writeable
 

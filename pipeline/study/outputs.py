@@ -34,6 +34,7 @@ import numpy as np
 from flexbed.analyses.points import Frames, Point, PointMotion, Run
 from flexbed.api.arguments import Arguments
 from flexbed.api.results import Results
+from flexbed.dynamics.bounded_cache import BoundedCache
 from flexbed.dynamics.sample_passes import point_path
 from flexbed.dynamics.history import MOTION_CAPTURED, body_motion
 
@@ -50,7 +51,17 @@ _MOUNTS = ("w_base", "w_dx", "w_f")
 
 #: the points a run was asked for, checked (by body, position and name): a
 #: study's metric asks each of its points' runs for the same one
-_CHECKED_POINTS: dict = {}
+_CHECKED_POINTS = BoundedCache(64)
+
+
+def _checked_point(body: str, position: Sequence[float], name: str) -> Point:
+    """The Point, checked as :meth:`flexbed.Results.point` checks it; its
+    position read-only (a kept one is shared by the runs that ask)."""
+    check = Arguments("Results.point")
+    pt = Point(name=check.name(name, "name"), body=body,
+               position=check.position(position, "position"))
+    pt.position.flags.writeable = False
+    return pt
 
 
 class _Kinematics(Run):
@@ -166,18 +177,9 @@ class PointRun:
             hash(key)
         except TypeError:                        # refused below, as the API words it
             key = None
-        pt = _CHECKED_POINTS.get(key) if key is not None else None
-        if pt is not None:
-            return pt
-        check = Arguments("Results.point")
-        pt = Point(name=check.name(name, "name"), body=body,
-                   position=check.position(position, "position"))
-        if key is not None:                      # a metric asks for the same point every run
-            pt.position.flags.writeable = False  # shared by the runs that ask for it
-            if len(_CHECKED_POINTS) >= 64:
-                _CHECKED_POINTS.clear()
-            _CHECKED_POINTS[key] = pt
-        return pt
+        if key is None:
+            return _checked_point(body, position, name)
+        return _CHECKED_POINTS.get(key, lambda: _checked_point(body, position, name))
 
     def point(self, body: str, position: Sequence[float], *, relative_to: str | None = None,
               name: str = "point") -> PointMotion:
